@@ -1,0 +1,437 @@
+"""The numba kernels of GCMH.  They see only arrays: F's values at grid vertices,
+the grid lines, and the cube tables of `_tables`.  Nothing here depends on F.
+
+Per candidate cube the kernel computes, in the cube's own frame:
+  1. vertices of M_A on the Kuhn k-simplices of its k-faces (barycentric solve);
+  2. edges on its (k+1)-faces (two vertices: join them; more: the paper's walk
+     through the face's Kuhn (k+1)-simplices);
+  3. for r = 2..n-k, the r-cells: connected components of the vertex-edge graph
+     restricted to each (r+k)-face, with their (r-1)-faces.
+Everything is emitted with global keys computed from grid indices alone, so
+the same vertex, edge or cell produced by two neighbouring cubes is recognised
+in the global assembly (`extract._assemble`).
+
+The kernel runs twice on the same cubes: once to count what each cube emits,
+once to write it at prefix-summed offsets.  Output order is therefore the cube
+order, whatever the number of threads.
+"""
+
+import numba as nb
+import numpy as np
+from numba import prange
+
+from ._config import JIT, PARALLEL_JIT
+
+# Columns of the emitted records.
+EDGE_COLS = 4  # face key, min vertex key, vertex key a, vertex key b
+CELL_COLS = 3  # r, face key, min vertex key
+INC_COLS = 5  # r, X face key, X min vertex key, Y face key, Y min vertex key
+
+
+@nb.njit(**JIT)
+def simplex_crosses(vals, o, corner_off, corners, k, pos_mask, full, mat, rhs, lam):
+    """Does the Kuhn simplex with cube corners `corners` (chain order) hold a zero?
+
+    vals (NV, k) values; o the cube's origin row in vals; lam (k+1,) receives the
+    barycentric coordinates.  Sign prune first: every component needs a value >= 0
+    and one < 0 among the simplex's corners, else there is no solve at all.
+    """
+    m = corners.shape[0]
+    any_pos = 0
+    all_pos = full
+    for i in range(m):
+        p = pos_mask[corners[i]]
+        any_pos |= p
+        all_pos &= p
+    if any_pos != full or all_pos != 0:
+        return False
+    # Solve sum_{i>=1} lam_i (F(v_i) - F(v_0)) = -F(v_0), a k x k system.
+    r0 = o + corner_off[corners[0]]
+    for j in range(k):
+        f0 = vals[r0, j]
+        rhs[j] = -f0
+        for i in range(1, m):
+            mat[j, i - 1] = vals[o + corner_off[corners[i]], j] - f0
+    scale = 0.0
+    for j in range(k):
+        for i in range(k):
+            a = abs(mat[j, i])
+            if a > scale:
+                scale = a
+    if scale == 0.0:
+        return False
+    tiny = scale * 1e-14
+    for c in range(k):  # Gaussian elimination with partial pivoting
+        piv = c
+        best = abs(mat[c, c])
+        for rr in range(c + 1, k):
+            a = abs(mat[rr, c])
+            if a > best:
+                best = a
+                piv = rr
+        if best <= tiny:
+            return False
+        if piv != c:
+            for i in range(k):
+                t = mat[c, i]
+                mat[c, i] = mat[piv, i]
+                mat[piv, i] = t
+            t = rhs[c]
+            rhs[c] = rhs[piv]
+            rhs[piv] = t
+        for rr in range(c + 1, k):
+            fac = mat[rr, c] / mat[c, c]
+            if fac != 0.0:
+                for i in range(c, k):
+                    mat[rr, i] -= fac * mat[c, i]
+                rhs[rr] -= fac * rhs[c]
+    total = 0.0
+    for c in range(k - 1, -1, -1):
+        s = rhs[c]
+        for i in range(c + 1, k):
+            s -= mat[c, i] * lam[i + 1]
+        lam[c + 1] = s / mat[c, c]
+        total += lam[c + 1]
+    lam[0] = 1.0 - total
+    for i in range(m):
+        if not (lam[i] >= 0.0):
+            return False
+    return True
+
+
+@nb.njit(**JIT)
+def _find(parent, v):
+    while parent[v] != v:
+        parent[v] = parent[parent[v]]
+        v = parent[v]
+    return v
+
+
+@nb.njit(**JIT)
+def _face_in_face(face_free, face_fixed, g, f):
+    """Is cube face g contained in cube face f?"""
+    ff = face_free[f]
+    return (face_free[g] & ~ff) == 0 and (face_fixed[g] & ~ff) == face_fixed[f]
+
+
+@nb.njit(**JIT)
+def _face_key(g_lin, corner_off, face_fixed, face_rank, n_subsets, f, dim):
+    return (g_lin + corner_off[face_fixed[f]]) * n_subsets[dim] + face_rank[f]
+
+
+@nb.njit(**JIT)
+def _process_cube(
+    vals, o, g_lin, origin, axes, corner_off, n, k,
+    face_start, face_free, face_fixed, face_rank, n_subsets,
+    ks_corners, ks_face, ks_perm, kfact,
+    t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp,
+    simp_vertex, pos_mask, mat, rhs, lam, corners_buf, link0, link1, memo, found, paired,
+    write, vk_out, vp_out, e_out, c_out, i_out, offs, counts,
+):
+    """One cube: count (write=False) or write (write=True) everything it emits.
+
+    Returns the number of degenerate events met (an ambiguous walk that did not
+    close up); zero on generic input.
+    """
+    ncorner = 1 << n
+    full = (np.int64(1) << k) - 1
+    for c in range(ncorner):
+        p = np.int64(0)
+        r0 = o + corner_off[c]
+        for j in range(k):
+            if vals[r0, j] >= 0.0:
+                p |= np.int64(1) << j
+        pos_mask[c] = p
+    degenerate = 0
+
+    # 1. vertices on k-simplices of k-faces
+    ns = ks_corners.shape[0]
+    kf0 = face_start[k]
+    nv = 0
+    vsimp = np.empty(ns, np.int64)
+    for s in range(ns):
+        simp_vertex[s] = -1
+        if simplex_crosses(vals, o, corner_off, ks_corners[s], k, pos_mask, full, mat, rhs, lam):
+            simp_vertex[s] = nv
+            vsimp[nv] = s
+            if write:
+                row = offs[0] + nv
+                f = kf0 + ks_face[s]
+                vk_out[row] = _face_key(g_lin, corner_off, face_fixed, face_rank, n_subsets, f, k) * kfact + ks_perm[s]
+                for a in range(n):
+                    x = 0.0
+                    for i in range(k + 1):
+                        x += lam[i] * axes[a, origin[a] + ((ks_corners[s, i] >> a) & 1)]
+                    vp_out[row, a] = x
+            nv += 1
+    counts[0] = nv
+    if nv == 0:
+        counts[1] = 0
+        counts[2] = 0
+        counts[3] = 0
+        return degenerate
+    vface = np.empty(nv, np.int64)
+    vkey = np.empty(nv, np.int64)
+    for v in range(nv):
+        s = vsimp[v]
+        f = kf0 + ks_face[s]
+        vface[v] = f
+        vkey[v] = _face_key(g_lin, corner_off, face_fixed, face_rank, n_subsets, f, k) * kfact + ks_perm[s]
+
+    # 2. edges on (k+1)-faces
+    k1 = k + 1
+    f10 = face_start[k1]
+    nk1 = face_start[k1 + 1] - f10
+    max_edges = nk1 * (nb_nodes // 2)
+    ea = np.empty(max_edges, np.int64)
+    eb = np.empty(max_edges, np.int64)
+    ef = np.empty(max_edges, np.int64)
+    ne = 0
+    n_int = t_interior.shape[0]
+    for fi in range(nk1):
+        cnt = 0
+        for b in range(nb_nodes):
+            if simp_vertex[w_bsimp[fi, b]] >= 0:
+                found[cnt] = b
+                cnt += 1
+        if cnt == 0:
+            continue
+        if cnt == 2:
+            ea[ne] = simp_vertex[w_bsimp[fi, found[0]]]
+            eb[ne] = simp_vertex[w_bsimp[fi, found[1]]]
+            ef[ne] = f10 + fi
+            ne += 1
+            continue
+        # The walk (paper 3.1.1): link crossing facets of the face's Kuhn (k+1)-simplices.
+        for i in range(nb_nodes + n_int):
+            link0[i] = -1
+            link1[i] = -1
+        for i in range(n_int):
+            memo[i] = -1
+        for t in range(t_corners.shape[0]):
+            any_pos = 0
+            all_pos = full
+            for j in range(k1 + 1):
+                p = pos_mask[w_cmap[fi, t_corners[t, j]]]
+                any_pos |= p
+                all_pos &= p
+            if any_pos != full or all_pos != 0:
+                continue
+            nc = 0
+            n_a = -1
+            n_b = -1
+            for j in range(k1 + 1):
+                node = t_facets[t, j]
+                if node < nb_nodes:
+                    cr = simp_vertex[w_bsimp[fi, node]] >= 0
+                else:
+                    ii = node - nb_nodes
+                    if memo[ii] < 0:
+                        for q in range(k + 1):
+                            corners_buf[q] = w_cmap[fi, t_interior[ii, q]]
+                        memo[ii] = 1 if simplex_crosses(vals, o, corner_off, corners_buf, k, pos_mask, full, mat, rhs, lam) else 0
+                    cr = memo[ii] == 1
+                if cr:
+                    if nc == 0:
+                        n_a = node
+                    elif nc == 1:
+                        n_b = node
+                    nc += 1
+            if nc == 2:
+                for pair in range(2):
+                    u = n_a if pair == 0 else n_b
+                    w = n_b if pair == 0 else n_a
+                    if link0[u] < 0:
+                        link0[u] = w
+                    elif link1[u] < 0:
+                        link1[u] = w
+                    else:
+                        degenerate += 1
+            elif nc != 0:
+                degenerate += 1
+        for q in range(cnt):
+            paired[q] = 0
+        for q in range(cnt):
+            if paired[q]:
+                continue
+            start = found[q]
+            prev = -1
+            cur = start
+            end = -1
+            for _step in range(nb_nodes + n_int + 1):
+                nxt = link0[cur] if link0[cur] != prev else link1[cur]
+                if nxt < 0:
+                    break
+                prev = cur
+                cur = nxt
+                if cur < nb_nodes:
+                    end = cur
+                    break
+            if end < 0 or end == start:
+                degenerate += 1
+                paired[q] = 1
+                continue
+            for q2 in range(cnt):
+                if found[q2] == end:
+                    paired[q2] = 1
+            paired[q] = 1
+            ea[ne] = simp_vertex[w_bsimp[fi, start]]
+            eb[ne] = simp_vertex[w_bsimp[fi, end]]
+            ef[ne] = f10 + fi
+            ne += 1
+    counts[1] = ne
+    if write:
+        for e in range(ne):
+            row = offs[1] + e
+            ka = vkey[ea[e]]
+            kb = vkey[eb[e]]
+            e_out[row, 0] = _face_key(g_lin, corner_off, face_fixed, face_rank, n_subsets, ef[e], k1)
+            e_out[row, 1] = min(ka, kb)
+            e_out[row, 2] = ka
+            e_out[row, 3] = kb
+
+    # 3. r-cells, r = 2..n-k: components of the graph restricted to each (r+k)-face.
+    # Components of the previous level (the edges, for r = 2): face, a vertex, min key.
+    prev_face = ef[:ne].copy()
+    prev_rep = ea[:ne].copy()
+    prev_min = np.empty(ne, np.int64)
+    for e in range(ne):
+        prev_min[e] = min(vkey[ea[e]], vkey[eb[e]])
+    nprev = ne
+    parent = np.empty(nv, np.int64)
+    ncell = 0
+    ninc = 0
+    for r in range(2, n - k + 1):
+        dim = r + k
+        fs = face_start[dim]
+        nf = face_start[dim + 1] - fs
+        label = np.full((nf, nv), -1, np.int64)
+        cur_face = np.empty(nf * nv, np.int64)
+        cur_rep = np.empty(nf * nv, np.int64)
+        cur_min = np.empty(nf * nv, np.int64)
+        ncur = 0
+        for fl in range(nf):
+            f = fs + fl
+            any_v = False
+            for v in range(nv):
+                if _face_in_face(face_free, face_fixed, vface[v], f):
+                    parent[v] = v
+                    any_v = True
+                else:
+                    parent[v] = -1
+            if not any_v:
+                continue
+            has_edge = False
+            for e in range(ne):
+                if _face_in_face(face_free, face_fixed, ef[e], f):
+                    has_edge = True
+                    ra = _find(parent, ea[e])
+                    rb = _find(parent, eb[e])
+                    if ra != rb:
+                        parent[max(ra, rb)] = min(ra, rb)
+            if not has_edge:
+                continue
+            for v in range(nv):
+                if parent[v] >= 0:
+                    root = _find(parent, v)
+                    if root == v:
+                        label[fl, v] = ncur
+                        cur_face[ncur] = f
+                        cur_rep[ncur] = v
+                        cur_min[ncur] = vkey[v]
+                        ncur += 1
+            for v in range(nv):
+                if parent[v] >= 0:
+                    c = label[fl, _find(parent, v)]
+                    label[fl, v] = c
+                    if vkey[v] < cur_min[c]:
+                        cur_min[c] = vkey[v]
+        fkey_cache = np.empty(nf, np.int64)
+        for fl in range(nf):
+            fkey_cache[fl] = _face_key(g_lin, corner_off, face_fixed, face_rank, n_subsets, fs + fl, dim)
+        if write:
+            for c in range(ncur):
+                row = offs[2] + ncell + c
+                c_out[row, 0] = r
+                c_out[row, 1] = fkey_cache[cur_face[c] - fs]
+                c_out[row, 2] = cur_min[c]
+        ncell += ncur
+        # incidences: each previous-level component lies in one component of every face containing its face
+        for y in range(nprev):
+            g = prev_face[y]
+            gkey = 0
+            if write:
+                gkey = _face_key(g_lin, corner_off, face_fixed, face_rank, n_subsets, g, dim - 1)
+            for fl in range(nf):
+                if _face_in_face(face_free, face_fixed, g, fs + fl):
+                    x = label[fl, prev_rep[y]]
+                    if x < 0:
+                        degenerate += 1
+                        continue
+                    if write:
+                        row = offs[3] + ninc
+                        i_out[row, 0] = r
+                        i_out[row, 1] = fkey_cache[fl]
+                        i_out[row, 2] = cur_min[x]
+                        i_out[row, 3] = gkey
+                        i_out[row, 4] = prev_min[y]
+                    ninc += 1
+        prev_face = cur_face[:ncur].copy()
+        prev_rep = cur_rep[:ncur].copy()
+        prev_min = cur_min[:ncur].copy()
+        nprev = ncur
+    counts[2] = ncell
+    counts[3] = ninc
+    return degenerate
+
+
+@nb.njit(**PARALLEL_JIT)
+def cubes_kernel(
+    vals, cube_lin, cube_origin, base_lin, axes, corner_off, n, k,
+    face_start, face_free, face_fixed, face_rank, n_subsets,
+    ks_corners, ks_face, ks_perm, kfact,
+    t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp,
+    write, counts, offsets, vk_out, vp_out, e_out, c_out, i_out, nchunks,
+):
+    """Run `_process_cube` on every candidate cube, in parallel chunks.
+
+    vals (NV, k) float64: F at the slab's vertices (C order);
+    cube_lin (m,) int64: row of each cube's origin in vals; cube_origin (m, n) global multi-index;
+    base_lin: global linear index of vals' row 0; counts/offsets (m, 4) int64;
+    nchunks: how many pieces to cut the cubes into (a few per thread).
+    Returns the number of degenerate events.
+    """
+    m = cube_lin.shape[0]
+    if m == 0:
+        return 0
+    nchunks = min(m, nchunks)
+    degenerate = np.zeros(nchunks, np.int64)
+    ns = ks_corners.shape[0]
+    n_nodes = nb_nodes + t_interior.shape[0]
+    for ch in prange(nchunks):
+        lo = ch * m // nchunks
+        hi = (ch + 1) * m // nchunks
+        simp_vertex = np.empty(ns, np.int64)
+        pos_mask = np.empty(1 << n, np.int64)
+        mat = np.empty((k, k), np.float64)
+        rhs = np.empty(k, np.float64)
+        lam = np.empty(k + 1, np.float64)
+        corners_buf = np.empty(k + 1, np.int64)
+        link0 = np.empty(n_nodes, np.int64)
+        link1 = np.empty(n_nodes, np.int64)
+        memo = np.empty(max(t_interior.shape[0], 1), np.int8)
+        found = np.empty(nb_nodes, np.int64)
+        paired = np.empty(nb_nodes, np.int8)
+        dg = 0
+        for ci in range(lo, hi):
+            o = cube_lin[ci]
+            dg += _process_cube(
+                vals, o, o + base_lin, cube_origin[ci], axes, corner_off, n, k,
+                face_start, face_free, face_fixed, face_rank, n_subsets,
+                ks_corners, ks_face, ks_perm, kfact,
+                t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp,
+                simp_vertex, pos_mask, mat, rhs, lam, corners_buf, link0, link1, memo, found, paired,
+                write, vk_out, vp_out, e_out, c_out, i_out, offsets[ci], counts[ci],
+            )
+        degenerate[ch] = dg
+    return degenerate.sum()

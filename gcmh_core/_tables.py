@@ -1,0 +1,170 @@
+"""Combinatorial tables of the n-cube for given (n, k), built once and cached.
+
+Everything the kernels need to know about a cube's faces and their Kuhn (CFK)
+triangulations is precomputed here as small integer arrays, so the numba kernels
+are compiled once for all (n, k): a table is data, not a type.
+
+Conventions
+-----------
+* A corner of the cube is a bitmask: bit ``a`` set means "+1 along axis a".
+* A face is ``(free, fixed)``: ``free`` is the mask of its free axes, ``fixed``
+  the bits of its anchor (minimum corner) on the other axes.
+* The Kuhn simplex of a face for the permutation ``p`` of its free axes (sorted
+  ascending, permutations in ``itertools`` order) is the corner chain
+  ``v0 = fixed, v_j = v_{j-1} | (1 << p[j-1])``.  It is the restriction of the
+  grid's global Freudenthal triangulation, so two cubes sharing a face split it
+  the same way.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+from itertools import combinations, permutations
+from math import comb, factorial
+
+import numpy as np
+
+from .errors import InputError
+
+# Largest walk template we agree to build (entries of the (k+1)-simplex facet table).
+_MAX_TEMPLATE_ENTRIES = 40_000_000
+
+
+@dataclass(frozen=True)
+class CubeTables:
+    n: int
+    k: int
+    # faces of every dimension r = k..n, concatenated; faces of dim r are rows
+    # face_start[r]:face_start[r+1]
+    face_start: np.ndarray  # (n + 2,) int64
+    face_free: np.ndarray  # (NF,) int64
+    face_fixed: np.ndarray  # (NF,) int64
+    face_rank: np.ndarray  # (NF,) int64  rank of the free-axes subset among C(n, r)
+    n_subsets: np.ndarray  # (n + 1,) int64  C(n, r)
+    # Kuhn k-simplices of the cube's k-faces
+    ksimp_corners: np.ndarray  # (NS, k+1) int64 corners in chain order
+    ksimp_face: np.ndarray  # (NS,) int64 index into faces of dim k (relative)
+    ksimp_perm: np.ndarray  # (NS,) int64 permutation rank within its face
+    # walk template on a local (k+1)-cube with axes 0..k
+    tmpl_corners: np.ndarray  # ((k+1)!, k+2) int64 local corners of each (k+1)-simplex
+    tmpl_facets: np.ndarray  # ((k+1)!, k+2) int64 node id of facet "drop vertex j"
+    tmpl_interior: np.ndarray  # (NI, k+1) int64 local corners of interior k-simplices
+    n_boundary_nodes: int  # 2 (k+1) k!
+    # per (k+1)-face of the cube: local corner -> cube corner, boundary node -> cube k-simplex
+    walk_corner_map: np.ndarray  # (NK1, 2^(k+1)) int64
+    walk_boundary_simplex: np.ndarray  # (NK1, n_boundary_nodes) int64
+
+
+def _faces(n: int, r: int):
+    """All r-faces of the n-cube as (free, fixed, rank), grouped by free subset."""
+    out = []
+    for rank, subset in enumerate(combinations(range(n), r)):
+        free = sum(1 << a for a in subset)
+        others = [a for a in range(n) if a not in subset]
+        for bits in range(1 << len(others)):
+            fixed = sum(((bits >> i) & 1) << a for i, a in enumerate(others))
+            out.append((free, fixed, rank))
+    return out
+
+
+def _kuhn_chain(fixed: int, order) -> list[int]:
+    chain = [fixed]
+    for axis in order:
+        chain.append(chain[-1] | (1 << axis))
+    return chain
+
+
+@lru_cache(maxsize=32)
+def cube_tables(n: int, k: int) -> CubeTables:
+    if not (1 <= k < n):
+        raise InputError(f"need 1 <= k < n, got n={n}, k={k}")
+    if factorial(k + 1) * (k + 2) > _MAX_TEMPLATE_ENTRIES:
+        raise InputError(f"k={k} is too large: a (k+1)-face has {factorial(k + 1):,} simplices")
+
+    face_start = np.zeros(n + 2, np.int64)
+    free_l, fixed_l, rank_l = [], [], []
+    for r in range(n + 1):
+        face_start[r] = len(free_l)
+        if r >= k:
+            for free, fixed, rank in _faces(n, r):
+                free_l.append(free)
+                fixed_l.append(fixed)
+                rank_l.append(rank)
+    face_start[n + 1] = len(free_l)
+
+    # Kuhn k-simplices of the k-faces
+    kfaces = _faces(n, k)
+    ks_corners, ks_face, ks_perm = [], [], []
+    simplex_of_cornerset: dict[frozenset, int] = {}
+    for fi, (free, fixed, _) in enumerate(kfaces):
+        axes = [a for a in range(n) if free >> a & 1]
+        for pr, order in enumerate(permutations(axes)):
+            chain = _kuhn_chain(fixed, order)
+            simplex_of_cornerset[frozenset(chain)] = len(ks_corners)
+            ks_corners.append(chain)
+            ks_face.append(fi)
+            ks_perm.append(pr)
+
+    # Walk template on the local (k+1)-cube; nodes: boundary k-simplices first, then interior ones.
+    m = k + 1
+    boundary_node: dict[frozenset, int] = {}
+    boundary_chains = []
+    for free, fixed, _ in _faces(m, k):
+        axes = [a for a in range(m) if free >> a & 1]
+        for order in permutations(axes):
+            chain = _kuhn_chain(fixed, order)
+            boundary_node[frozenset(chain)] = len(boundary_chains)
+            boundary_chains.append(chain)
+    nb = len(boundary_chains)
+    interior_node: dict[tuple, int] = {}
+    interior = []
+    t_corners, t_facets = [], []
+    for order in permutations(range(m)):
+        chain = _kuhn_chain(0, order)
+        t_corners.append(chain)
+        row = []
+        for j in range(m + 1):
+            facet = chain[:j] + chain[j + 1:]
+            key = frozenset(facet)
+            if j == 0 or j == m:
+                row.append(boundary_node[key])
+            else:
+                # both simplices sharing this facet list it in the same (chain) order
+                t = tuple(facet)
+                if t not in interior_node:
+                    interior_node[t] = nb + len(interior)
+                    interior.append(facet)
+                row.append(interior_node[t])
+        t_facets.append(row)
+
+    # Map the template onto every (k+1)-face of the cube.
+    k1faces = _faces(n, m)
+    cmap = np.zeros((len(k1faces), 1 << m), np.int64)
+    bsimp = np.zeros((len(k1faces), nb), np.int64)
+    for fi, (free, fixed, _) in enumerate(k1faces):
+        axes = [a for a in range(n) if free >> a & 1]
+        for local in range(1 << m):
+            cmap[fi, local] = fixed | sum(((local >> i) & 1) << a for i, a in enumerate(axes))
+        for node, chain in enumerate(boundary_chains):
+            bsimp[fi, node] = simplex_of_cornerset[frozenset(int(cmap[fi, c]) for c in chain)]
+
+    as_i64 = lambda x, shape=None: np.ascontiguousarray(np.array(x, np.int64).reshape(shape) if shape else np.array(x, np.int64))
+    return CubeTables(
+        n=n,
+        k=k,
+        face_start=face_start,
+        face_free=as_i64(free_l),
+        face_fixed=as_i64(fixed_l),
+        face_rank=as_i64(rank_l),
+        n_subsets=as_i64([comb(n, r) for r in range(n + 1)]),
+        ksimp_corners=as_i64(ks_corners, (-1, k + 1)),
+        ksimp_face=as_i64(ks_face),
+        ksimp_perm=as_i64(ks_perm),
+        tmpl_corners=as_i64(t_corners, (-1, m + 1)),
+        tmpl_facets=as_i64(t_facets, (-1, m + 1)),
+        tmpl_interior=as_i64(interior, (-1, k + 1)) if interior else np.zeros((0, k + 1), np.int64),
+        n_boundary_nodes=nb,
+        walk_corner_map=cmap,
+        walk_boundary_simplex=bsimp,
+    )

@@ -1,0 +1,389 @@
+"""`extract`: the public entry point of the engine (GCMH over the whole grid).
+
+public function (validates every argument)  ->  `_run_gcmh` (slabs, assembly)
+->  `_kernels.cubes_kernel` (numba, one compile for all F, n and k).
+"""
+
+from __future__ import annotations
+
+import re
+import time
+from math import factorial
+from numbers import Integral, Real
+from typing import Callable, Sequence
+
+import numba
+import numpy as np
+
+from . import _kernels
+from ._tables import cube_tables
+from .complex import CellComplex
+from .errors import Cancelled, InputError
+from .grid import PERTURBATION, candidate_cubes, perturbed_axes
+
+METHODS = ("gcmh",)
+
+# Vertices evaluated per slab: bounds the memory of a run independently of div along axis 0.
+_SLAB_VERTICES = 1 << 22
+
+
+# ----------------------------------------------------------------------------- validation
+def _as_div(div, n: int) -> np.ndarray:
+    if isinstance(div, (Integral, np.integer)) and not isinstance(div, bool):
+        div = [int(div)] * n
+    try:
+        arr = [int(d) for d in div]
+        if any(float(d) != int(d) for d in div):
+            raise ValueError
+    except (TypeError, ValueError):
+        raise InputError(f"div must be a positive integer or one per axis, got {div!r}") from None
+    if len(arr) != n:
+        raise InputError(f"div has {len(arr)} entries but there are n = {n} axes")
+    for a, d in enumerate(arr):
+        if d < 1:
+            raise InputError(f"div must be at least 1 on every axis (axis {a + 1} has {d})")
+    return np.array(arr, np.int64)
+
+
+def _number(x, what: str) -> float:
+    if isinstance(x, str):
+        from .formula import parse_system  # noqa: PLC0415  (numbers like "-pi/2", parsed safely)
+
+        try:
+            value = float(parse_system([x], [], n=0).evaluate_points(np.zeros((1, 0)))[0, 0])
+        except InputError as err:
+            raise InputError(f"{what}: {err}") from None
+        x = value
+    if not isinstance(x, (Real, np.floating, np.integer)) or isinstance(x, bool):
+        raise InputError(f"{what} must be a number, got {x!r}")
+    x = float(x)
+    if not np.isfinite(x):
+        raise InputError(f"{what} must be finite, got {x}")
+    return x
+
+
+def _as_bounds(bounds, n: int) -> np.ndarray:
+    if bounds is None:
+        raise InputError("bounds are required: one (lo, hi) pair, or one per axis")
+    if isinstance(bounds, np.ndarray):
+        bounds = bounds.tolist()
+    try:
+        pairs = list(bounds)
+    except TypeError:
+        raise InputError(f"bounds must be (lo, hi) pairs, got {bounds!r}") from None
+    if len(pairs) == 2 and not any(isinstance(p, (list, tuple, np.ndarray)) for p in pairs):
+        pairs = [pairs] * n
+    if len(pairs) == 1 and n > 1:
+        pairs = pairs * n
+    if len(pairs) != n:
+        raise InputError(f"bounds has {len(pairs)} intervals but there are n = {n} axes")
+    out = np.empty((n, 2))
+    for a, pair in enumerate(pairs):
+        if not isinstance(pair, (list, tuple, np.ndarray)) or len(pair) != 2:
+            raise InputError(f"bounds for axis {a + 1} must be a (lo, hi) pair, got {pair!r}")
+        lo = _number(pair[0], f"lower bound of axis {a + 1}")
+        hi = _number(pair[1], f"upper bound of axis {a + 1}")
+        if not lo < hi:
+            raise InputError(f"axis {a + 1}: lower bound {lo:g} is not below upper bound {hi:g}")
+        out[a] = lo, hi
+    return out
+
+
+def _infer_n(F, variables, bounds, div, n):
+    if n is not None:
+        return int(n)
+    if variables is not None:
+        return len(variables)
+    if bounds is not None:
+        b = bounds.tolist() if isinstance(bounds, np.ndarray) else bounds
+        if isinstance(b, (list, tuple)) and b and isinstance(b[0], (list, tuple)) and len(b) > 1:
+            return len(b)
+    if isinstance(div, (list, tuple, np.ndarray)):
+        return len(div)
+    texts = [F] if isinstance(F, str) else list(F)
+    indices = [int(m) for t in texts for m in re.findall(r"\bx(\d+)\b", str(t))]
+    if indices:
+        return max(indices)
+    raise InputError("cannot tell n: give variables, one bounds pair per axis, or n")
+
+
+def _prepare(F, variables, n, k, bounds, div):
+    """Returns (n, k, bounds, div, system or None, sampled array or None)."""
+    from .formula import System, parse_system  # noqa: PLC0415
+
+    if isinstance(variables, str):
+        variables = [v.strip() for v in variables.split(",")]
+    if isinstance(F, np.ndarray) or (hasattr(F, "__array__") and not isinstance(F, (str, list, tuple))):
+        values = np.asarray(F)
+        if values.dtype.kind not in "fiu":
+            raise InputError(f"sampled values must be numbers, got dtype {values.dtype}")
+        if values.ndim < 2:
+            raise InputError("sampled values must have shape (d1+1, ..., dn+1, k)")
+        n_s = values.ndim - 1
+        if n is not None and int(n) == values.ndim:  # (d1+1, ..., dn+1) with k = 1
+            values = values[..., None]
+            n_s = values.ndim - 1
+        n_ = n_s
+        k_ = values.shape[-1]
+        if k is not None and int(k) != k_:
+            raise InputError(f"sampled values have k = {k_} components, not {k}")
+        shape_div = np.array(values.shape[:-1], np.int64) - 1
+        if np.any(shape_div < 1):
+            raise InputError(f"sampled values need at least 2 samples per axis, got shape {values.shape}")
+        if div is not None and not np.array_equal(_as_div(div, n_), shape_div):
+            raise InputError(f"div {div} does not match the sampled array's shape {values.shape}")
+        if not 1 <= k_ < n_:
+            raise InputError(f"need 1 <= k < n, got n = {n_}, k = {k_}")
+        return n_, k_, _as_bounds(bounds, n_), shape_div, None, np.ascontiguousarray(values, np.float64)
+    if isinstance(F, System):
+        system = F
+    else:
+        if isinstance(F, str):
+            F = [F]
+        if not isinstance(F, (list, tuple)) or not all(isinstance(t, str) for t in F):
+            raise InputError("F must be formula text, a list of formula texts, a System or an array of values")
+        n_ = _infer_n(F, variables, bounds, div, n)
+        system = parse_system(list(F), variables, n=n_, k=k)
+    if n is not None and int(n) != system.n:
+        raise InputError(f"n = {n} but the formulas have {system.n} variables")
+    if k is not None and int(k) != system.k:
+        raise InputError(f"k = {k} but there are {system.k} formulas")
+    if not 1 <= system.k < system.n:
+        raise InputError(f"need 1 <= k < n, got n = {system.n}, k = {system.k}")
+    if div is None:
+        div = 10
+    return system.n, system.k, _as_bounds(bounds, system.n), _as_div(div, system.n), system, None
+
+
+def estimate_work(n: int, k: int, div) -> dict:
+    """Rough size of a full-grid run: cubes, and peak bytes of the slab buffers."""
+    d = _as_div(div, n)
+    cubes = int(np.prod(d.astype(np.float64)))
+    layer = int(np.prod((d[1:] + 1).astype(np.float64)))
+    per_slab = max(2 * layer, _SLAB_VERTICES)
+    # values (8k bytes) + sign codes + candidate mask per slab vertex, plus output ~ M_A's size
+    slab_bytes = per_slab * (8 * k + 16)
+    out_bytes = int(cubes ** ((n - k) / n) * 2 ** (n - k) * (8 * n + 200)) if cubes else 0
+    return dict(cubes=cubes, bytes=int(slab_bytes + out_bytes))
+
+
+# ----------------------------------------------------------------------------- the run
+def extract(
+    F,
+    bounds=None,
+    div=None,
+    *,
+    variables: Sequence[str] | str | None = None,
+    n: int | None = None,
+    k: int | None = None,
+    seed: int = 0,
+    method: str = "gcmh",
+    start=None,
+    progress: Callable[[str, float], None] | None = None,
+    cancel: Callable[[], bool] | None = None,
+) -> CellComplex:
+    """Approximate M = F^-1(0), F: R^n -> R^k, by a cell complex (GCMH).
+
+    Parameters
+    ----------
+    F : str, sequence of str, formula.System, or ndarray (d1+1, ..., dn+1, k)
+        The k components of F as formula text over the variables, or F's values
+        sampled on the grid (then `div` comes from the array's shape).
+    bounds : (lo, hi) or sequence of n (lo, hi)
+        The domain box.
+    div : int or sequence of n ints
+        Grid cubes per axis (default 10; for sampled values, the array's shape).
+    variables : names of the n variables (default x1..xn).
+    seed : the grid perturbation's seed; same seed, same output bit for bit.
+    progress : callable(phase, fraction), called between slabs.
+    cancel : callable() -> bool, polled between slabs; True raises `Cancelled`.
+
+    Returns
+    -------
+    CellComplex with vertices (V, n) float64 and cells of every dimension 1..n-k.
+
+    Examples
+    --------
+    >>> sphere = extract("x1^2 + x2^2 + x3^2 - 1", bounds=(-1.5, 1.5), div=16)
+    >>> sphere.euler_characteristic()
+    2
+    """
+    t0 = time.perf_counter()
+    if method not in METHODS:
+        raise InputError(f"unknown method {method!r}; choose from {', '.join(METHODS)}")
+    if isinstance(seed, bool) or not isinstance(seed, (Integral, np.integer)):
+        raise InputError(f"seed must be an integer, got {seed!r}")
+    if isinstance(div, (list, tuple)) and len(div) == 1:
+        div = div[0]
+    n_, k_, bounds_, div_, system, sampled = _prepare(F, variables, n, k, bounds, div)
+    amplitude = 0.0 if sampled is not None else PERTURBATION  # sampled data can't be moved: its positions are exact
+    axes = perturbed_axes(bounds_, div_, seed, amplitude)
+    result = _run_gcmh(n_, k_, axes, system, sampled, progress, cancel)
+    result.meta.update(
+        method=method,
+        div=div_.tolist(),
+        bounds=bounds_.tolist(),
+        seed=int(seed),
+        formulas=list(system.texts) if system is not None else None,
+        variables=list(system.variables) if system is not None else [f"x{i + 1}" for i in range(n_)],
+        seconds=time.perf_counter() - t0,
+    )
+    return result
+
+
+def _run_gcmh(n, k, axes, system, sampled, progress, cancel) -> CellComplex:
+    tab = cube_tables(n, k)
+    dims = np.array([len(a) for a in axes], np.int64)  # vertices per axis
+    strides = np.ones(n, np.int64)
+    for a in range(n - 2, -1, -1):
+        strides[a] = strides[a + 1] * dims[a + 1]
+    corner_off = np.array([sum(strides[a] for a in range(n) if c >> a & 1) for c in range(1 << n)], np.int64)
+    maxlen = int(dims.max())
+    axes_arr = np.zeros((n, maxlen))
+    for a in range(n):
+        axes_arr[a, : dims[a]] = axes[a]
+    layer = int(np.prod(dims[1:]))
+    thickness = int(max(1, min(dims[0] - 1, _SLAB_VERTICES // max(layer * k, 1))))
+    kfact = factorial(k)
+    timings = dict(evaluate=0.0, candidates=0.0, kernel=0.0, assemble=0.0)
+    parts = dict(vk=[], vp=[], e=[], c=[], i=[])
+    stats = dict(candidate_cubes=0, cubes=int(np.prod(dims - 1)), nonfinite_vertices=0, degenerate=0)
+    prev_layer = None
+    n_slabs = -(-(int(dims[0]) - 1) // thickness)
+    for si, i0 in enumerate(range(0, int(dims[0]) - 1, thickness)):
+        if cancel is not None and cancel():
+            raise Cancelled("extraction cancelled")
+        if progress is not None:
+            progress("extracting", si / n_slabs)
+        i1 = min(i0 + thickness, int(dims[0]) - 1)  # cubes i0..i1-1, vertex layers i0..i1
+        t = time.perf_counter()
+        if sampled is not None:
+            values = sampled[i0 : i1 + 1]
+        else:
+            first = i0 if prev_layer is None else i0 + 1
+            fresh = system.evaluate_grid([axes[0][first : i1 + 1]] + list(axes[1:]))
+            values = fresh if prev_layer is None else np.concatenate([prev_layer, fresh])
+            prev_layer = values[-1:].copy()
+        values = np.ascontiguousarray(values, np.float64)
+        counted = values if i1 == int(dims[0]) - 1 else values[:-1]
+        stats["nonfinite_vertices"] += int(np.count_nonzero(~np.isfinite(counted).all(axis=-1)))
+        timings["evaluate"] += time.perf_counter() - t
+        t = time.perf_counter()
+        mask = candidate_cubes(values)
+        local = np.nonzero(mask)
+        m = len(local[0])
+        stats["candidate_cubes"] += m
+        timings["candidates"] += time.perf_counter() - t
+        if m == 0:
+            continue
+        t = time.perf_counter()
+        cube_lin = np.zeros(m, np.int64)
+        origin = np.empty((m, n), np.int64)
+        for a in range(n):
+            cube_lin += local[a].astype(np.int64) * strides[a]
+            origin[:, a] = local[a]
+        origin[:, 0] += i0
+        flat = values.reshape(-1, k)
+        base = i0 * int(strides[0])
+        counts = np.zeros((m, 4), np.int64)
+        offsets = np.zeros((m, 4), np.int64)
+        args = (
+            flat, cube_lin, origin, base, axes_arr, corner_off, n, k,
+            tab.face_start, tab.face_free, tab.face_fixed, tab.face_rank, tab.n_subsets,
+            tab.ksimp_corners, tab.ksimp_face, tab.ksimp_perm, kfact,
+            tab.tmpl_corners, tab.tmpl_facets, tab.tmpl_interior, tab.n_boundary_nodes,
+            tab.walk_corner_map, tab.walk_boundary_simplex,
+        )
+        empty_i = np.zeros((0, 1), np.int64)
+        nchunks = 64 * numba.get_num_threads()
+        _kernels.cubes_kernel(
+            *args, False, counts, offsets, np.zeros(0, np.int64), np.zeros((0, n)), empty_i, empty_i, empty_i, nchunks
+        )
+        totals = counts.sum(axis=0)
+        offsets[1:] = np.cumsum(counts, axis=0)[:-1]
+        vk = np.empty(totals[0], np.int64)
+        vp = np.empty((totals[0], n))
+        e = np.empty((totals[1], _kernels.EDGE_COLS), np.int64)
+        c = np.empty((totals[2], _kernels.CELL_COLS), np.int64)
+        i = np.empty((totals[3], _kernels.INC_COLS), np.int64)
+        stats["degenerate"] += int(_kernels.cubes_kernel(*args, True, counts, offsets, vk, vp, e, c, i, nchunks))
+        for key, arr in zip("vk vp e c i".split(), (vk, vp, e, c, i)):
+            parts[key].append(arr)
+        timings["kernel"] += time.perf_counter() - t
+    if progress is not None:
+        progress("assembling", 1.0)
+    t = time.perf_counter()
+    cat = lambda key, shape: np.concatenate(parts[key]) if parts[key] else np.zeros(shape, parts_dtype(key))
+    cx = _assemble(
+        n, k,
+        cat("vk", (0,)), cat("vp", (0, n)), cat("e", (0, _kernels.EDGE_COLS)),
+        cat("c", (0, _kernels.CELL_COLS)), cat("i", (0, _kernels.INC_COLS)),
+    )
+    timings["assemble"] = time.perf_counter() - t
+    cx.meta.update(stats)
+    cx.meta["timings"] = timings
+    return cx
+
+
+def parts_dtype(key: str):
+    return np.float64 if key == "vp" else np.int64
+
+
+# ----------------------------------------------------------------------------- assembly
+def _dense_pairs(face_keys: np.ndarray, vertex_ids: np.ndarray, n_vertices: int) -> np.ndarray:
+    """One int64 per (face key, vertex id) pair, ordered as the pairs are."""
+    _, dense = np.unique(face_keys, return_inverse=True)
+    return dense.astype(np.int64).reshape(-1) * max(n_vertices, 1) + vertex_ids
+
+
+def _assemble(n, k, vk, vp, e, c, inc) -> CellComplex:
+    """Identify what neighbouring cubes emitted twice and build the CellComplex."""
+    vkeys, first = np.unique(vk, return_index=True)
+    vertices = np.ascontiguousarray(vp[first])
+    V = len(vkeys)
+    vid = lambda keys: np.searchsorted(vkeys, keys)
+
+    # level r cells are identified by (face key, min vertex key) = (face key, min vertex id)
+    dim = n - k
+    level_face = {1: e[:, 0]}
+    level_min = {1: vid(e[:, 1])}
+    for r in range(2, dim + 1):
+        rows = c[c[:, 0] == r]
+        level_face[r] = rows[:, 1]
+        level_min[r] = vid(rows[:, 2])
+    inc_by_r = {r: inc[inc[:, 0] == r] for r in range(2, dim + 1)}
+
+    # every (face, vertex) pair of a level, definitions first, then queries from incidences
+    uniq, lookup = {}, {}
+    for r in range(1, dim + 1):
+        faces = [level_face[r]]
+        mins = [level_min[r]]
+        if r in inc_by_r:
+            faces.append(inc_by_r[r][:, 1])
+            mins.append(vid(inc_by_r[r][:, 2]))
+        if r + 1 in inc_by_r:
+            faces.append(inc_by_r[r + 1][:, 3])
+            mins.append(vid(inc_by_r[r + 1][:, 4]))
+        sizes = np.cumsum([0] + [len(f) for f in faces])
+        keys = _dense_pairs(np.concatenate(faces), np.concatenate(mins), V)
+        defs = keys[: sizes[1]]
+        u, first_r = np.unique(defs, return_index=True)
+        uniq[r] = (u, first_r)
+        lookup[r] = {}
+        if r in inc_by_r:
+            lookup[r]["X"] = np.searchsorted(u, keys[sizes[1] : sizes[2]])
+        if r + 1 in inc_by_r:
+            lookup[r]["Y"] = np.searchsorted(u, keys[sizes[-2] : sizes[-1]])
+
+    _, first_e = uniq[1]
+    edges = np.stack([vid(e[first_e, 2]), vid(e[first_e, 3])], axis=1).astype(np.int64)
+    cells = {}
+    for r in range(2, dim + 1):
+        n_lower = len(uniq[r - 1][0])
+        pairs = np.unique(lookup[r]["X"].astype(np.int64) * n_lower + lookup[r - 1]["Y"])
+        x = pairs // max(n_lower, 1)
+        y = pairs % max(n_lower, 1)
+        offsets = np.zeros(len(uniq[r][0]) + 1, np.int64)
+        np.cumsum(np.bincount(x, minlength=len(uniq[r][0])), out=offsets[1:])
+        cells[r] = (offsets, y.astype(np.int64))
+    return CellComplex(n, k, vertices, edges, cells)

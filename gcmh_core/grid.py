@@ -1,0 +1,79 @@
+"""The perturbed domain grid and the cheap whole-grid pass that finds candidate cubes."""
+
+from __future__ import annotations
+
+import numpy as np
+
+# Grid lines move by at most this fraction of the spacing.  The paper perturbs
+# grid vertices so that none lies exactly on M.  We perturb each grid *line*
+# (the offset of line j on axis a depends only on (seed, a, j)): a vertex then
+# gets the same vector in every cube that holds it, and the grid stays a tensor
+# product, so a subexpression of F in a few variables is evaluated on the
+# sub-grid of those axes and broadcast.
+PERTURBATION = 1e-3
+
+
+def perturbed_axes(bounds, div, seed: int = 0, amplitude: float = PERTURBATION) -> list[np.ndarray]:
+    """Coordinates of the grid lines, one (div[a] + 1,) float64 array per axis.
+
+    bounds (n, 2) float64, div (n,) int.  Line j of axis a sits at
+    lo + j h (+ a seeded offset of at most amplitude*h); the domain's own
+    boundary lines are not moved, so the grid covers exactly the domain.
+    Same (bounds, div, seed), same bits.
+    """
+    bounds = np.asarray(bounds, np.float64)
+    axes = []
+    for a, (lo, hi) in enumerate(bounds):
+        d = int(div[a])
+        h = (hi - lo) / d
+        line = lo + h * np.arange(d + 1, dtype=np.float64)
+        line[-1] = hi
+        if amplitude and d > 1:
+            rng = np.random.default_rng([int(seed) & 0xFFFFFFFF, a, 0x67636D68])
+            line[1:-1] += amplitude * h * rng.uniform(-1.0, 1.0, d - 1)
+        axes.append(line)
+    return axes
+
+
+def _code_dtype(k: int):
+    # two bits per component (has >= 0, has < 0) plus one "non-finite" bit
+    bits = 2 * k + 1
+    for dt in (np.uint8, np.uint16, np.uint32, np.uint64):
+        if bits <= np.iinfo(dt).bits:
+            return dt
+    raise ValueError("k too large")
+
+
+def sign_codes(values: np.ndarray) -> np.ndarray:
+    """Per-vertex sign code: bit 2j set if F_j >= 0, bit 2j+1 if F_j < 0, bit 2k if any value is not finite."""
+    k = values.shape[-1]
+    dt = _code_dtype(k)
+    code = np.zeros(values.shape[:-1], dt)
+    finite = np.ones(values.shape[:-1], bool)
+    for j in range(k):
+        comp = values[..., j]
+        pos = comp >= 0
+        code |= np.where(pos, dt(1 << (2 * j)), dt(2 << (2 * j)))
+        finite &= np.isfinite(comp)
+    code[~finite] = dt(1 << (2 * k))
+    return code
+
+
+def candidate_cubes(values: np.ndarray) -> np.ndarray:
+    """Boolean (d0, ..., d_{n-1}) mask of cubes where every component has both signs.
+
+    values (d0+1, ..., d_{n-1}+1, k).  A cube with a non-finite corner is never a
+    candidate.  The OR over a cube's 2^n corners is separable, so it costs n
+    cheap passes over the grid instead of 2^n gathers per cube.
+    """
+    k = values.shape[-1]
+    code = sign_codes(values)
+    for axis in range(code.ndim):
+        lo = [slice(None)] * code.ndim
+        hi = [slice(None)] * code.ndim
+        lo[axis] = slice(None, -1)
+        hi[axis] = slice(1, None)
+        code = code[tuple(lo)] | code[tuple(hi)]
+    full = code.dtype.type(sum(3 << (2 * j) for j in range(k)))
+    mask = full | code.dtype.type(1 << (2 * k))
+    return (code & mask) == full
