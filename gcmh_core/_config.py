@@ -7,3 +7,7 @@ cache: kernels compile once per machine, not once per process (and never per F:
 
 JIT = dict(nogil=True, cache=True, fastmath=False, error_model="numpy")
 PARALLEL_JIT = dict(JIT, parallel=True)
+# Helpers called per simplex or per cube are inlined into the parallel loop:
+# a call would increment and decrement the reference count of every array
+# argument, and those atomic counters are shared by all threads.
+INLINE_JIT = dict(JIT, inline="always")

@@ -20,15 +20,19 @@ import numba as nb
 import numpy as np
 from numba import prange
 
-from ._config import JIT, PARALLEL_JIT
+from ._config import INLINE_JIT, JIT, PARALLEL_JIT
 
 # Columns of the emitted records.
-EDGE_COLS = 4  # face key, min vertex key, vertex key a, vertex key b
-CELL_COLS = 3  # r, face key, min vertex key
-INC_COLS = 5  # r, X face key, X min vertex key, Y face key, Y min vertex key
+# An r-cell (r >= 1) is one connected piece of M_A in a grid face f of dimension
+# r + k; its key is face_key(f) * n_codes(r + k) + the smallest local code, within
+# f, of its vertices.  A vertex's local code in f depends only on where its k-face
+# and Kuhn simplex sit inside f, so both cubes sharing f compute the same key.
+EDGE_COLS = 3  # edge key, vertex key a, vertex key b
+CELL_COLS = 2  # r, cell key
+INC_COLS = 3  # r, key of the r-cell X, key of its (r-1)-face Y
 
 
-@nb.njit(**JIT)
+@nb.njit(**INLINE_JIT)
 def simplex_crosses(vals, o, corner_off, corners, k, pos_mask, full, mat, rhs, lam):
     """Does the Kuhn simplex with cube corners `corners` (chain order) hold a zero?
 
@@ -99,7 +103,7 @@ def simplex_crosses(vals, o, corner_off, corners, k, pos_mask, full, mat, rhs, l
     return True
 
 
-@nb.njit(**JIT)
+@nb.njit(**INLINE_JIT)
 def _find(parent, v):
     while parent[v] != v:
         parent[v] = parent[parent[v]]
@@ -107,14 +111,36 @@ def _find(parent, v):
     return v
 
 
-@nb.njit(**JIT)
+@nb.njit(**INLINE_JIT)
 def _face_in_face(face_free, face_fixed, g, f):
     """Is cube face g contained in cube face f?"""
     ff = face_free[f]
     return (face_free[g] & ~ff) == 0 and (face_fixed[g] & ~ff) == face_fixed[f]
 
 
-@nb.njit(**JIT)
+@nb.njit(**INLINE_JIT)
+def _local_code(f_free, g_free, g_fixed, perm, k, kfact, binom):
+    """Code of the vertex (k-face g, permutation perm) inside the face f that holds g."""
+    pos = 0
+    rank = 0
+    i = 0
+    bits = 0
+    j = 0
+    a = 0
+    while (f_free >> a) != 0:
+        if (f_free >> a) & 1:
+            if (g_free >> a) & 1:
+                i += 1
+                rank += binom[pos, i]  # colex rank of g's axes among f's
+            else:
+                bits |= ((g_fixed >> a) & 1) << j
+                j += 1
+            pos += 1
+        a += 1
+    return (rank * (np.int64(1) << j) + bits) * kfact + perm
+
+
+@nb.njit(**INLINE_JIT)
 def _face_key(g_lin, corner_off, face_fixed, face_rank, n_subsets, f, dim):
     return (g_lin + corner_off[face_fixed[f]]) * n_subsets[dim] + face_rank[f]
 
@@ -123,9 +149,10 @@ def _face_key(g_lin, corner_off, face_fixed, face_rank, n_subsets, f, dim):
 def _process_cube(
     vals, o, g_lin, origin, axes, corner_off, n, k,
     face_start, face_free, face_fixed, face_rank, n_subsets,
-    ks_corners, ks_face, ks_perm, kfact,
+    ks_corners, ks_face, ks_perm, kfact, binom, n_codes,
     t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp,
     simp_vertex, pos_mask, mat, rhs, lam, corners_buf, link0, link1, memo, found, paired,
+    vsimp, vface, vkey, ea, eb, ef, parent, comp_of_root, comps_a, comps_b,
     write, vk_out, vp_out, e_out, c_out, i_out, offs, counts,
 ):
     """One cube: count (write=False) or write (write=True) everything it emits.
@@ -148,7 +175,6 @@ def _process_cube(
     ns = ks_corners.shape[0]
     kf0 = face_start[k]
     nv = 0
-    vsimp = np.empty(ns, np.int64)
     for s in range(ns):
         simp_vertex[s] = -1
         if simplex_crosses(vals, o, corner_off, ks_corners[s], k, pos_mask, full, mat, rhs, lam):
@@ -170,8 +196,6 @@ def _process_cube(
         counts[2] = 0
         counts[3] = 0
         return degenerate
-    vface = np.empty(nv, np.int64)
-    vkey = np.empty(nv, np.int64)
     for v in range(nv):
         s = vsimp[v]
         f = kf0 + ks_face[s]
@@ -182,10 +206,6 @@ def _process_cube(
     k1 = k + 1
     f10 = face_start[k1]
     nk1 = face_start[k1 + 1] - f10
-    max_edges = nk1 * (nb_nodes // 2)
-    ea = np.empty(max_edges, np.int64)
-    eb = np.empty(max_edges, np.int64)
-    ef = np.empty(max_edges, np.int64)
     ne = 0
     n_int = t_interior.shape[0]
     for fi in range(nk1):
@@ -280,46 +300,44 @@ def _process_cube(
             ef[ne] = f10 + fi
             ne += 1
     counts[1] = ne
-    if write:
-        for e in range(ne):
-            row = offs[1] + e
-            ka = vkey[ea[e]]
-            kb = vkey[eb[e]]
-            e_out[row, 0] = _face_key(g_lin, corner_off, face_fixed, face_rank, n_subsets, ef[e], k1)
-            e_out[row, 1] = min(ka, kb)
-            e_out[row, 2] = ka
-            e_out[row, 3] = kb
 
-    # 3. r-cells, r = 2..n-k: components of the graph restricted to each (r+k)-face.
-    # Components of the previous level (the edges, for r = 2): face, a vertex, min key.
-    prev_face = ef[:ne].copy()
-    prev_rep = ea[:ne].copy()
-    prev_min = np.empty(ne, np.int64)
+    # 3. r-cells, r = 1..n-k: connected pieces of the vertex-edge graph inside each
+    # (r+k)-face; for r = 1 they are the edges themselves.  Rows of prev/cur:
+    # (face, a vertex of the piece, key); the two buffers swap roles per level.
+    prev = comps_a
+    cur = comps_b
+    if prev.shape[0] < ne:
+        prev = np.empty((ne, 3), np.int64)
     for e in range(ne):
-        prev_min[e] = min(vkey[ea[e]], vkey[eb[e]])
+        f = ef[e]
+        ca = _local_code(face_free[f], face_free[vface[ea[e]]], face_fixed[vface[ea[e]]], ks_perm[vsimp[ea[e]]], k, kfact, binom)
+        cb = _local_code(face_free[f], face_free[vface[eb[e]]], face_fixed[vface[eb[e]]], ks_perm[vsimp[eb[e]]], k, kfact, binom)
+        prev[e, 0] = f
+        prev[e, 1] = ea[e]
+        prev[e, 2] = _face_key(g_lin, corner_off, face_fixed, face_rank, n_subsets, f, k1) * n_codes[k1] + min(ca, cb)
+        if write:
+            row = offs[1] + e
+            e_out[row, 0] = prev[e, 2]
+            e_out[row, 1] = vkey[ea[e]]
+            e_out[row, 2] = vkey[eb[e]]
     nprev = ne
-    parent = np.empty(nv, np.int64)
     ncell = 0
     ninc = 0
     for r in range(2, n - k + 1):
         dim = r + k
         fs = face_start[dim]
         nf = face_start[dim + 1] - fs
-        label = np.full((nf, nv), -1, np.int64)
-        cur_face = np.empty(nf * nv, np.int64)
-        cur_rep = np.empty(nf * nv, np.int64)
-        cur_min = np.empty(nf * nv, np.int64)
         ncur = 0
         for fl in range(nf):
             f = fs + fl
-            any_v = False
+            nin = 0
             for v in range(nv):
                 if _face_in_face(face_free, face_fixed, vface[v], f):
                     parent[v] = v
-                    any_v = True
+                    nin += 1
                 else:
                     parent[v] = -1
-            if not any_v:
+            if nin == 0:
                 continue
             has_edge = False
             for e in range(ne):
@@ -331,65 +349,110 @@ def _process_cube(
                         parent[max(ra, rb)] = min(ra, rb)
             if not has_edge:
                 continue
-            for v in range(nv):
+            if cur.shape[0] < ncur + nin:  # rare: grow the buffer
+                grown = np.empty((2 * (ncur + nin), 3), np.int64)
+                grown[:ncur] = cur[:ncur]
+                cur = grown
+            first = ncur
+            ff = face_free[f]
+            for v in range(nv):  # a root is its piece's smallest vertex index: it comes first
                 if parent[v] >= 0:
                     root = _find(parent, v)
+                    code = _local_code(ff, face_free[vface[v]], face_fixed[vface[v]], ks_perm[vsimp[v]], k, kfact, binom)
                     if root == v:
-                        label[fl, v] = ncur
-                        cur_face[ncur] = f
-                        cur_rep[ncur] = v
-                        cur_min[ncur] = vkey[v]
+                        comp_of_root[v] = ncur
+                        cur[ncur, 0] = f
+                        cur[ncur, 1] = v
+                        cur[ncur, 2] = code
                         ncur += 1
-            for v in range(nv):
-                if parent[v] >= 0:
-                    c = label[fl, _find(parent, v)]
-                    label[fl, v] = c
-                    if vkey[v] < cur_min[c]:
-                        cur_min[c] = vkey[v]
-        fkey_cache = np.empty(nf, np.int64)
-        for fl in range(nf):
-            fkey_cache[fl] = _face_key(g_lin, corner_off, face_fixed, face_rank, n_subsets, fs + fl, dim)
-        if write:
-            for c in range(ncur):
-                row = offs[2] + ncell + c
-                c_out[row, 0] = r
-                c_out[row, 1] = fkey_cache[cur_face[c] - fs]
-                c_out[row, 2] = cur_min[c]
+                    else:
+                        c = comp_of_root[root]
+                        if code < cur[c, 2]:
+                            cur[c, 2] = code
+            fkey = _face_key(g_lin, corner_off, face_fixed, face_rank, n_subsets, f, dim) * n_codes[dim]
+            for c in range(first, ncur):
+                cur[c, 2] += fkey
+                if write:
+                    row = offs[2] + ncell + c
+                    c_out[row, 0] = r
+                    c_out[row, 1] = cur[c, 2]
+            # incidences: each previous-level piece in a face g of f lies in one piece of f
+            for y in range(nprev):
+                if not _face_in_face(face_free, face_fixed, prev[y, 0], f):
+                    continue
+                rep = prev[y, 1]
+                if parent[rep] < 0:
+                    degenerate += 1
+                    continue
+                if write:
+                    row = offs[3] + ninc
+                    i_out[row, 0] = r
+                    i_out[row, 1] = cur[comp_of_root[_find(parent, rep)], 2]
+                    i_out[row, 2] = prev[y, 2]
+                ninc += 1
         ncell += ncur
-        # incidences: each previous-level component lies in one component of every face containing its face
-        for y in range(nprev):
-            g = prev_face[y]
-            gkey = 0
-            if write:
-                gkey = _face_key(g_lin, corner_off, face_fixed, face_rank, n_subsets, g, dim - 1)
-            for fl in range(nf):
-                if _face_in_face(face_free, face_fixed, g, fs + fl):
-                    x = label[fl, prev_rep[y]]
-                    if x < 0:
-                        degenerate += 1
-                        continue
-                    if write:
-                        row = offs[3] + ninc
-                        i_out[row, 0] = r
-                        i_out[row, 1] = fkey_cache[fl]
-                        i_out[row, 2] = cur_min[x]
-                        i_out[row, 3] = gkey
-                        i_out[row, 4] = prev_min[y]
-                    ninc += 1
-        prev_face = cur_face[:ncur].copy()
-        prev_rep = cur_rep[:ncur].copy()
-        prev_min = cur_min[:ncur].copy()
+        swap = prev
+        prev = cur
+        cur = swap
         nprev = ncur
     counts[2] = ncell
     counts[3] = ninc
     return degenerate
 
 
+@nb.njit(**JIT)
+def _process_chunk(
+    lo, hi, vals, cube_lin, cube_origin, base_lin, axes, corner_off, n, k,
+    face_start, face_free, face_fixed, face_rank, n_subsets,
+    ks_corners, ks_face, ks_perm, kfact, binom, n_codes,
+    t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp,
+    write, counts, offsets, vk_out, vp_out, e_out, c_out, i_out,
+):
+    """Cubes lo..hi-1 in one thread, with one set of scratch buffers."""
+    ns = ks_corners.shape[0]
+    n_nodes = nb_nodes + t_interior.shape[0]
+    simp_vertex = np.empty(ns, np.int64)
+    pos_mask = np.empty(1 << n, np.int64)
+    mat = np.empty((k, k), np.float64)
+    rhs = np.empty(k, np.float64)
+    lam = np.empty(k + 1, np.float64)
+    corners_buf = np.empty(k + 1, np.int64)
+    link0 = np.empty(n_nodes, np.int64)
+    link1 = np.empty(n_nodes, np.int64)
+    memo = np.empty(max(t_interior.shape[0], 1), np.int8)
+    found = np.empty(nb_nodes, np.int64)
+    paired = np.empty(nb_nodes, np.int8)
+    vsimp = np.empty(ns, np.int64)
+    vface = np.empty(ns, np.int64)
+    vkey = np.empty(ns, np.int64)
+    max_edges = (face_start[k + 2] - face_start[k + 1]) * (nb_nodes // 2)
+    ea = np.empty(max_edges, np.int64)
+    eb = np.empty(max_edges, np.int64)
+    ef = np.empty(max_edges, np.int64)
+    parent = np.empty(ns, np.int64)
+    comp_of_root = np.empty(ns, np.int64)
+    comps_a = np.empty((4 * ns, 3), np.int64)
+    comps_b = np.empty((4 * ns, 3), np.int64)
+    dg = 0
+    for ci in range(lo, hi):
+        o = cube_lin[ci]
+        dg += _process_cube(
+            vals, o, o + base_lin, cube_origin[ci], axes, corner_off, n, k,
+            face_start, face_free, face_fixed, face_rank, n_subsets,
+            ks_corners, ks_face, ks_perm, kfact, binom, n_codes,
+            t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp,
+            simp_vertex, pos_mask, mat, rhs, lam, corners_buf, link0, link1, memo, found, paired,
+            vsimp, vface, vkey, ea, eb, ef, parent, comp_of_root, comps_a, comps_b,
+            write, vk_out, vp_out, e_out, c_out, i_out, offsets[ci], counts[ci],
+        )
+    return dg
+
+
 @nb.njit(**PARALLEL_JIT)
 def cubes_kernel(
     vals, cube_lin, cube_origin, base_lin, axes, corner_off, n, k,
     face_start, face_free, face_fixed, face_rank, n_subsets,
-    ks_corners, ks_face, ks_perm, kfact,
+    ks_corners, ks_face, ks_perm, kfact, binom, n_codes,
     t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp,
     write, counts, offsets, vk_out, vp_out, e_out, c_out, i_out, nchunks,
 ):
@@ -406,32 +469,12 @@ def cubes_kernel(
         return 0
     nchunks = min(m, nchunks)
     degenerate = np.zeros(nchunks, np.int64)
-    ns = ks_corners.shape[0]
-    n_nodes = nb_nodes + t_interior.shape[0]
     for ch in prange(nchunks):
-        lo = ch * m // nchunks
-        hi = (ch + 1) * m // nchunks
-        simp_vertex = np.empty(ns, np.int64)
-        pos_mask = np.empty(1 << n, np.int64)
-        mat = np.empty((k, k), np.float64)
-        rhs = np.empty(k, np.float64)
-        lam = np.empty(k + 1, np.float64)
-        corners_buf = np.empty(k + 1, np.int64)
-        link0 = np.empty(n_nodes, np.int64)
-        link1 = np.empty(n_nodes, np.int64)
-        memo = np.empty(max(t_interior.shape[0], 1), np.int8)
-        found = np.empty(nb_nodes, np.int64)
-        paired = np.empty(nb_nodes, np.int8)
-        dg = 0
-        for ci in range(lo, hi):
-            o = cube_lin[ci]
-            dg += _process_cube(
-                vals, o, o + base_lin, cube_origin[ci], axes, corner_off, n, k,
-                face_start, face_free, face_fixed, face_rank, n_subsets,
-                ks_corners, ks_face, ks_perm, kfact,
-                t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp,
-                simp_vertex, pos_mask, mat, rhs, lam, corners_buf, link0, link1, memo, found, paired,
-                write, vk_out, vp_out, e_out, c_out, i_out, offsets[ci], counts[ci],
-            )
-        degenerate[ch] = dg
+        degenerate[ch] = _process_chunk(
+            ch * m // nchunks, (ch + 1) * m // nchunks, vals, cube_lin, cube_origin, base_lin, axes, corner_off, n, k,
+            face_start, face_free, face_fixed, face_rank, n_subsets,
+            ks_corners, ks_face, ks_perm, kfact, binom, n_codes,
+            t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp,
+            write, counts, offsets, vk_out, vp_out, e_out, c_out, i_out,
+        )
     return degenerate.sum()

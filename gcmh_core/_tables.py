@@ -42,6 +42,8 @@ class CubeTables:
     face_fixed: np.ndarray  # (NF,) int64
     face_rank: np.ndarray  # (NF,) int64  rank of the free-axes subset among C(n, r)
     n_subsets: np.ndarray  # (n + 1,) int64  C(n, r)
+    binom: np.ndarray  # (n + 1, n + 1) int64 binomial coefficients
+    n_codes: np.ndarray  # (n + 1,) int64 vertex codes inside a face of dim D: C(D, k) 2^(D-k) k!
     # Kuhn k-simplices of the cube's k-faces
     ksimp_corners: np.ndarray  # (NS, k+1) int64 corners in chain order
     ksimp_face: np.ndarray  # (NS,) int64 index into faces of dim k (relative)
@@ -158,6 +160,8 @@ def cube_tables(n: int, k: int) -> CubeTables:
         face_fixed=as_i64(fixed_l),
         face_rank=as_i64(rank_l),
         n_subsets=as_i64([comb(n, r) for r in range(n + 1)]),
+        binom=as_i64([[comb(a, b) for b in range(n + 1)] for a in range(n + 1)], (n + 1, n + 1)),
+        n_codes=as_i64([comb(d, k) * 2 ** max(d - k, 0) * factorial(k) for d in range(n + 1)]),
         ksimp_corners=as_i64(ks_corners, (-1, k + 1)),
         ksimp_face=as_i64(ks_face),
         ksimp_perm=as_i64(ks_perm),

@@ -242,6 +242,9 @@ def _run_gcmh(n, k, axes, system, sampled, progress, cancel) -> CellComplex:
     axes_arr = np.zeros((n, maxlen))
     for a in range(n):
         axes_arr[a, : dims[a]] = axes[a]
+    total_vertices = int(np.prod([int(d) for d in dims]))
+    if max(total_vertices * int(tab.n_subsets[d]) * int(tab.n_codes[d]) for d in range(k, n + 1)) >= 2**63:
+        raise InputError(f"the grid is too large to index ({total_vertices:,} vertices in R^{n}): use a smaller div")
     layer = int(np.prod(dims[1:]))
     thickness = int(max(1, min(dims[0] - 1, _SLAB_VERTICES // max(layer * k, 1))))
     kfact = factorial(k)
@@ -290,7 +293,7 @@ def _run_gcmh(n, k, axes, system, sampled, progress, cancel) -> CellComplex:
         args = (
             flat, cube_lin, origin, base, axes_arr, corner_off, n, k,
             tab.face_start, tab.face_free, tab.face_fixed, tab.face_rank, tab.n_subsets,
-            tab.ksimp_corners, tab.ksimp_face, tab.ksimp_perm, kfact,
+            tab.ksimp_corners, tab.ksimp_face, tab.ksimp_perm, kfact, tab.binom, tab.n_codes,
             tab.tmpl_corners, tab.tmpl_facets, tab.tmpl_interior, tab.n_boundary_nodes,
             tab.walk_corner_map, tab.walk_boundary_simplex,
         )
@@ -330,60 +333,38 @@ def parts_dtype(key: str):
 
 
 # ----------------------------------------------------------------------------- assembly
-def _dense_pairs(face_keys: np.ndarray, vertex_ids: np.ndarray, n_vertices: int) -> np.ndarray:
-    """One int64 per (face key, vertex id) pair, ordered as the pairs are."""
-    _, dense = np.unique(face_keys, return_inverse=True)
-    return dense.astype(np.int64).reshape(-1) * max(n_vertices, 1) + vertex_ids
+def _unique_first(keys: np.ndarray):
+    """Sorted unique keys and the index of each one's first occurrence (sort-based: fast on int64)."""
+    order = np.argsort(keys, kind="stable")
+    sk = keys[order]
+    keep = np.ones(len(sk), bool)
+    keep[1:] = sk[1:] != sk[:-1]
+    return sk[keep], order[keep]
 
 
 def _assemble(n, k, vk, vp, e, c, inc) -> CellComplex:
-    """Identify what neighbouring cubes emitted twice and build the CellComplex."""
-    vkeys, first = np.unique(vk, return_index=True)
+    """Identify what neighbouring cubes emitted twice and build the CellComplex.
+
+    Every entity carries a key computed from grid indices alone (see `_kernels`);
+    ids in the result follow the sorted keys, so the output does not depend on
+    the order in which cubes, slabs or threads produced it.
+    """
+    vkeys, first = _unique_first(vk)
     vertices = np.ascontiguousarray(vp[first])
-    V = len(vkeys)
-    vid = lambda keys: np.searchsorted(vkeys, keys)
-
-    # level r cells are identified by (face key, min vertex key) = (face key, min vertex id)
-    dim = n - k
-    level_face = {1: e[:, 0]}
-    level_min = {1: vid(e[:, 1])}
-    for r in range(2, dim + 1):
-        rows = c[c[:, 0] == r]
-        level_face[r] = rows[:, 1]
-        level_min[r] = vid(rows[:, 2])
-    inc_by_r = {r: inc[inc[:, 0] == r] for r in range(2, dim + 1)}
-
-    # every (face, vertex) pair of a level, definitions first, then queries from incidences
-    uniq, lookup = {}, {}
-    for r in range(1, dim + 1):
-        faces = [level_face[r]]
-        mins = [level_min[r]]
-        if r in inc_by_r:
-            faces.append(inc_by_r[r][:, 1])
-            mins.append(vid(inc_by_r[r][:, 2]))
-        if r + 1 in inc_by_r:
-            faces.append(inc_by_r[r + 1][:, 3])
-            mins.append(vid(inc_by_r[r + 1][:, 4]))
-        sizes = np.cumsum([0] + [len(f) for f in faces])
-        keys = _dense_pairs(np.concatenate(faces), np.concatenate(mins), V)
-        defs = keys[: sizes[1]]
-        u, first_r = np.unique(defs, return_index=True)
-        uniq[r] = (u, first_r)
-        lookup[r] = {}
-        if r in inc_by_r:
-            lookup[r]["X"] = np.searchsorted(u, keys[sizes[1] : sizes[2]])
-        if r + 1 in inc_by_r:
-            lookup[r]["Y"] = np.searchsorted(u, keys[sizes[-2] : sizes[-1]])
-
-    _, first_e = uniq[1]
-    edges = np.stack([vid(e[first_e, 2]), vid(e[first_e, 3])], axis=1).astype(np.int64)
+    keys = {1: _unique_first(e[:, 0])}
+    edges = np.searchsorted(vkeys, e[keys[1][1], 1:3]).astype(np.int64)
     cells = {}
-    for r in range(2, dim + 1):
-        n_lower = len(uniq[r - 1][0])
-        pairs = np.unique(lookup[r]["X"].astype(np.int64) * n_lower + lookup[r - 1]["Y"])
-        x = pairs // max(n_lower, 1)
-        y = pairs % max(n_lower, 1)
-        offsets = np.zeros(len(uniq[r][0]) + 1, np.int64)
-        np.cumsum(np.bincount(x, minlength=len(uniq[r][0])), out=offsets[1:])
-        cells[r] = (offsets, y.astype(np.int64))
+    for r in range(2, n - k + 1):
+        keys[r] = _unique_first(c[c[:, 0] == r, 1])
+        rows = inc[inc[:, 0] == r]
+        x = np.searchsorted(keys[r][0], rows[:, 1])
+        y = np.searchsorted(keys[r - 1][0], rows[:, 2])
+        n_lower = max(len(keys[r - 1][0]), 1)
+        pairs = np.sort(x.astype(np.int64) * n_lower + y)
+        keep = np.ones(len(pairs), bool)
+        keep[1:] = pairs[1:] != pairs[:-1]
+        pairs = pairs[keep]
+        offsets = np.zeros(len(keys[r][0]) + 1, np.int64)
+        np.cumsum(np.bincount(pairs // n_lower, minlength=len(keys[r][0])), out=offsets[1:])
+        cells[r] = (offsets, (pairs % n_lower).astype(np.int64))
     return CellComplex(n, k, vertices, edges, cells)
