@@ -1,0 +1,595 @@
+"""Formulas for F: R^n -> R^k, parsed safely and evaluated with numpy.
+
+The text of each component is parsed with :mod:`ast` (``^`` means power) and
+only a whitelist of nodes and names is accepted; the sympy expression is built
+by hand from that tree.  User text never reaches ``eval``, ``exec``,
+``sympify`` or ``parse_expr``.
+
+Evaluation uses the sympy expressions after common-subexpression elimination
+across all k components, compiled to a small tree of numpy calls.  On a grid,
+variable ``a`` is an array of shape ``(1, .., len_a, .., 1)``, so numpy
+broadcasting evaluates every subexpression on the sub-grid of the variables it
+depends on; sums and products combine their terms smallest-support first.
+
+>>> F = parse_system(["x^2 + y^2 + z^2 - 1", "z"], ["x", "y", "z"])
+>>> F.evaluate_points([[1.0, 0.0, 0.0]]).tolist()
+[[0.0, 0.0]]
+>>> F.evaluate_grid([[0.0, 1.0], [0.0], [0.0, 0.5, 1.0]]).shape
+(2, 1, 3, 2)
+"""
+
+from __future__ import annotations
+
+import ast
+import difflib
+import functools
+import itertools
+import keyword
+import math
+import operator
+import re
+import unicodedata
+from collections.abc import Sequence
+
+import numpy as np
+import sympy
+
+from .errors import InputError
+
+__all__ = ["FormulaError", "System", "parse_system", "check_component"]
+
+MAX_CHARS = 5000  # characters in one component
+MAX_NODES = 2000  # expression nodes in one component
+MAX_DEPTH = 100  # nesting depth of one component
+MAX_EXPONENT = 64  # |constant exponent|
+_MAX_BITS = 1024  # exact rational constants larger than this are folded to float
+
+
+class FormulaError(InputError):
+    """A formula or a variable list is wrong.
+
+    ``component`` is the 0-based component index (None if not about one
+    component), ``position`` the 1-based column in that component's text (or
+    None), ``detail`` the bare description.
+    """
+
+    def __init__(self, detail: str, component: int | None = None, position: int | None = None):
+        self.detail, self.component, self.position = detail, component, position
+        where = []
+        if component is not None:
+            where.append(f"component {component + 1} (F{component + 1})")
+        if position is not None:
+            where.append(f"column {position}")
+        super().__init__(f"{', '.join(where)}: {detail}" if where else detail)
+
+    def __reduce__(self):  # keep the fields through pickling (worker processes)
+        return (type(self), (self.detail, self.component, self.position))
+
+
+# --------------------------------------------------------------------------- names
+
+def _minimum(*a):
+    return functools.reduce(np.minimum, a)
+
+
+def _maximum(*a):
+    return functools.reduce(np.maximum, a)
+
+
+# user name -> (sympy builder, numpy function, min args, max args (None: any))
+_FUNCTIONS = {
+    "sin": (sympy.sin, np.sin, 1, 1),
+    "cos": (sympy.cos, np.cos, 1, 1),
+    "tan": (sympy.tan, np.tan, 1, 1),
+    "asin": (sympy.asin, np.arcsin, 1, 1),
+    "acos": (sympy.acos, np.arccos, 1, 1),
+    "atan": (sympy.atan, np.arctan, 1, 1),
+    "atan2": (sympy.atan2, np.arctan2, 2, 2),
+    "sinh": (sympy.sinh, np.sinh, 1, 1),
+    "cosh": (sympy.cosh, np.cosh, 1, 1),
+    "tanh": (sympy.tanh, np.tanh, 1, 1),
+    "exp": (sympy.exp, np.exp, 1, 1),
+    "log": (sympy.log, np.log, 1, 1),
+    "sqrt": (sympy.sqrt, np.sqrt, 1, 1),
+    "abs": (sympy.Abs, np.abs, 1, 1),
+    "min": (sympy.Min, _minimum, 2, None),
+    "max": (sympy.Max, _maximum, 2, None),
+}
+_CONSTANTS = {"pi": sympy.pi, "e": sympy.E}
+
+# sympy function class -> numpy function, for evaluation (Heaviside/sign come from derivatives)
+_NUMPY = {sym: fn for sym, fn, _, _ in _FUNCTIONS.values() if isinstance(sym, type)}
+_NUMPY.update({sympy.sign: np.sign, sympy.Heaviside: lambda x, h0=0.5: np.heaviside(x, h0)})
+
+_BINOPS = {  # ast op -> (symbol, sympy/python operator, numpy ufunc)
+    ast.Add: ("+", operator.add, np.add),
+    ast.Sub: ("-", operator.sub, np.subtract),
+    ast.Mult: ("*", operator.mul, np.multiply),
+    ast.Div: ("/", operator.truediv, np.divide),
+    ast.Pow: ("**", operator.pow, np.power),
+}
+_BAD_OPS = {ast.FloorDiv: "//", ast.Mod: "%", ast.MatMult: "@", ast.LShift: "<<",
+            ast.RShift: ">>", ast.BitOr: "|", ast.BitAnd: "&", ast.BitXor: "^",
+            ast.Not: "not", ast.Invert: "~"}
+_BAD_NODES = {ast.Attribute: "attribute access ('.')", ast.Subscript: "indexing ('[...]')",
+              ast.Lambda: "lambda", ast.Compare: "comparisons", ast.BoolOp: "'and'/'or'",
+              ast.IfExp: "'if ... else'", ast.ListComp: "comprehensions",
+              ast.SetComp: "comprehensions", ast.DictComp: "comprehensions",
+              ast.GeneratorExp: "comprehensions", ast.List: "lists", ast.Set: "sets",
+              ast.Dict: "dicts", ast.JoinedStr: "strings", ast.NamedExpr: "':='",
+              ast.Starred: "'*' unpacking"}
+
+
+def _check_variables(variables) -> tuple[str, ...]:
+    """Validate variable names: identifiers, unique, not function/constant names."""
+    if isinstance(variables, str):  # "x, y, z" from a text field
+        variables = [v for v in re.split(r"[\s,]+", variables) if v]
+    names = tuple(variables)
+    if not names:
+        raise FormulaError("no variables given")
+    for i, v in enumerate(names):
+        if not isinstance(v, str) or not v.isidentifier() or keyword.iskeyword(v):
+            raise FormulaError(f"variable {i + 1} ({v!r}) is not a valid name "
+                               "(use letters, digits and '_', not starting with a digit)")
+        if unicodedata.normalize("NFKC", v) != v:  # python would read it as another name
+            raise FormulaError(f"variable name {v!r} is not in Unicode normal form "
+                               f"(write {unicodedata.normalize('NFKC', v)!r})")
+        if v in _FUNCTIONS or v in _CONSTANTS:
+            kind = "function" if v in _FUNCTIONS else "constant"
+            raise FormulaError(f"variable name {v!r} is the name of a {kind}")
+        if v in names[:i]:
+            raise FormulaError(f"variable name {v!r} is given twice")
+    return names
+
+
+# ------------------------------------------------------------------------- parsing
+
+def _number(value: float) -> sympy.Expr:
+    if math.isnan(value):
+        return sympy.nan
+    if math.isinf(value):
+        return sympy.oo if value > 0 else -sympy.oo
+    return sympy.Float(value)
+
+
+_EXACT = (operator.add, operator.sub, operator.mul, operator.truediv, operator.pow, operator.neg)
+
+
+def _fold(sym_op, np_op, args):
+    """Constant subexpression: exact if small rationals, else float64 as numpy computes it
+    (so log(0) is -inf and sqrt(-1) nan, never sympy's zoo or I)."""
+    if all(a.is_Rational for a in args) and sym_op in _EXACT:
+        a, b = args[0], args[-1]
+        ok = not (sym_op is operator.truediv and b == 0)
+        if sym_op is operator.pow:  # bound the size of an exact power before computing it
+            bits = max(int(a.p).bit_length(), int(a.q).bit_length())
+            ok = b.is_Integer and not (a == 0 and b < 0) and bits * abs(int(b)) <= _MAX_BITS
+        if ok:
+            r = sym_op(*args)
+            if max(int(r.p).bit_length(), int(r.q).bit_length()) <= _MAX_BITS:
+                return r
+    with np.errstate(all="ignore"):
+        return _number(float(np_op(*[np.float64(float(a)) for a in args])))
+
+
+class _Builder:
+    """Turns the whitelisted AST of one component into a sympy expression."""
+
+    def __init__(self, text: str, index: int, variables: tuple[str, ...], symbols: dict):
+        self.text, self.index, self.variables, self.symbols = text, index, variables, symbols
+        # '^' -> '**' and line breaks -> ' '; cols maps each source char to its column in text
+        src, cols = [], []
+        for i, ch in enumerate(text):
+            src.append("**" if ch == "^" else " " if ch in "\r\n\t\f\v" else ch)
+            cols += [i] * len(src[-1])
+        src = "".join(src)
+        lead = len(src) - len(src.lstrip(" "))  # ast rejects leading spaces
+        self.src, self.cols = src[lead:], cols[lead:]
+        self.utf8 = self.src.encode("utf-8")
+
+    def error(self, detail, where=None):
+        """Raise FormulaError; where is an AST node, or a 0-based index into self.src."""
+        if isinstance(where, ast.AST):  # ast columns are utf-8 byte offsets
+            where = len(self.utf8[:where.col_offset].decode("utf-8", "ignore"))
+        pos = None
+        if where is not None:
+            pos = self.cols[where] + 1 if where < len(self.cols) else len(self.text) + 1
+        raise FormulaError(detail, self.index, pos)
+
+    def parse(self) -> sympy.Expr:
+        text = self.text
+        if not text.strip():
+            self.error("empty formula")
+        if len(text) > MAX_CHARS:
+            self.error(f"formula too long ({len(text)} characters, at most {MAX_CHARS})")
+        if "#" in self.src:
+            self.error("'#' is not allowed", self.src.index("#"))
+        try:
+            tree = ast.parse(self.src, mode="eval")
+        except SyntaxError as e:
+            msg = (e.msg or "invalid syntax").replace("Perhaps you forgot a comma?",
+                                                      "Missing operator such as '*'?")
+            if msg == "invalid decimal literal":
+                msg += " (write 2*x, not 2x)"
+            elif msg.startswith("Exceeds the limit"):
+                msg = "number with too many digits"
+            self.error(f"syntax error: {msg}", e.offset - 1 if e.offset and e.offset > 0 else None)
+        except (RecursionError, MemoryError, ValueError):
+            self.error("expression too complex (nested too deeply)")
+        nodes = sum(isinstance(nd, ast.expr) for nd in ast.walk(tree))
+        if nodes > MAX_NODES:
+            self.error(f"expression too large ({nodes} nodes, at most {MAX_NODES})")
+        try:
+            return self.build(tree.body, 1)
+        except FormulaError:
+            raise
+        except (TypeError, ValueError, ArithmeticError, RecursionError) as e:  # sympy surprises
+            self.error(f"cannot build expression: {e}")
+
+    def build(self, node, depth) -> sympy.Expr:
+        if depth > MAX_DEPTH:
+            self.error(f"expression nested too deeply (more than {MAX_DEPTH} levels)", node)
+        if isinstance(node, ast.BinOp):
+            if type(node.op) not in _BINOPS:
+                self.error(f"operator '{_BAD_OPS.get(type(node.op), '?')}' is not supported",
+                           self.op_index(node))
+            if not isinstance(node.op, ast.Pow):  # a+b-c+... is one level, not a deep tree
+                return self.chain(node, depth)
+            a, b = self.build(node.left, depth + 1), self.build(node.right, depth + 1)
+            _, sym_op, np_op = _BINOPS[type(node.op)]
+            if sym_op is operator.pow and b.is_number and abs(float(b)) > MAX_EXPONENT:
+                self.error(f"exponent {b} is too large (at most {MAX_EXPONENT} in absolute value)",
+                           node.right)
+            return _fold(sym_op, np_op, [a, b]) if a.is_number and b.is_number else sym_op(a, b)
+        if isinstance(node, ast.UnaryOp):
+            if not isinstance(node.op, (ast.USub, ast.UAdd)):
+                self.error(f"operator '{_BAD_OPS[type(node.op)]}' is not supported", node)
+            a = self.build(node.operand, depth + 1)
+            if isinstance(node.op, ast.UAdd):
+                return a
+            return _fold(operator.neg, np.negative, [a]) if a.is_number else -a
+        if isinstance(node, ast.Name):
+            return self.name(node)
+        if isinstance(node, ast.Call):
+            return self.call(node, depth)
+        if isinstance(node, ast.Constant):
+            v = node.value
+            if type(v) is int:
+                return sympy.Integer(v)
+            if type(v) is float:
+                return _number(v)
+            what = {complex: "imaginary numbers", str: "strings", bytes: "strings"}.get(
+                type(v), f"{v!r}")
+            self.error(f"{what} not allowed", node)
+        if isinstance(node, ast.Tuple):
+            self.error("a comma-separated list is not allowed (one formula per component)", node)
+        self.error(f"{_BAD_NODES.get(type(node), type(node).__name__)} not allowed", node)
+
+    def chain(self, node, depth):
+        """Left-associated chain of + - (or * /): one level of nesting, and one sympy Add
+        (Mul) of all terms, since adding terms one by one costs quadratic time."""
+        add = isinstance(node.op, (ast.Add, ast.Sub))
+        family = (ast.Add, ast.Sub) if add else (ast.Mult, ast.Div)
+        rest = []
+        while isinstance(node, ast.BinOp) and isinstance(node.op, family):
+            rest.append((node.op, node.right))
+            node = node.left
+        terms = [self.build(node, depth + 1)]
+        for op, right in reversed(rest):
+            b = self.build(right, depth + 1)
+            if isinstance(op, ast.Sub):
+                b = _fold(operator.neg, np.negative, [b]) if b.is_number else -b
+            elif isinstance(op, ast.Div):  # constant 1/b as numpy does it: 1/0 = inf
+                b = _fold(operator.truediv, np.divide, [sympy.S.One, b]) if b.is_number else 1 / b
+            terms.append(b)
+        return sympy.Add(*terms) if add else sympy.Mul(*terms)
+
+    def op_index(self, node):
+        """0-based index of a binary operator in src (ast gives no position for it)."""
+        start = len(self.utf8[:node.left.end_col_offset].decode("utf-8", "ignore"))
+        sym = _BAD_OPS.get(type(node.op), "")
+        i = self.src.find(sym, start) if sym else -1
+        return i if i >= 0 else start
+
+    def suggest(self, name, candidates):
+        close = [c for c in candidates if c.lower() == name.lower()]
+        close = close or difflib.get_close_matches(name, candidates, n=2, cutoff=0.6)
+        return f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+
+    def name(self, node):
+        name = node.id
+        if name in self.symbols:
+            return self.symbols[name]
+        if name in _CONSTANTS:
+            return _CONSTANTS[name]
+        if name in _FUNCTIONS:
+            self.error(f"'{name}' is a function: write {name}(...)", node)
+        m = re.fullmatch(r"([^\W\d]\w*?)(\d+)", name)
+        n = len(self.variables)
+        if m and self.variables == tuple(f"{m[1]}{i}" for i in range(1, n + 1)):
+            self.error(f"{name} is outside {m[1]}1..{m[1]}{n} (n = {n})", node)
+        hint = self.suggest(name, [*self.variables, *_CONSTANTS, *_FUNCTIONS])
+        hint = hint or f" (variables: {', '.join(self.variables)})"
+        self.error(f"unknown name '{name}'{hint}", node)
+
+    def call(self, node, depth):
+        if not isinstance(node.func, ast.Name):
+            what = _BAD_NODES.get(type(node.func), "calling an expression")
+            self.error(f"{what} not allowed; only named functions can be called", node.func)
+        name = node.func.id
+        if name not in _FUNCTIONS:
+            if name in self.symbols:
+                self.error(f"'{name}' is a variable, not a function (write {name}*(...) "
+                           "for a product)", node)
+            if name in _CONSTANTS:
+                self.error(f"'{name}' is a constant, not a function", node)
+            self.error(f"unknown function '{name}'{self.suggest(name, list(_FUNCTIONS))}", node)
+        if node.keywords:
+            self.error(f"keyword arguments are not allowed in {name}(...)", node.keywords[0].value)
+        sym_f, np_f, lo, hi = _FUNCTIONS[name]
+        nargs = len(node.args)
+        if nargs < lo or (hi is not None and nargs > hi):
+            want = f"at least {lo} arguments" if hi is None else \
+                f"{lo} argument{'s' if lo > 1 else ''}"
+            self.error(f"{name}() takes {want}, got {nargs}", node)
+        args = [self.build(a, depth + 1) for a in node.args]
+        if all(a.is_number for a in args):
+            return _fold(sym_f, np_f, args)
+        if name in ("min", "max") and any(a is sympy.nan for a in args):
+            return sympy.nan  # np.minimum/maximum propagate nan; sympy.Min refuses it
+        try:
+            return sym_f(*args)
+        except (TypeError, ValueError):  # e.g. Min of a non-real expression: numpy gives nan
+            return sympy.nan
+
+
+# ---------------------------------------------------------------------- evaluation
+
+def _support(expr, deps) -> frozenset:
+    """Axes (variable indices) that expr depends on."""
+    return frozenset().union(*(deps[s] for s in expr.free_symbols))
+
+
+def _constant(expr):
+    if expr is sympy.I:  # only from sympy rewriting e.g. sqrt(-x**2); numpy would give nan
+        return np.float64(np.nan)
+    if expr is sympy.zoo:  # x/0 -> zoo*x; inf*x has numpy's signs for x/0
+        return np.float64(np.inf)
+    return np.float64(float(expr))
+
+
+def _reduce(ufunc, items):
+    """Combine (support, fn) items with ufunc, merging the pair with the smallest joint
+    support first so that terms on small sub-grids meet before being broadcast."""
+    groups: dict = {}
+    for sup, fn in items:  # same support: same shape, combine freely
+        groups.setdefault(sup, []).append(fn)
+    items = [(sup, _chain(ufunc, fns)) for sup, fns in groups.items()]
+    items.sort(key=lambda it: (len(it[0]), sorted(it[0])))
+    while len(items) > 1:
+        if len(items) <= 24:
+            i, j = min(itertools.combinations(range(len(items)), 2),
+                       key=lambda p: len(items[p[0]][0] | items[p[1]][0]))
+        else:
+            i, j = 0, 1
+        (si, fi), (sj, fj) = items[i], items.pop(j)
+        items[i] = (si | sj, _chain(ufunc, [fi, fj]))
+    return items[0][1]
+
+
+def _chain(ufunc, fns):
+    if len(fns) == 1:
+        return fns[0]
+
+    def f(env):
+        acc = fns[0](env)
+        for g in fns[1:]:
+            acc = ufunc(acc, g(env))
+        return acc
+    return f
+
+
+def _compile(expr, slots, deps):
+    """A closure env -> value of expr (array or np.float64); env[slots[symbol]] holds arrays."""
+    if expr in slots:
+        i = slots[expr]
+        return lambda env: env[i]
+    if expr.is_Number or expr.is_NumberSymbol or expr in (sympy.I, sympy.zoo):
+        v = _constant(expr)
+        return lambda env: v
+
+    def sub(e):
+        return _support(e, deps), _compile(e, slots, deps)
+
+    if expr.is_Add:
+        return _reduce(np.add, [sub(a) for a in expr.args])
+    if expr.is_Mul:  # a*b**-2 -> a/b**2: fewer operations, better rounding
+        num, den = [], []
+        for a in expr.args:
+            if a.is_Pow and a.exp.is_Number and a.exp < 0:
+                den.append(a.base ** -a.exp)
+            else:
+                num.append(a)
+        f = _reduce(np.multiply, [sub(a) for a in num]) if num else (lambda env: 1.0)
+        if not den:
+            return f
+        g = _reduce(np.multiply, [sub(a) for a in den])
+        return lambda env: np.divide(f(env), g(env))
+    if expr.is_Pow:
+        b, p = _compile(expr.base, slots, deps), expr.exp
+        if p == sympy.S.Half:
+            return lambda env: np.sqrt(b(env))
+        if p == -sympy.S.Half:
+            return lambda env: np.divide(1.0, np.sqrt(b(env)))
+        if p == -1:
+            return lambda env: np.divide(1.0, b(env))
+        if p == 2:
+            return lambda env: np.square(b(env))
+        if p.is_Number:
+            c = _constant(p)
+            return lambda env: np.power(b(env), c)
+        q = _compile(p, slots, deps)
+        return lambda env: np.power(b(env), q(env))
+    fn = _NUMPY.get(expr.func)
+    if fn is None:
+        raise TypeError(f"cannot evaluate {expr.func.__name__} in {expr}")
+    fs = [_compile(a, slots, deps) for a in expr.args]
+    return lambda env: fn(*[g(env) for g in fs])
+
+
+class _Program:
+    """Expressions over `symbols` after cse, compiled to numpy closures.
+
+    run(columns) takes one array per symbol (any mutually broadcastable shapes)
+    and returns one array or scalar per expression.
+    """
+
+    def __init__(self, exprs, symbols):
+        temps, outs = sympy.cse(list(exprs), symbols=(sympy.Dummy() for _ in itertools.count()))
+        slots = {s: i for i, s in enumerate(symbols)}
+        deps = {s: frozenset([i]) for i, s in enumerate(symbols)}
+        self.nslots = len(symbols) + len(temps)
+        self.steps, uses = [], []
+        for t, e in temps:
+            self.steps.append((len(slots), _compile(e, slots, deps)))
+            deps[t], slots[t] = _support(e, deps), len(slots)
+            uses.append(e.free_symbols)
+        for e in outs:
+            self.steps.append((None, _compile(e, slots, deps)))
+            uses.append(e.free_symbols)
+        # drop each temporary after its last use (full-grid temporaries are big)
+        last = {slots[s]: i for i, used in enumerate(uses) for s in used
+                if slots[s] >= len(symbols)}
+        self.drops = [[s for s, i in last.items() if i == step] for step in range(len(uses))]
+
+    def run(self, columns) -> list:
+        env = list(columns) + [None] * (self.nslots - len(columns))
+        out = []
+        with np.errstate(all="ignore"):
+            for (slot, fn), drop in zip(self.steps, self.drops):
+                if slot is None:
+                    out.append(fn(env))
+                else:
+                    env[slot] = fn(env)
+                for s in drop:
+                    env[s] = None
+        return out
+
+
+# -------------------------------------------------------------------------- public
+
+class System:
+    """F: R^n -> R^k given by the text of its k components over n named variables.
+
+    Attributes: ``n``, ``k``, ``variables`` (tuple of n names), ``texts`` (tuple
+    of k strings), ``exprs`` (tuple of k sympy expressions), ``symbols`` (the n
+    sympy symbols, real).  Pickles as its texts and variables; the numpy
+    programs are compiled on first use.  Prefer :func:`parse_system`.
+    """
+
+    def __init__(self, texts: Sequence[str], variables: Sequence[str]):
+        self.variables = _check_variables(variables)
+        self.texts = tuple(texts)
+        self.n, self.k = len(self.variables), len(self.texts)
+        self.symbols = tuple(sympy.Symbol(v, real=True) for v in self.variables)
+        names = dict(zip(self.variables, self.symbols))
+        for i, t in enumerate(self.texts):
+            if not isinstance(t, str):
+                raise FormulaError(f"expected a string, got {type(t).__name__}", i)
+        self.exprs = tuple(_Builder(t, i, self.variables, names).parse()
+                           for i, t in enumerate(self.texts))
+
+    def __reduce__(self):
+        return (type(self), (self.texts, self.variables))
+
+    def __repr__(self):
+        return f"System(texts={self.texts!r}, variables={self.variables!r})"
+
+    @functools.cached_property
+    def _program(self) -> _Program:
+        return _Program(self.exprs, self.symbols)
+
+    @functools.cached_property
+    def _jacobian_program(self) -> _Program:
+        return _Program([sympy.diff(e, s) for e in self.exprs for s in self.symbols], self.symbols)
+
+    def _points(self, P) -> np.ndarray:
+        P = np.asarray(P, dtype=np.float64)  # float64: integer powers must not overflow
+        if P.ndim != 2 or P.shape[1] != self.n:
+            raise InputError(f"points must have shape (m, {self.n}), got {P.shape}")
+        return P
+
+    def evaluate_points(self, P) -> np.ndarray:
+        """F at the rows of P: (m, n) -> (m, k) float64. Never raises on nan/inf."""
+        P = self._points(P)
+        values = self._program.run(list(np.ascontiguousarray(P.T)))
+        out = np.empty((P.shape[0], self.k))
+        for j, v in enumerate(values):
+            out[:, j] = v  # broadcasts constant components
+        return out
+
+    def evaluate_grid(self, axes: Sequence) -> np.ndarray:
+        """F on the grid axes[0] x ... x axes[n-1] (n 1-D arrays of lengths d_a + 1):
+        returns (d_0+1, ..., d_{n-1}+1, k) float64. Each subexpression is evaluated on
+        the sub-grid of the variables it depends on (numpy broadcasting)."""
+        if len(axes) != self.n:
+            raise InputError(f"expected {self.n} grid axes, got {len(axes)}")
+        cols = []
+        for a, ax in enumerate(axes):
+            ax = np.asarray(ax, dtype=np.float64)
+            if ax.ndim != 1:
+                raise InputError(f"grid axis {a} must be 1-D, got shape {ax.shape}")
+            cols.append(ax.reshape([-1 if b == a else 1 for b in range(self.n)]))
+        shape = tuple(c.size for c in cols)
+        out = np.empty(shape + (self.k,))
+        for j, v in enumerate(self._program.run(cols)):
+            out[..., j] = v  # broadcast to the full grid
+        return out
+
+    def jacobian_points(self, P) -> np.ndarray:
+        """Exact Jacobian dF_j/dx_a at the rows of P: (m, n) -> (m, k, n) float64."""
+        P = self._points(P)
+        values = self._jacobian_program.run(list(np.ascontiguousarray(P.T)))
+        out = np.empty((P.shape[0], self.k * self.n))
+        for j, v in enumerate(values):
+            out[:, j] = v
+        return out.reshape(P.shape[0], self.k, self.n)
+
+
+def parse_system(components: Sequence[str] | str, variables: Sequence[str] | str | None = None,
+                 *, n: int | None = None, k: int | None = None) -> System:
+    """Parse k formulas over n variables into a :class:`System`.
+
+    ``variables`` defaults to x1..xn (then ``n`` is required); a string
+    "x, y, z" is split on commas/spaces.  ``k``, if given, must equal the
+    number of components.  Raises :class:`FormulaError`.
+    """
+    comps = [components] if isinstance(components, str) else list(components)
+    if not comps:
+        raise FormulaError("no formulas given")
+    if k is not None and k != len(comps):
+        raise FormulaError(f"expected k = {k} formulas (one per component), got {len(comps)}")
+    if n is not None:
+        try:
+            n = operator.index(n)
+        except TypeError:
+            raise FormulaError(f"n must be an integer, got {n!r}") from None
+        if n < 1:
+            raise FormulaError(f"n must be at least 1, got {n}")
+    if variables is None:
+        if n is None:
+            raise FormulaError("give the variable names or n (for x1..xn)")
+        variables = [f"x{i}" for i in range(1, n + 1)]
+    variables = _check_variables(variables)
+    if n is not None and n != len(variables):
+        raise FormulaError(f"n = {n} but {len(variables)} variables given: {', '.join(variables)}")
+    return System(comps, variables)
+
+
+def check_component(text: str, variables: Sequence[str] | str, index: int = 0) -> None:
+    """Raise FormulaError (with component=index) if text is not a valid formula."""
+    names = _check_variables(variables)
+    symbols = {v: sympy.Symbol(v, real=True) for v in names}
+    if not isinstance(text, str):
+        raise FormulaError(f"expected a string, got {type(text).__name__}", index)
+    _Builder(text, index, names, symbols).parse()
