@@ -1,0 +1,513 @@
+"""Command line interface: ``gcmh examples`` and ``gcmh extract``.
+
+Examples::
+
+    gcmh examples
+    gcmh extract --example complex-cosine --json
+    gcmh extract --example klein-bottle --div 16 -o klein.npz --vtu klein.vtu
+    gcmh extract --f "x**2 + y**2 + z**2 - 1" --vars x,y,z --bounds -1.5:1.5 --div 24
+    gcmh extract --f "x1**2 + x2**2 - 1/2" --f "x3**2 + x4**2 - 1/2" --bounds -1:1,-1:1,-1:1,-1:1
+
+Exit status: 0 on success, 2 for bad input (one line on stderr, nothing
+written), 1 when an output file cannot be written, 130 when interrupted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import sys
+import tempfile
+from pathlib import Path
+from typing import Sequence
+
+from .errors import InputError
+
+PROG = "gcmh"
+
+# Options whose value may start with "-" (a negative bound, a formula "-x + 1").
+_GLUE_OPTIONS = ("--bounds", "--start", "--f", "-f", "--formula")
+
+
+class _UsageError(Exception):
+    """An argparse error, turned into one line on stderr and exit status 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str):  # noqa: D401 - argparse hook
+        raise _UsageError(message)
+
+
+def _glue_values(argv: Sequence[str]) -> list[str]:
+    """``--bounds -1.5:1.5`` -> ``--bounds=-1.5:1.5`` so argparse takes it as a value."""
+    out: list[str] = []
+    i = 0
+    argv = list(argv)
+    while i < len(argv):
+        arg = argv[i]
+        if (
+            arg in _GLUE_OPTIONS
+            and i + 1 < len(argv)
+            and argv[i + 1].startswith("-")
+            and not argv[i + 1].startswith("--")
+            and argv[i + 1] != "-"
+        ):
+            # "--bounds=-1:1" for long options, "-f-x" for the short one
+            out.append(f"{arg}={argv[i + 1]}" if arg.startswith("--") else f"{arg}{argv[i + 1]}")
+            i += 2
+            continue
+        out.append(arg)
+        i += 1
+    return out
+
+
+def _build_parser() -> _Parser:
+    parser = _Parser(
+        prog=PROG,
+        description="Extract implicit manifolds F^-1(0), F: R^n -> R^k, as cell complexes (GCMH).",
+        allow_abbrev=False,
+    )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+
+    p_ex = sub.add_parser(
+        "examples", help="list the example manifolds", allow_abbrev=False,
+        description="List the example manifolds (name, n, k, title).",
+    )
+    p_ex.add_argument("--json", action="store_true", help="print a JSON list instead of a table")
+
+    p = sub.add_parser(
+        "extract",
+        help="extract a manifold and print a summary",
+        allow_abbrev=False,
+        description=(
+            "Extract M = F^-1(0) from an example (--example NAME) or from formulas "
+            "(--f EXPR, once per component). Bounds may use pi: --bounds -pi/2:pi/2."
+        ),
+    )
+    src = p.add_argument_group("what to extract")
+    src.add_argument("--example", metavar="NAME", help="an example name (see `gcmh examples`)")
+    src.add_argument(
+        "--f", "-f", "--formula", dest="formulas", action="append", metavar="EXPR",
+        help="one component of F (repeat for k components), e.g. --f 'x**2 + y**2 - 1'",
+    )
+    src.add_argument("--vars", metavar="X1,...,XN", help="variable names (default x1..xn)")
+    src.add_argument("--n", type=str, metavar="N", help="number of variables when --vars is omitted")
+    src.add_argument(
+        "--bounds", metavar="LO:HI[,LO:HI...]",
+        help="domain box: one LO:HI for every axis, or one per axis; entries may use pi",
+    )
+    grid = p.add_argument_group("grid and method")
+    grid.add_argument("--div", metavar="D|D1,...,DN", help="divisions per axis (default: the example's, else 10)")
+    grid.add_argument("--seed", metavar="S", default="0", help="seed of the grid perturbation (default 0)")
+    grid.add_argument("--method", default="gcmh", help="extraction method (default gcmh)")
+    grid.add_argument("--start", metavar="X1,...,XN|auto", help="start point on M (continuation methods), or auto")
+    out = p.add_argument_group("output")
+    out.add_argument("-o", "--output", metavar="OUT.npz", help="save the cell complex (.npz, gcmh-complex/1)")
+    out.add_argument("--vtu", metavar="OUT.vtu", help="save the cell complex as a VTK unstructured grid")
+    out.add_argument("--json", action="store_true", help="print one JSON object instead of a summary")
+    out.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    return parser
+
+
+def _version() -> str:
+    try:
+        from importlib.metadata import version
+
+        return version("gcmh")
+    except Exception:  # not installed
+        return "unknown"
+
+
+# --------------------------------------------------------------------------
+# Argument parsing helpers (each raises InputError with a one-line message)
+# --------------------------------------------------------------------------
+
+
+def _parse_int(text: str, what: str, minimum: int | None = None) -> int:
+    try:
+        value = int(str(text).strip())
+    except ValueError:
+        raise InputError(f"{what} must be an integer, got {text!r}") from None
+    if minimum is not None and value < minimum:
+        raise InputError(f"{what} must be at least {minimum}, got {value}")
+    return value
+
+
+def _parse_div(text: str, n: int | None) -> int | list[int]:
+    parts = [s for s in str(text).split(",")]
+    if any(not s.strip() for s in parts):
+        raise InputError(f"--div: expected D or D1,...,Dn, got {text!r}")
+    divs = [_parse_int(s, "--div", minimum=1) for s in parts]
+    if len(divs) == 1:
+        return divs[0]
+    if n is not None and len(divs) != n:
+        raise InputError(f"--div: got {len(divs)} values for n = {n} variables")
+    return divs
+
+
+def _parse_bounds(text: str) -> list[tuple[float, float]]:
+    from .examples import evaluate_constant
+
+    pairs = []
+    items = str(text).split(",")
+    for i, item in enumerate(items, start=1):
+        if item.count(":") != 1:
+            raise InputError(f"--bounds: expected LO:HI[,LO:HI,...], got {item.strip()!r} in {text!r}")
+        lo_text, hi_text = item.split(":")
+        try:
+            lo, hi = evaluate_constant(lo_text), evaluate_constant(hi_text)
+        except InputError as err:
+            raise InputError(f"--bounds: {err}") from None
+        if not lo < hi:
+            where = f"interval {i}" if len(items) > 1 else "interval"
+            raise InputError(f"--bounds: lower bound {lo:g} must be below upper bound {hi:g} ({where} {item.strip()!r})")
+        pairs.append((lo, hi))
+    return pairs
+
+
+def _parse_vars(text: str) -> list[str]:
+    names = [s.strip() for s in str(text).split(",")]
+    for name in names:
+        if not name.isidentifier():
+            raise InputError(f"--vars: {name!r} is not a valid variable name")
+    if len(set(names)) != len(names):
+        raise InputError(f"--vars: repeated variable name in {text!r}")
+    return names
+
+
+def _parse_start(text: str, n: int):
+    from .examples import evaluate_constant
+
+    if str(text).strip().lower() == "auto":
+        return "auto"
+    parts = str(text).split(",")
+    if len(parts) != n:
+        raise InputError(f"--start: expected {n} coordinates (or auto), got {len(parts)}")
+    try:
+        return [evaluate_constant(s) for s in parts]
+    except InputError as err:
+        raise InputError(f"--start: {err}") from None
+
+
+def _check_writable(path: str, option: str) -> Path:
+    p = Path(path)
+    if p.is_dir():
+        raise InputError(f"{option}: {path!r} is a folder, not a file name")
+    parent = p.parent if str(p.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError(f"{option}: folder {str(parent)!r} does not exist")
+    return p
+
+
+# --------------------------------------------------------------------------
+# Commands
+# --------------------------------------------------------------------------
+
+
+def _cmd_examples(args) -> int:
+    from .examples import list_examples
+
+    examples = list_examples()
+    if args.json:
+        print(json.dumps([{"name": e.name, "n": e.n, "k": e.k, "title": e.title} for e in examples], indent=1))
+        return 0
+    if not examples:
+        print("no examples found")
+        return 0
+    width = max(len(e.name) for e in examples)
+    print(f"{'name':<{width}}  {'n':>2} {'k':>2}  title")
+    for e in examples:
+        print(f"{e.name:<{width}}  {e.n:>2} {e.k:>2}  {e.title}")
+    return 0
+
+
+def _job_from_args(args) -> dict:
+    """Validate the extract arguments; return the keyword arguments of extract()."""
+    if args.example and args.formulas:
+        raise InputError("use either --example or --f, not both")
+    if not args.example and not args.formulas:
+        raise InputError("nothing to extract: give --example NAME or --f EXPR (see gcmh examples)")
+
+    n_opt = _parse_int(args.n, "--n", minimum=1) if args.n is not None else None
+    bounds = _parse_bounds(args.bounds) if args.bounds is not None else None
+
+    if args.example:
+        from .examples import load_example
+
+        if args.vars is not None or args.n is not None:
+            raise InputError("--vars and --n go with --f, not with --example")
+        ex = load_example(args.example)
+        n, variables, formulas = ex.n, list(ex.variables), list(ex.formulas)
+        if bounds is None:
+            bounds = list(ex.bounds)
+        div = ex.div
+        start = ex.start if args.method.strip().lower() != "gcmh" else None
+        name = ex.name
+    else:
+        formulas = list(args.formulas)
+        if args.vars is not None:
+            variables = _parse_vars(args.vars)
+            n = len(variables)
+            if n_opt is not None and n_opt != n:
+                raise InputError(f"--n {n_opt} does not match the {n} names in --vars")
+        else:
+            if n_opt is not None:
+                n = n_opt
+            elif bounds is not None and len(bounds) > 1:
+                n = len(bounds)
+            else:
+                raise InputError("how many variables? give --vars x,y,... or --n N (or one LO:HI per axis in --bounds)")
+            variables = [f"x{i}" for i in range(1, n + 1)]
+        if bounds is None:
+            raise InputError("--bounds LO:HI[,LO:HI,...] is required with --f")
+        div = 10
+        start = None
+        name = None
+
+    if len(bounds) == 1:
+        bounds = bounds * n
+    elif len(bounds) != n:
+        raise InputError(f"--bounds: got {len(bounds)} intervals for n = {n} variables (give 1 or {n})")
+    if len(formulas) > n:
+        raise InputError(f"{len(formulas)} formulas for n = {n} variables: need k <= n")
+    if args.div is not None:
+        div = _parse_div(args.div, n)
+    if args.start is not None:
+        start = _parse_start(args.start, n)
+    seed = _parse_int(args.seed, "--seed", minimum=0)
+    method = args.method.strip().lower()
+
+    return dict(
+        name=name,
+        n=n,
+        k=len(formulas),
+        F=formulas,
+        bounds=[(float(lo), float(hi)) for lo, hi in bounds],
+        div=div,
+        variables=variables,
+        seed=seed,
+        method=method,
+        start=start,
+    )
+
+
+class _Progress:
+    """tqdm bar on stderr fed by extract's progress(phase, fraction) callback."""
+
+    def __init__(self, enabled: bool):
+        self.bar = None
+        if not enabled:
+            return
+        try:
+            from tqdm import tqdm
+        except ImportError:  # pragma: no cover - tqdm is a dependency
+            return
+        self.bar = tqdm(
+            total=100,
+            file=sys.stderr,
+            delay=1.0,  # only for runs longer than about a second
+            leave=False,
+            dynamic_ncols=True,
+            bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}<{remaining}",
+            desc="gcmh",
+        )
+        self.phase = None
+
+    def __call__(self, phase: str, fraction: float) -> None:
+        bar = self.bar
+        if bar is None:
+            return
+        if phase != self.phase:
+            self.phase = phase
+            bar.set_description_str(str(phase), refresh=False)
+        try:
+            target = 100.0 * min(max(float(fraction), 0.0), 1.0)
+        except (TypeError, ValueError):
+            return
+        delta = target - bar.n
+        if delta >= 0:
+            bar.update(delta)
+        else:  # a new phase restarted at 0
+            bar.n = target
+            bar.last_print_n = target
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+            self.bar = None
+
+
+def _cmd_extract(args) -> int:
+    job = _job_from_args(args)
+    outputs = []
+    if args.output:
+        outputs.append(("npz", _check_writable(args.output, "-o")))
+    if args.vtu:
+        outputs.append(("vtu", _check_writable(args.vtu, "--vtu")))
+
+    import gcmh_core
+
+    progress = _Progress(enabled=not args.quiet and _isatty(sys.stderr))
+    try:
+        cx = gcmh_core.extract(
+            job["F"],
+            job["bounds"],
+            job["div"],
+            variables=job["variables"],
+            seed=job["seed"],
+            method=job["method"],
+            start=job["start"],
+            progress=progress,
+        )
+    finally:
+        progress.close()
+
+    _write_outputs(cx, outputs)
+    summary = _summary(cx, job, outputs)
+    if args.json:
+        print(json.dumps(summary))
+    else:
+        print(_human(summary, job))
+    return 0
+
+
+def _isatty(stream) -> bool:
+    try:
+        return stream.isatty()
+    except Exception:
+        return False
+
+
+def _write_outputs(cx, outputs) -> None:
+    """Write every output to a temp file beside it, then rename them all (only on success)."""
+    temps = []
+    try:
+        for kind, path in outputs:
+            fd, tmp = tempfile.mkstemp(dir=path.parent if str(path.parent) else ".", prefix=f".{path.name}.", suffix=f".tmp.{kind}")
+            os.close(fd)
+            temps.append(tmp)
+            try:
+                if kind == "npz":
+                    cx.save(tmp)
+                else:
+                    cx.save_vtu(tmp)
+            except OSError as err:
+                raise _WriteError(f"cannot write {str(path)!r}: {err.strerror or err}") from None
+            except ImportError as err:
+                raise _WriteError(f"cannot write {str(path)!r}: {err}") from None
+        for (kind, path), tmp in zip(outputs, temps):
+            os.replace(tmp, path)
+        temps = []
+    finally:
+        for tmp in temps:
+            for candidate in (tmp, tmp + ".npz"):
+                try:
+                    os.unlink(candidate)
+                except OSError:
+                    pass
+
+
+class _WriteError(Exception):
+    pass
+
+
+def _as_int_list(value, n):
+    try:
+        if value is None:
+            return None
+        if isinstance(value, (int,)) or (hasattr(value, "ndim") and getattr(value, "ndim") == 0):
+            return [int(value)] * n
+        return [int(v) for v in value]
+    except (TypeError, ValueError):
+        return None
+
+
+def _summary(cx, job, outputs) -> dict:
+    meta = getattr(cx, "meta", {}) or {}
+    n, k = int(cx.n), int(cx.k)
+    div = _as_int_list(meta.get("div"), n) or _as_int_list(job["div"], n)
+    counts = [int(c) for c in cx.counts()]
+    seconds = meta.get("seconds")
+    return {
+        "n": n,
+        "k": k,
+        "method": str(meta.get("method", job["method"])),
+        "div": div,
+        "seconds": float(seconds) if seconds is not None else None,
+        "vertices": counts[0] if counts else 0,
+        "cells": counts,
+        "euler_characteristic": int(cx.euler_characteristic()),
+        "boundary_facets": int(len(cx.boundary_facets())),
+        "nonfinite_vertices": int(meta.get("nonfinite_vertices", 0) or 0),
+        "example": job["name"],
+        "files": {kind: str(path) for kind, path in outputs},
+    }
+
+
+_CELL_NAMES = {0: "vertices", 1: "edges", 2: "faces"}
+
+
+def _human(s: dict, job: dict) -> str:
+    dim = s["n"] - s["k"]
+    what = job["name"] or " ; ".join(job["F"])
+    div = "x".join(str(d) for d in s["div"]) if s["div"] else "?"
+    cells = ", ".join(f"{c} {_CELL_NAMES.get(r, f'{r}-cells')}" for r, c in enumerate(s["cells"]))
+    lines = [
+        f"{what}: {dim}-manifold in R^{s['n']} (n={s['n']}, k={s['k']}), method {s['method']}, div {div}",
+        f"  {cells}",
+        f"  Euler characteristic {s['euler_characteristic']}, {s['boundary_facets']} boundary facets"
+        + (f", {s['nonfinite_vertices']} non-finite vertices" if s["nonfinite_vertices"] else ""),
+    ]
+    seconds = s["seconds"]
+    tail = f"  {seconds:.2f} s" if seconds is not None and math.isfinite(seconds) else "  done"
+    if s["files"]:
+        tail += "; wrote " + ", ".join(s["files"].values())
+    lines.append(tail)
+    return "\n".join(lines)
+
+
+def _one_line(message: str) -> str:
+    return " ".join(part.strip() for part in str(message).splitlines() if part.strip())
+
+
+def _fail(message: str, status: int = 2) -> int:
+    print(f"{PROG}: error: {_one_line(message)}", file=sys.stderr)
+    return status
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``gcmh`` console script; returns the exit status."""
+    if argv is None:
+        argv = sys.argv[1:]
+    parser = _build_parser()
+    try:
+        args = parser.parse_args(_glue_values(argv))
+        if args.command is None:
+            return _fail("choose a command: examples or extract (see gcmh --help)")
+        if args.command == "examples":
+            return _cmd_examples(args)
+        return _cmd_extract(args)
+    except _UsageError as err:
+        return _fail(str(err))
+    except InputError as err:
+        return _fail(str(err))
+    except _WriteError as err:
+        return _fail(str(err), status=1)
+    except KeyboardInterrupt:
+        print(f"{PROG}: interrupted", file=sys.stderr)
+        return 130
+    except MemoryError:
+        return _fail("out of memory: try a smaller --div", status=1)
+    except BrokenPipeError:  # e.g. gcmh examples | head -1
+        try:
+            sys.stdout = open(os.devnull, "w")
+        except OSError:
+            pass
+        return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,362 @@
+"""Example manifolds shipped with GCMH Studio.
+
+Each example is one TOML file in ``<repo>/assets/examples/<name>.toml``::
+
+    title = "Unit sphere in R^3"
+    description = "Two to four sentences for a teacher."
+    n = 3
+    k = 1
+    variables = ["x", "y", "z"]
+    formulas = ["x**2 + y**2 + z**2 - 1"]
+    bounds = [["-1.5", "1.5"], [-1.5, 1.5], [-1.5, 1.5]]   # numbers or constant expressions
+    div = 32                     # or one int per axis
+    paper_div = [40, 40, 20, 40, 40]   # optional: the division used in the paper
+    start = [1.0, 0.0, 0.0]      # a point on M (continuation seed)
+
+    [view]
+    project = ["x", "y", "z"]    # three variables shown as 3D axes
+    color = "z"                  # the variable used for the colour map
+
+``bounds`` may also be a single pair, meaning the same interval on every axis.
+Bound entries written as strings (``"-pi/2"``, ``"2*pi"``) are evaluated by
+:func:`evaluate_constant`, a whitelist evaluator built on :mod:`ast`; nothing
+is ever passed to ``eval``.
+
+>>> ex = load_example("sphere")
+>>> ex.n, ex.k, ex.variables
+(3, 1, ['x', 'y', 'z'])
+"""
+
+from __future__ import annotations
+
+import ast
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .errors import InputError
+
+try:
+    import tomllib
+except ImportError:  # Python 3.10
+    import tomli as tomllib
+
+__all__ = [
+    "Example",
+    "list_examples",
+    "load_example",
+    "example_names",
+    "examples_dir",
+    "evaluate_constant",
+]
+
+
+# --------------------------------------------------------------------------
+# Safe evaluation of constant expressions ("-pi/2", "2*pi", "sqrt(2)/2")
+# --------------------------------------------------------------------------
+
+_CONSTANTS = {"pi": math.pi, "e": math.e, "tau": math.tau}
+_FUNCTIONS = {
+    "sqrt": math.sqrt,
+    "sin": math.sin,
+    "cos": math.cos,
+    "tan": math.tan,
+    "exp": math.exp,
+    "log": math.log,
+}
+_BINOPS = {
+    ast.Add: lambda a, b: a + b,
+    ast.Sub: lambda a, b: a - b,
+    ast.Mult: lambda a, b: a * b,
+    ast.Div: lambda a, b: a / b,
+    ast.Pow: lambda a, b: a**b,
+    ast.BitXor: lambda a, b: a**b,  # "2^3" written the mathematical way
+}
+_MAX_TEXT = 200
+
+
+def evaluate_constant(text: str | int | float) -> float:
+    """Value of a numeric constant expression such as ``"-pi/2"`` or ``"2*pi"``.
+
+    Allowed: numbers, ``pi``, ``e``, ``tau``, ``+ - * / **`` (and ``^`` for
+    power), unary minus/plus, parentheses and the functions sqrt, sin, cos,
+    tan, exp, log of one argument. The expression is parsed with :mod:`ast`
+    and walked against a whitelist; it is never evaluated by Python.
+
+    Raises :class:`InputError` with a one-line message for anything else, or
+    when the value is not a finite real number.
+    """
+    if isinstance(text, bool):
+        raise InputError(f"expected a number, got {text!r}")
+    if isinstance(text, (int, float)):
+        value = float(text)
+        if not math.isfinite(value):
+            raise InputError(f"number {text!r} is not finite")
+        return value
+    if not isinstance(text, str):
+        raise InputError(f"expected a number or a constant expression, got {text!r}")
+    src = text.strip()
+    if not src:
+        raise InputError("empty number")
+    if len(src) > _MAX_TEXT:
+        raise InputError(f"constant expression longer than {_MAX_TEXT} characters")
+    try:
+        tree = ast.parse(src, mode="eval")
+    except SyntaxError:
+        raise InputError(f"cannot read {src!r} as a number (e.g. 1.5, -pi/2, 2*pi)") from None
+    try:
+        value = _walk(tree.body, src)
+    except (OverflowError, ZeroDivisionError, ValueError) as err:
+        if isinstance(err, InputError):
+            raise
+        raise InputError(f"cannot evaluate {src!r}: {err}") from None
+    if not math.isfinite(value):
+        raise InputError(f"{src!r} is not a finite number")
+    return value
+
+
+def _walk(node: ast.AST, src: str) -> float:
+    if isinstance(node, ast.Constant):
+        if isinstance(node.value, bool) or not isinstance(node.value, (int, float)):
+            raise InputError(f"cannot read {src!r} as a number: unexpected {node.value!r}")
+        return float(node.value)
+    if isinstance(node, ast.Name):
+        if node.id in _CONSTANTS:
+            return _CONSTANTS[node.id]
+        raise InputError(
+            f"cannot read {src!r} as a number: unknown name {node.id!r} "
+            f"(allowed: {', '.join(sorted(_CONSTANTS))})"
+        )
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+        value = _walk(node.operand, src)
+        return -value if isinstance(node.op, ast.USub) else value
+    if isinstance(node, ast.BinOp) and type(node.op) in _BINOPS:
+        left = _walk(node.left, src)
+        right = _walk(node.right, src)
+        if type(node.op) in (ast.Pow, ast.BitXor) and abs(right) > 1e4:
+            raise InputError(f"cannot evaluate {src!r}: exponent too large")
+        result = _BINOPS[type(node.op)](left, right)
+        if isinstance(result, complex):
+            raise InputError(f"cannot evaluate {src!r}: result is not real")
+        return float(result)
+    if (
+        isinstance(node, ast.Call)
+        and isinstance(node.func, ast.Name)
+        and node.func.id in _FUNCTIONS
+        and len(node.args) == 1
+        and not node.keywords
+    ):
+        return float(_FUNCTIONS[node.func.id](_walk(node.args[0], src)))
+    col = getattr(node, "col_offset", None)
+    where = f" at column {col + 1}" if col is not None else ""
+    raise InputError(f"cannot read {src!r} as a number: unsupported syntax{where}")
+
+
+# --------------------------------------------------------------------------
+# Examples
+# --------------------------------------------------------------------------
+
+
+@dataclass
+class Example:
+    """One example manifold M = F^-1(0), F: R^n -> R^k.
+
+    bounds: list of n (lo, hi) float pairs; div: int or list of n ints;
+    start: a point of M (list of n floats); view: dict(project=[3 variable
+    names], color=variable name).
+    """
+
+    name: str
+    title: str
+    description: str
+    n: int
+    k: int
+    variables: list[str]
+    formulas: list[str]
+    bounds: list[tuple[float, float]]
+    div: int | list[int]
+    start: list[float]
+    view: dict = field(default_factory=dict)
+    paper_div: int | list[int] | None = None
+    path: Path | None = None
+
+    @property
+    def dim(self) -> int:
+        """Dimension n - k of the manifold."""
+        return self.n - self.k
+
+    def div_list(self) -> list[int]:
+        """``div`` as one int per axis."""
+        return [self.div] * self.n if isinstance(self.div, int) else list(self.div)
+
+
+def examples_dir() -> Path:
+    """Folder holding the example TOML files.
+
+    ``$GCMH_EXAMPLES_DIR`` if set, else ``<repo>/assets/examples`` (the
+    project is installed with ``pip install -e .``, so the repository is next
+    to the package).
+    """
+    env = os.environ.get("GCMH_EXAMPLES_DIR")
+    if env:
+        return Path(env)
+    return Path(__file__).resolve().parent.parent / "assets" / "examples"
+
+
+def example_names() -> list[str]:
+    """Sorted names of the available examples."""
+    folder = examples_dir()
+    if not folder.is_dir():
+        return []
+    return sorted(p.stem for p in folder.glob("*.toml"))
+
+
+def list_examples() -> list[Example]:
+    """All examples, sorted by name."""
+    return [load_example(name) for name in example_names()]
+
+
+def load_example(name: str) -> Example:
+    """The example called ``name`` (file ``assets/examples/<name>.toml``).
+
+    Raises :class:`InputError` for an unknown name (listing the known ones)
+    or a malformed file.
+    """
+    names = example_names()
+    if not isinstance(name, str) or name not in names:
+        known = ", ".join(names) if names else f"none found in {examples_dir()}"
+        raise InputError(f"unknown example {name!r}; known examples: {known}")
+    path = examples_dir() / f"{name}.toml"
+    try:
+        with open(path, "rb") as fh:
+            data = tomllib.load(fh)
+    except tomllib.TOMLDecodeError as err:
+        raise InputError(f"example file {path}: {err}") from None
+    return _from_dict(name, data, path)
+
+
+def _from_dict(name: str, data: dict, path: Path | None = None) -> Example:
+    where = f"example {name!r}"
+
+    def fail(msg: str) -> InputError:
+        return InputError(f"{where}: {msg}")
+
+    def need(key: str, types, what: str):
+        if key not in data:
+            raise fail(f"missing key {key!r}")
+        value = data[key]
+        if not isinstance(value, types) or isinstance(value, bool):
+            raise fail(f"{key!r} must be {what}")
+        return value
+
+    title = need("title", str, "a string").strip()
+    description = " ".join(need("description", str, "a string").split())
+    n = need("n", int, "an integer")
+    k = need("k", int, "an integer")
+    if not 1 <= k < n:
+        raise fail(f"need 1 <= k < n, got n={n}, k={k}")
+
+    variables = need("variables", list, "a list of names")
+    if len(variables) != n or not all(isinstance(v, str) and v.isidentifier() for v in variables):
+        raise fail(f"'variables' must be {n} names")
+    if len(set(variables)) != n:
+        raise fail("'variables' has a repeated name")
+
+    formulas = need("formulas", list, "a list of strings")
+    if len(formulas) != k or not all(isinstance(f, str) and f.strip() for f in formulas):
+        raise fail(f"'formulas' must be {k} non-empty strings (k = {k})")
+    formulas = [" ".join(f.split()) for f in formulas]
+    _check_formulas(formulas, variables, fail)
+
+    raw_bounds = need("bounds", list, "a list of [lo, hi] pairs")
+    if len(raw_bounds) == 1 and n > 1:
+        raw_bounds = raw_bounds * n
+    if len(raw_bounds) != n:
+        raise fail(f"'bounds' needs {n} [lo, hi] pairs (or one for every axis), got {len(raw_bounds)}")
+    bounds: list[tuple[float, float]] = []
+    for axis, pair in enumerate(raw_bounds):
+        if not isinstance(pair, list) or len(pair) != 2:
+            raise fail(f"bounds of {variables[axis]} must be a pair [lo, hi]")
+        try:
+            lo, hi = (evaluate_constant(v) for v in pair)
+        except InputError as err:
+            raise fail(f"bounds of {variables[axis]}: {err}") from None
+        if not lo < hi:
+            raise fail(f"bounds of {variables[axis]}: lower {lo:g} must be below upper {hi:g}")
+        bounds.append((lo, hi))
+
+    div = _read_div(data.get("div"), n, "div", fail, required=True)
+    paper_div = _read_div(data.get("paper_div"), n, "paper_div", fail, required=False)
+
+    start = need("start", list, f"a list of {n} numbers")
+    if len(start) != n:
+        raise fail(f"'start' must have {n} coordinates, got {len(start)}")
+    try:
+        start = [evaluate_constant(v) for v in start]
+    except InputError as err:
+        raise fail(f"'start': {err}") from None
+
+    view = data.get("view", {})
+    if not isinstance(view, dict):
+        raise fail("[view] must be a table")
+    m = min(3, n)
+    project = view.get("project", list(variables[:m]))
+    if (
+        not isinstance(project, list)
+        or len(project) != m
+        or len(set(project)) != m
+        or not all(p in variables for p in project)
+    ):
+        raise fail(f"view.project must be {m} different variables out of {variables}")
+    color = view.get("color", variables[-1])
+    if color not in variables:
+        raise fail(f"view.color must be one of {variables}")
+    view = {"project": list(project), "color": color}
+
+    return Example(
+        name=name,
+        title=title,
+        description=description,
+        n=n,
+        k=k,
+        variables=list(variables),
+        formulas=formulas,
+        bounds=bounds,
+        div=div,
+        start=start,
+        view=view,
+        paper_div=paper_div,
+        path=path,
+    )
+
+
+def _read_div(value, n: int, key: str, fail, *, required: bool):
+    if value is None:
+        if required:
+            raise fail(f"missing key {key!r}")
+        return None
+    if isinstance(value, int) and not isinstance(value, bool):
+        if value < 1:
+            raise fail(f"{key!r} must be at least 1")
+        return value
+    if (
+        isinstance(value, list)
+        and len(value) == n
+        and all(isinstance(d, int) and not isinstance(d, bool) and d >= 1 for d in value)
+    ):
+        return list(value)
+    raise fail(f"{key!r} must be a positive integer or a list of {n} of them")
+
+
+def _check_formulas(formulas, variables, fail) -> None:
+    """Validate the formula texts with the safe parser, when it is available."""
+    try:
+        from .formula import check_component
+    except ImportError:  # pragma: no cover - formula module not installed yet
+        return
+    for i, text in enumerate(formulas):
+        try:
+            check_component(text, variables, i)
+        except InputError as err:
+            raise fail(str(err)) from None

@@ -1,0 +1,190 @@
+"""The example manifolds in assets/examples: they load, are well formed, and are right."""
+
+import math
+
+import numpy as np
+import pytest
+
+from gcmh_core.errors import InputError
+from gcmh_core.examples import Example, evaluate_constant, example_names, list_examples, load_example
+
+REQUIRED = {"complex-cosine", "klein-bottle", "three-torus", "sphere", "clifford-torus"}
+NAMES = example_names()
+
+
+def test_required_examples_present():
+    assert REQUIRED <= set(NAMES)
+    assert len(NAMES) >= len(REQUIRED) + 3
+
+
+def test_list_examples_sorted_by_name():
+    examples = list_examples()
+    assert [e.name for e in examples] == sorted(NAMES)
+    assert all(isinstance(e, Example) for e in examples)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_example_fields(name):
+    ex = load_example(name)
+    assert ex.name == name
+    assert ex.title.strip() and len(ex.title) < 80
+    # 2 to 4 sentences for a teacher
+    sentences = [s for s in ex.description.replace("?", ".").split(". ") if s.strip()]
+    assert 2 <= len(sentences) <= 5, ex.description
+    assert isinstance(ex.n, int) and isinstance(ex.k, int) and 1 <= ex.k < ex.n
+    assert len(ex.variables) == ex.n and len(set(ex.variables)) == ex.n
+    assert all(v.isidentifier() for v in ex.variables)
+    assert len(ex.formulas) == ex.k and all(f.strip() for f in ex.formulas)
+    assert len(ex.bounds) == ex.n
+    for lo, hi in ex.bounds:
+        assert isinstance(lo, float) and isinstance(hi, float)
+        assert math.isfinite(lo) and math.isfinite(hi) and lo < hi
+    divs = ex.div_list()
+    assert len(divs) == ex.n and all(isinstance(d, int) and d >= 1 for d in divs)
+    assert len(ex.start) == ex.n and all(math.isfinite(x) for x in ex.start)
+    for x, (lo, hi) in zip(ex.start, ex.bounds):
+        assert lo <= x <= hi
+    assert len(ex.view["project"]) == 3 and len(set(ex.view["project"])) == 3
+    assert set(ex.view["project"]) <= set(ex.variables)
+    assert ex.view["color"] in ex.variables
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_formulas_parse(name):
+    formula = pytest.importorskip("gcmh_core.formula")
+    ex = load_example(name)
+    system = formula.parse_system(ex.formulas, ex.variables)
+    assert (system.n, system.k) == (ex.n, ex.k)
+    for i, text in enumerate(ex.formulas):
+        formula.check_component(text, ex.variables, i)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_start_point_on_manifold(name):
+    formula = pytest.importorskip("gcmh_core.formula")
+    ex = load_example(name)
+    system = formula.parse_system(ex.formulas, ex.variables)
+    values = system.evaluate_points(np.array([ex.start], dtype=np.float64))
+    assert values.shape == (1, ex.k)
+    assert np.max(np.abs(values)) < 1e-9, values
+
+
+def test_paper_examples_match_the_paper():
+    cc = load_example("complex-cosine")
+    assert (cc.n, cc.k) == (4, 2)
+    assert np.allclose(cc.bounds, [(-math.pi / 2, math.pi / 2)] * 4)
+    assert cc.div == 10 and cc.start == [0.0, 0.0, 1.0, 0.0]
+
+    kb = load_example("klein-bottle")
+    assert (kb.n, kb.k) == (5, 3) and kb.variables == ["x", "y", "z", "s", "t"]
+    assert np.allclose(kb.bounds, [(-5, 5), (-5, 5), (-2, 2), (0, 2 * math.pi), (0, 2 * math.pi)])
+    assert kb.paper_div == [40, 40, 20, 40, 40]
+
+    tt = load_example("three-torus")
+    assert (tt.n, tt.k, tt.div) == (6, 3, 7)
+    assert np.allclose(tt.bounds, [(-0.6, 0.6)] * 2 + [(-1.1, 1.1)] * 2 + [(-4.1, 4.1)] * 2)
+
+    sp = load_example("sphere")
+    assert (sp.n, sp.k, sp.div) == (3, 1, 32)
+    ct = load_example("clifford-torus")
+    assert (ct.n, ct.k, ct.div) == (4, 2, 16)
+
+
+def test_unknown_example_lists_known_names():
+    with pytest.raises(InputError) as info:
+        load_example("no-such-manifold")
+    message = str(info.value)
+    assert "no-such-manifold" in message and "sphere" in message
+    assert "\n" not in message
+
+
+def test_malformed_example_file(tmp_path, monkeypatch):
+    monkeypatch.setenv("GCMH_EXAMPLES_DIR", str(tmp_path))
+    (tmp_path / "bad.toml").write_text(
+        'title = "t"\ndescription = "d. e."\nn = 2\nk = 1\nvariables = ["x", "y"]\n'
+        'formulas = ["x + y"]\nbounds = [["1", "-1"]]\ndiv = 4\nstart = [0, 0]\n'
+    )
+    with pytest.raises(InputError, match="lower"):
+        load_example("bad")
+    (tmp_path / "bad.toml").write_text('title = "t"\nn = [\n')
+    with pytest.raises(InputError):
+        load_example("bad")
+
+
+@pytest.mark.parametrize(
+    "text, value",
+    [
+        ("-pi/2", -math.pi / 2),
+        ("2*pi", 2 * math.pi),
+        ("pi", math.pi),
+        (" 1.5 ", 1.5),
+        ("-1e-3", -1e-3),
+        ("2^3", 8.0),
+        ("2**-1", 0.5),
+        ("sqrt(2)/2", math.sqrt(2) / 2),
+        ("-(1 + 2) * 3", -9.0),
+        (3, 3.0),
+        (-0.25, -0.25),
+    ],
+)
+def test_evaluate_constant(text, value):
+    assert evaluate_constant(text) == pytest.approx(value, rel=1e-15)
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "",
+        "x",
+        "__import__('os').system('true')",
+        "(1).__class__",
+        "[1]",
+        "1 if 1 else 2",
+        "1/0",
+        "10**400",
+        "2**100000",
+        "sqrt(-1)",
+        "nan",
+        "'1'",
+        "1,2",
+        "open('f')",
+        True,
+        None,
+        float("inf"),
+    ],
+)
+def test_evaluate_constant_rejects(text):
+    with pytest.raises(InputError) as info:
+        evaluate_constant(text)
+    assert "\n" not in str(info.value)
+
+
+# Topology of every example at its default division: a check on the examples
+# (right formulas, right domain) as much as on the engine.
+EXPECTED = {
+    # name: (Euler characteristic, connected components, closed?)
+    "sphere": (2, 1, True),
+    "torus": (0, 1, True),
+    "genus-two": (-2, 1, True),
+    "clifford-torus": (0, 1, True),
+    "three-sphere": (0, 1, True),
+    "three-torus": (0, 1, True),
+    "trefoil-knot": (0, 1, True),
+    "hopf-link": (0, 2, True),
+    "complex-cosine": (1, 1, False),  # a disc: the graph over the w-square, clipped by the box
+    "klein-bottle": (1, 1, False),  # a disc in R^5: the (s, t) square, cut open at its edges
+}
+
+
+@pytest.mark.parametrize("name", sorted(EXPECTED))
+def test_example_topology(name):
+    pytest.importorskip("gcmh_core.formula")
+    from gcmh_core import extract
+
+    ex = load_example(name)
+    cx = extract(ex.formulas, ex.bounds, ex.div, variables=ex.variables)
+    chi, components, closed = EXPECTED[name]
+    assert cx.euler_characteristic() == chi
+    assert cx.connected_components() == components
+    assert (len(cx.boundary_facets()) == 0) == closed
+    assert cx.meta.get("nonfinite_vertices", 0) == 0
