@@ -33,10 +33,10 @@ INC_COLS = 3  # r, key of the r-cell X, key of its (r-1)-face Y
 
 
 @nb.njit(**INLINE_JIT)
-def simplex_crosses(vals, o, corner_off, corners, k, pos_mask, full, mat, rhs, lam):
+def simplex_crosses(vals, o, value_off, corners, k, pos_mask, full, mat, rhs, lam):
     """Does the Kuhn simplex with cube corners `corners` (chain order) hold a zero?
 
-    vals (NV, k) values; o the cube's origin row in vals; lam (k+1,) receives the
+    vals (NV, k) values; corner c of the cube is row o + value_off[c]; lam (k+1,) receives the
     barycentric coordinates.  Sign prune first: every component needs a value >= 0
     and one < 0 among the simplex's corners, else there is no solve at all.
     """
@@ -50,12 +50,12 @@ def simplex_crosses(vals, o, corner_off, corners, k, pos_mask, full, mat, rhs, l
     if any_pos != full or all_pos != 0:
         return False
     # Solve sum_{i>=1} lam_i (F(v_i) - F(v_0)) = -F(v_0), a k x k system.
-    r0 = o + corner_off[corners[0]]
+    r0 = o + value_off[corners[0]]
     for j in range(k):
         f0 = vals[r0, j]
         rhs[j] = -f0
         for i in range(1, m):
-            mat[j, i - 1] = vals[o + corner_off[corners[i]], j] - f0
+            mat[j, i - 1] = vals[o + value_off[corners[i]], j] - f0
     scale = 0.0
     for j in range(k):
         for i in range(k):
@@ -147,7 +147,7 @@ def _face_key(g_lin, corner_off, face_fixed, face_rank, n_subsets, f, dim):
 
 @nb.njit(**JIT)
 def _process_cube(
-    vals, o, g_lin, origin, axes, corner_off, n, k,
+    vals, o, g_lin, origin, axes, value_off, corner_off, n, k,
     face_start, face_free, face_fixed, face_rank, n_subsets,
     ks_corners, ks_face, ks_perm, kfact, binom, n_codes,
     t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp,
@@ -164,7 +164,7 @@ def _process_cube(
     full = (np.int64(1) << k) - 1
     for c in range(ncorner):
         p = np.int64(0)
-        r0 = o + corner_off[c]
+        r0 = o + value_off[c]
         for j in range(k):
             if vals[r0, j] >= 0.0:
                 p |= np.int64(1) << j
@@ -177,7 +177,7 @@ def _process_cube(
     nv = 0
     for s in range(ns):
         simp_vertex[s] = -1
-        if simplex_crosses(vals, o, corner_off, ks_corners[s], k, pos_mask, full, mat, rhs, lam):
+        if simplex_crosses(vals, o, value_off, ks_corners[s], k, pos_mask, full, mat, rhs, lam):
             simp_vertex[s] = nv
             vsimp[nv] = s
             if write:
@@ -191,6 +191,14 @@ def _process_cube(
                     vp_out[row, a] = x
             nv += 1
     counts[0] = nv
+    # facets of the cube that M_A crosses (bit 2a + side): where continuation goes next
+    facets = np.int64(0)
+    for v in range(nv):
+        f = kf0 + ks_face[vsimp[v]]
+        for a in range(n):
+            if not (face_free[f] >> a) & 1:
+                facets |= np.int64(1) << (2 * a + ((face_fixed[f] >> a) & 1))
+    counts[4] = facets
     if nv == 0:
         counts[1] = 0
         counts[2] = 0
@@ -249,7 +257,7 @@ def _process_cube(
                     if memo[ii] < 0:
                         for q in range(k + 1):
                             corners_buf[q] = w_cmap[fi, t_interior[ii, q]]
-                        memo[ii] = 1 if simplex_crosses(vals, o, corner_off, corners_buf, k, pos_mask, full, mat, rhs, lam) else 0
+                        memo[ii] = 1 if simplex_crosses(vals, o, value_off, corners_buf, k, pos_mask, full, mat, rhs, lam) else 0
                     cr = memo[ii] == 1
                 if cr:
                     if nc == 0:
@@ -402,7 +410,7 @@ def _process_cube(
 
 @nb.njit(**JIT)
 def _process_chunk(
-    lo, hi, vals, cube_lin, cube_origin, base_lin, axes, corner_off, n, k,
+    lo, hi, vals, cube_lin, cube_origin, cube_key, axes, value_off, corner_off, n, k,
     face_start, face_free, face_fixed, face_rank, n_subsets,
     ks_corners, ks_face, ks_perm, kfact, binom, n_codes,
     t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp,
@@ -437,7 +445,7 @@ def _process_chunk(
     for ci in range(lo, hi):
         o = cube_lin[ci]
         dg += _process_cube(
-            vals, o, o + base_lin, cube_origin[ci], axes, corner_off, n, k,
+            vals, o, cube_key[ci], cube_origin[ci], axes, value_off, corner_off, n, k,
             face_start, face_free, face_fixed, face_rank, n_subsets,
             ks_corners, ks_face, ks_perm, kfact, binom, n_codes,
             t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp,
@@ -450,7 +458,7 @@ def _process_chunk(
 
 @nb.njit(**PARALLEL_JIT)
 def cubes_kernel(
-    vals, cube_lin, cube_origin, base_lin, axes, corner_off, n, k,
+    vals, cube_lin, cube_origin, cube_key, axes, value_off, corner_off, n, k,
     face_start, face_free, face_fixed, face_rank, n_subsets,
     ks_corners, ks_face, ks_perm, kfact, binom, n_codes,
     t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp,
@@ -458,9 +466,10 @@ def cubes_kernel(
 ):
     """Run `_process_cube` on every candidate cube, in parallel chunks.
 
-    vals (NV, k) float64: F at the slab's vertices (C order);
-    cube_lin (m,) int64: row of each cube's origin in vals; cube_origin (m, n) global multi-index;
-    base_lin: global linear index of vals' row 0; counts/offsets (m, 4) int64;
+    vals (NV, k) float64: F at grid vertices; corner c of cube i is row cube_lin[i] + value_off[c];
+    cube_origin (m, n) global multi-index of each cube's origin; cube_key (m,) its global
+    linear vertex index (corner c adds corner_off[c]; keys come from these, never from rows);
+    counts/offsets (m, 5) int64 (vertices, edges, cells, incidences, crossed-facet mask);
     nchunks: how many pieces to cut the cubes into (a few per thread).
     Returns the number of degenerate events.
     """
@@ -471,7 +480,7 @@ def cubes_kernel(
     degenerate = np.zeros(nchunks, np.int64)
     for ch in prange(nchunks):
         degenerate[ch] = _process_chunk(
-            ch * m // nchunks, (ch + 1) * m // nchunks, vals, cube_lin, cube_origin, base_lin, axes, corner_off, n, k,
+            ch * m // nchunks, (ch + 1) * m // nchunks, vals, cube_lin, cube_origin, cube_key, axes, value_off, corner_off, n, k,
             face_start, face_free, face_fixed, face_rank, n_subsets,
             ks_corners, ks_face, ks_perm, kfact, binom, n_codes,
             t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp,

@@ -231,26 +231,89 @@ def extract(
     return result
 
 
+class _Grid:
+    """The grid's shape and the per-run constants every method needs."""
+
+    def __init__(self, n, k, axes):
+        self.n, self.k, self.axes = n, k, axes
+        self.tab = cube_tables(n, k)
+        self.dims = np.array([len(a) for a in axes], np.int64)  # vertices per axis
+        self.strides = np.ones(n, np.int64)
+        for a in range(n - 2, -1, -1):
+            self.strides[a] = self.strides[a + 1] * self.dims[a + 1]
+        self.corner_off = np.array(
+            [sum(int(self.strides[a]) for a in range(n) if c >> a & 1) for c in range(1 << n)], np.int64
+        )
+        total = int(np.prod([int(d) for d in self.dims]))
+        if max(total * int(self.tab.n_subsets[d]) * int(self.tab.n_codes[d]) for d in range(k, n + 1)) >= 2**63:
+            raise InputError(f"the grid is too large to index ({total:,} vertices in R^{n}): use a smaller div")
+        self.axes_arr = np.zeros((n, int(self.dims.max())))
+        for a in range(n):
+            self.axes_arr[a, : self.dims[a]] = axes[a]
+        self.timings = dict(evaluate=0.0, candidates=0.0, kernel=0.0, assemble=0.0)
+        self.stats = dict(candidate_cubes=0, cubes=int(np.prod(self.dims - 1)), nonfinite_vertices=0, degenerate=0)
+        self.parts = dict(vk=[], vp=[], e=[], c=[], i=[])
+
+    def run_kernel(self, values, cube_lin, origin, value_off) -> np.ndarray:
+        """Process candidate cubes: count, allocate, write; keep the records.
+
+        values (NV, k); corner c of cube i is row cube_lin[i] + value_off[c].
+        Returns each cube's crossed-facet mask (bit 2a + side).
+        """
+        t = time.perf_counter()
+        n, k, tab = self.n, self.k, self.tab
+        m = len(cube_lin)
+        cube_key = origin @ self.strides
+        counts = np.zeros((m, 5), np.int64)
+        offsets = np.zeros((m, 5), np.int64)
+        args = (
+            values, cube_lin, origin, cube_key, self.axes_arr, value_off, self.corner_off, n, k,
+            tab.face_start, tab.face_free, tab.face_fixed, tab.face_rank, tab.n_subsets,
+            tab.ksimp_corners, tab.ksimp_face, tab.ksimp_perm, factorial(k), tab.binom, tab.n_codes,
+            tab.tmpl_corners, tab.tmpl_facets, tab.tmpl_interior, tab.n_boundary_nodes,
+            tab.walk_corner_map, tab.walk_boundary_simplex,
+        )
+        empty_i = np.zeros((0, 1), np.int64)
+        nchunks = 64 * numba.get_num_threads()
+        _kernels.cubes_kernel(
+            *args, False, counts, offsets, np.zeros(0, np.int64), np.zeros((0, n)), empty_i, empty_i, empty_i, nchunks
+        )
+        totals = counts[:, :4].sum(axis=0)
+        offsets[1:, :4] = np.cumsum(counts[:, :4], axis=0)[:-1]
+        out = dict(
+            vk=np.empty(totals[0], np.int64),
+            vp=np.empty((totals[0], n)),
+            e=np.empty((totals[1], _kernels.EDGE_COLS), np.int64),
+            c=np.empty((totals[2], _kernels.CELL_COLS), np.int64),
+            i=np.empty((totals[3], _kernels.INC_COLS), np.int64),
+        )
+        self.stats["degenerate"] += int(_kernels.cubes_kernel(*args, True, counts, offsets, *out.values(), nchunks))
+        for key, arr in out.items():
+            self.parts[key].append(arr)
+        self.stats["candidate_cubes"] += m
+        self.timings["kernel"] += time.perf_counter() - t
+        return counts[:, 4]
+
+    def assemble(self) -> CellComplex:
+        t = time.perf_counter()
+        n, k = self.n, self.k
+        widths = dict(vk=None, vp=n, e=_kernels.EDGE_COLS, c=_kernels.CELL_COLS, i=_kernels.INC_COLS)
+        cat = {
+            key: np.concatenate(arrs) if arrs else np.zeros((0,) if w is None else (0, w), np.float64 if key == "vp" else np.int64)
+            for (key, arrs), w in zip(self.parts.items(), widths.values())
+        }
+        cx = _assemble(n, k, cat["vk"], cat["vp"], cat["e"], cat["c"], cat["i"])
+        self.timings["assemble"] = time.perf_counter() - t
+        cx.meta.update(self.stats)
+        cx.meta["timings"] = self.timings
+        return cx
+
+
 def _run_gcmh(n, k, axes, system, sampled, progress, cancel) -> CellComplex:
-    tab = cube_tables(n, k)
-    dims = np.array([len(a) for a in axes], np.int64)  # vertices per axis
-    strides = np.ones(n, np.int64)
-    for a in range(n - 2, -1, -1):
-        strides[a] = strides[a + 1] * dims[a + 1]
-    corner_off = np.array([sum(strides[a] for a in range(n) if c >> a & 1) for c in range(1 << n)], np.int64)
-    maxlen = int(dims.max())
-    axes_arr = np.zeros((n, maxlen))
-    for a in range(n):
-        axes_arr[a, : dims[a]] = axes[a]
-    total_vertices = int(np.prod([int(d) for d in dims]))
-    if max(total_vertices * int(tab.n_subsets[d]) * int(tab.n_codes[d]) for d in range(k, n + 1)) >= 2**63:
-        raise InputError(f"the grid is too large to index ({total_vertices:,} vertices in R^{n}): use a smaller div")
+    grid = _Grid(n, k, axes)
+    dims, strides = grid.dims, grid.strides
     layer = int(np.prod(dims[1:]))
     thickness = int(max(1, min(dims[0] - 1, _SLAB_VERTICES // max(layer * k, 1))))
-    kfact = factorial(k)
-    timings = dict(evaluate=0.0, candidates=0.0, kernel=0.0, assemble=0.0)
-    parts = dict(vk=[], vp=[], e=[], c=[], i=[])
-    stats = dict(candidate_cubes=0, cubes=int(np.prod(dims - 1)), nonfinite_vertices=0, degenerate=0)
     prev_layer = None
     n_slabs = -(-(int(dims[0]) - 1) // thickness)
     for si, i0 in enumerate(range(0, int(dims[0]) - 1, thickness)):
@@ -269,67 +332,20 @@ def _run_gcmh(n, k, axes, system, sampled, progress, cancel) -> CellComplex:
             prev_layer = values[-1:].copy()
         values = np.ascontiguousarray(values, np.float64)
         counted = values if i1 == int(dims[0]) - 1 else values[:-1]
-        stats["nonfinite_vertices"] += int(np.count_nonzero(~np.isfinite(counted).all(axis=-1)))
-        timings["evaluate"] += time.perf_counter() - t
+        grid.stats["nonfinite_vertices"] += int(np.count_nonzero(~np.isfinite(counted).all(axis=-1)))
+        grid.timings["evaluate"] += time.perf_counter() - t
         t = time.perf_counter()
-        mask = candidate_cubes(values)
-        local = np.nonzero(mask)
-        m = len(local[0])
-        stats["candidate_cubes"] += m
-        timings["candidates"] += time.perf_counter() - t
-        if m == 0:
+        local = np.nonzero(candidate_cubes(values))
+        grid.timings["candidates"] += time.perf_counter() - t
+        if len(local[0]) == 0:
             continue
-        t = time.perf_counter()
-        cube_lin = np.zeros(m, np.int64)
-        origin = np.empty((m, n), np.int64)
-        for a in range(n):
-            cube_lin += local[a].astype(np.int64) * strides[a]
-            origin[:, a] = local[a]
+        origin = np.stack(local, axis=1).astype(np.int64)
+        cube_lin = origin @ strides
         origin[:, 0] += i0
-        flat = values.reshape(-1, k)
-        base = i0 * int(strides[0])
-        counts = np.zeros((m, 4), np.int64)
-        offsets = np.zeros((m, 4), np.int64)
-        args = (
-            flat, cube_lin, origin, base, axes_arr, corner_off, n, k,
-            tab.face_start, tab.face_free, tab.face_fixed, tab.face_rank, tab.n_subsets,
-            tab.ksimp_corners, tab.ksimp_face, tab.ksimp_perm, kfact, tab.binom, tab.n_codes,
-            tab.tmpl_corners, tab.tmpl_facets, tab.tmpl_interior, tab.n_boundary_nodes,
-            tab.walk_corner_map, tab.walk_boundary_simplex,
-        )
-        empty_i = np.zeros((0, 1), np.int64)
-        nchunks = 64 * numba.get_num_threads()
-        _kernels.cubes_kernel(
-            *args, False, counts, offsets, np.zeros(0, np.int64), np.zeros((0, n)), empty_i, empty_i, empty_i, nchunks
-        )
-        totals = counts.sum(axis=0)
-        offsets[1:] = np.cumsum(counts, axis=0)[:-1]
-        vk = np.empty(totals[0], np.int64)
-        vp = np.empty((totals[0], n))
-        e = np.empty((totals[1], _kernels.EDGE_COLS), np.int64)
-        c = np.empty((totals[2], _kernels.CELL_COLS), np.int64)
-        i = np.empty((totals[3], _kernels.INC_COLS), np.int64)
-        stats["degenerate"] += int(_kernels.cubes_kernel(*args, True, counts, offsets, vk, vp, e, c, i, nchunks))
-        for key, arr in zip("vk vp e c i".split(), (vk, vp, e, c, i)):
-            parts[key].append(arr)
-        timings["kernel"] += time.perf_counter() - t
+        grid.run_kernel(values.reshape(-1, k), cube_lin, origin, grid.corner_off)
     if progress is not None:
         progress("assembling", 1.0)
-    t = time.perf_counter()
-    cat = lambda key, shape: np.concatenate(parts[key]) if parts[key] else np.zeros(shape, parts_dtype(key))
-    cx = _assemble(
-        n, k,
-        cat("vk", (0,)), cat("vp", (0, n)), cat("e", (0, _kernels.EDGE_COLS)),
-        cat("c", (0, _kernels.CELL_COLS)), cat("i", (0, _kernels.INC_COLS)),
-    )
-    timings["assemble"] = time.perf_counter() - t
-    cx.meta.update(stats)
-    cx.meta["timings"] = timings
-    return cx
-
-
-def parts_dtype(key: str):
-    return np.float64 if key == "vp" else np.int64
+    return grid.assemble()
 
 
 # ----------------------------------------------------------------------------- assembly
