@@ -357,6 +357,12 @@ def _process_cube(
                         parent[max(ra, rb)] = min(ra, rb)
             if not has_edge:
                 continue
+            # a piece needs an edge: a vertex left alone in f (degenerate data) is no r-cell
+            for v in range(nv):
+                comp_of_root[v] = -1
+            for e in range(ne):
+                if _face_in_face(face_free, face_fixed, ef[e], f):
+                    comp_of_root[_find(parent, ea[e])] = -2
             if cur.shape[0] < ncur + nin:  # rare: grow the buffer
                 grown = np.empty((2 * (ncur + nin), 3), np.int64)
                 grown[:ncur] = cur[:ncur]
@@ -368,6 +374,8 @@ def _process_cube(
                     root = _find(parent, v)
                     code = _local_code(ff, face_free[vface[v]], face_fixed[vface[v]], ks_perm[vsimp[v]], k, kfact, binom)
                     if root == v:
+                        if comp_of_root[v] != -2:
+                            continue
                         comp_of_root[v] = ncur
                         cur[ncur, 0] = f
                         cur[ncur, 1] = v
@@ -375,7 +383,7 @@ def _process_cube(
                         ncur += 1
                     else:
                         c = comp_of_root[root]
-                        if code < cur[c, 2]:
+                        if c >= 0 and code < cur[c, 2]:
                             cur[c, 2] = code
             fkey = _face_key(g_lin, corner_off, face_fixed, face_rank, n_subsets, f, dim) * n_codes[dim]
             for c in range(first, ncur):

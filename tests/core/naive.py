@@ -1,0 +1,435 @@
+"""Slow, obviously correct reference implementation of GCMH (the "naive twin").
+
+This is a line-by-line transcription of "The algorithm as the engine implements
+it" (module contracts) and of Section 3 of the paper.  It is written for
+readability, not speed: plain Python loops, ``itertools.permutations`` for the
+Kuhn (CFK) simplices, ``numpy.linalg.solve`` for the barycentric system, dicts
+keyed by global identities and a plain union-find.  The numba engine is tested
+against it on small grids (tests/core/test_kernels_vs_naive.py).
+
+Conventions
+-----------
+* A grid vertex is a multi-index tuple ``(i_0, ..., i_{n-1})``; it sits at
+  ``(axes[0][i_0], ..., axes[n-1][i_{n-1}])``.
+* A value ``>= 0`` is "positive", ``< 0`` is "negative".
+* A face of the grid is ``(anchor, S)``: ``S`` the sorted tuple of free axes,
+  ``anchor`` the multi-index of its corner with 0 on every free axis.  This is
+  its global identity, shared by every cube that contains it.
+* A Kuhn simplex of the face ``(anchor, S)`` is given by a permutation ``p`` of
+  ``S``: ``v_0 = anchor``, ``v_j = v_{j-1} + e_{p[j-1]}``.
+* A vertex of M_A is identified by ``(anchor, S, p)`` of its Kuhn k-simplex.
+* An r-cell is identified by ``(face, frozenset of its vertex ids)`` where the
+  face is the (r+k)-face of the grid it was found in.
+"""
+from __future__ import annotations
+
+import itertools
+from collections import defaultdict
+
+import numpy as np
+
+
+# --------------------------------------------------------------------------
+# small helpers
+# --------------------------------------------------------------------------
+
+def is_positive(x):
+    """Sign convention of the contract: >= 0 is positive, < 0 negative."""
+    return x >= 0
+
+
+def add_unit(vertex, axis):
+    """vertex + e_axis (multi-indices are tuples)."""
+    v = list(vertex)
+    v[axis] += 1
+    return tuple(v)
+
+
+def kuhn_path(anchor, perm):
+    """Vertices v_0..v_m of the Kuhn simplex of ``perm``, in path order."""
+    path = [tuple(anchor)]
+    for axis in perm:
+        path.append(add_unit(path[-1], axis))
+    return path
+
+
+def subfaces(face, m):
+    """All m-dimensional faces (anchor, T) of the face (anchor, S)."""
+    anchor, S = face
+    out = []
+    for T in itertools.combinations(S, m):
+        fixed = [a for a in S if a not in T]
+        for bits in itertools.product((0, 1), repeat=len(fixed)):
+            a = list(anchor)
+            for axis, b in zip(fixed, bits):
+                a[axis] += b
+            out.append((tuple(a), tuple(T)))
+    return out
+
+
+class UnionFind:
+    """Plain union-find with path halving."""
+
+    def __init__(self):
+        self.parent = {}
+
+    def add(self, x):
+        self.parent.setdefault(x, x)
+
+    def find(self, x):
+        self.add(x)
+        while self.parent[x] != x:
+            self.parent[x] = self.parent[self.parent[x]]
+            x = self.parent[x]
+        return x
+
+    def union(self, a, b):
+        ra, rb = self.find(a), self.find(b)
+        if ra != rb:
+            self.parent[rb] = ra
+
+
+# --------------------------------------------------------------------------
+# the barycentric solve
+# --------------------------------------------------------------------------
+
+def simplex_lambdas(F_at_vertices, sign_shortcut=True):
+    """Barycentric coordinates of the zero of the linear interpolant.
+
+    ``F_at_vertices``: (k+1, k) array, row i = F(v_i).  Solves
+        sum_i lam_i F_j(v_i) = 0   (j = 0..k-1),    sum_i lam_i = 1.
+    Returns ``lam`` (k+1,) if the system is regular and all lam_i >= 0,
+    otherwise None.  With ``sign_shortcut`` (allowed by the contract), a
+    simplex on which some component has one sign at every vertex has no
+    vertex (this only differs from the plain solve when values are exactly 0).
+    """
+    Fv = np.asarray(F_at_vertices, dtype=np.float64)
+    m, k = Fv.shape
+    assert m == k + 1
+    if sign_shortcut:
+        for j in range(k):
+            pos = [is_positive(Fv[i, j]) for i in range(m)]
+            if all(pos) or not any(pos):
+                return None
+    A = np.ones((k + 1, k + 1))
+    A[:k, :] = Fv.T            # A[j, i] = F_j(v_i)
+    rhs = np.zeros(k + 1)
+    rhs[k] = 1.0
+    try:
+        lam = np.linalg.solve(A, rhs)
+    except np.linalg.LinAlgError:
+        return None
+    if not np.all(np.isfinite(lam)):
+        return None
+    if np.any(lam < 0):
+        return None
+    return lam
+
+
+# --------------------------------------------------------------------------
+# candidates
+# --------------------------------------------------------------------------
+
+def cube_corners(origin):
+    n = len(origin)
+    return [tuple(o + b for o, b in zip(origin, bits))
+            for bits in itertools.product((0, 1), repeat=n)]
+
+
+def is_candidate(values, origin):
+    """All 2^n corners finite and every component has both signs."""
+    k = values.shape[-1]
+    corner_values = [values[c] for c in cube_corners(origin)]
+    if not all(np.all(np.isfinite(v)) for v in corner_values):
+        return False
+    for j in range(k):
+        signs = [is_positive(v[j]) for v in corner_values]
+        if all(signs) or not any(signs):
+            return False
+    return True
+
+
+def naive_candidates(values):
+    """Sorted list of origins (tuples) of the candidate cubes."""
+    values = np.asarray(values, dtype=np.float64)
+    dims = [s - 1 for s in values.shape[:-1]]
+    out = []
+    for origin in itertools.product(*[range(d) for d in dims]):
+        if is_candidate(values, origin):
+            out.append(tuple(origin))
+    return sorted(out)
+
+
+# --------------------------------------------------------------------------
+# the extraction
+# --------------------------------------------------------------------------
+
+class NaiveGCMH:
+    def __init__(self, values, axes, sign_shortcut=True):
+        self.values = np.asarray(values, dtype=np.float64)
+        self.axes = [np.asarray(a, dtype=np.float64) for a in axes]
+        self.n = self.values.ndim - 1
+        self.k = self.values.shape[-1]
+        assert len(self.axes) == self.n
+        for a in range(self.n):
+            assert len(self.axes[a]) == self.values.shape[a]
+        self.sign_shortcut = sign_shortcut
+        # global tables
+        self.vertex_ids = {}          # (anchor, S, perm) -> vertex id or None
+        self.positions = []           # vertex id -> coordinates
+        self.vertex_keys = []         # vertex id -> (anchor, S, perm)
+        self._kface_vertices = {}     # k-face -> list of vertex ids
+        self._face_edges = {}         # (k+1)-face -> list of frozenset pairs
+        self._face_cells = {}         # (face, r) -> list of vertex frozensets
+        self.walk_dead_ends = []      # (face, start vertex) where a walk failed
+        self.walked_faces = []        # (k+1)-faces disambiguated by the walk
+
+    # -- geometry ---------------------------------------------------------
+    def x(self, v):
+        return np.array([self.axes[a][v[a]] for a in range(self.n)])
+
+    def F(self, v):
+        return self.values[v]
+
+    def lambdas(self, simplex):
+        return simplex_lambdas([self.F(v) for v in simplex], self.sign_shortcut)
+
+    # -- vertices on k-faces ------------------------------------------------
+    def vertex(self, anchor, S, perm):
+        """Vertex id of the Kuhn k-simplex (anchor, S, perm), or None."""
+        key = (tuple(anchor), tuple(S), tuple(perm))
+        if key not in self.vertex_ids:
+            path = kuhn_path(anchor, perm)
+            lam = self.lambdas(path)
+            if lam is None:
+                self.vertex_ids[key] = None
+            else:
+                pos = np.zeros(self.n)
+                for lam_i, v in zip(lam, path):
+                    pos = pos + lam_i * self.x(v)
+                self.vertex_ids[key] = len(self.positions)
+                self.positions.append(pos)
+                self.vertex_keys.append(key)
+        return self.vertex_ids[key]
+
+    def kface_vertices(self, face):
+        if face not in self._kface_vertices:
+            anchor, S = face
+            ids = []
+            for perm in itertools.permutations(S):
+                vid = self.vertex(anchor, S, perm)
+                if vid is not None:
+                    ids.append(vid)
+            self._kface_vertices[face] = ids
+        return self._kface_vertices[face]
+
+    def vertices_in(self, face):
+        """Vertices on all k-faces contained in ``face``."""
+        out = set()
+        for kf in subfaces(face, self.k):
+            out.update(self.kface_vertices(kf))
+        return out
+
+    # -- edges on (k+1)-faces -------------------------------------------------
+    def face_edges(self, face):
+        if face not in self._face_edges:
+            anchor, S = face
+            boundary = []
+            for kf in subfaces(face, self.k):
+                boundary.extend(self.kface_vertices(kf))
+            if len(boundary) == 0:
+                edges = []
+            elif len(boundary) == 2:
+                edges = [frozenset(boundary)]
+            else:
+                edges = self.walk(face)
+            self._face_edges[face] = edges
+        return self._face_edges[face]
+
+    def walk(self, face):
+        """Pair the boundary vertices of a (k+1)-face through its Kuhn simplices."""
+        anchor, S = face
+        k = self.k
+        self.walked_faces.append(face)
+        links = defaultdict(list)       # facet key -> linked facet keys
+        boundary_vertex = {}            # boundary facet key -> vertex id (crossing only)
+        for q in itertools.permutations(S):
+            w = kuhn_path(anchor, q)    # w_0 .. w_{k+1}
+            crossing = []
+            for m in range(k + 2):
+                facet = w[:m] + w[m + 1:]
+                key = frozenset(facet)
+                if m == 0:
+                    # all of w_1.. have coordinate q[0] = anchor+1: the k-face
+                    # (anchor + e_{q0}, S \ {q0}) with Kuhn path q[1:]
+                    sub_S = tuple(sorted(set(S) - {q[0]}))
+                    vid = self.vertex(w[1], sub_S, q[1:])
+                    is_crossing = vid is not None
+                    if is_crossing:
+                        boundary_vertex[key] = vid
+                elif m == k + 1:
+                    # all of w_0..w_k have coordinate q[k] = anchor: the k-face
+                    # (anchor, S \ {q[k]}) with Kuhn path q[:k]
+                    sub_S = tuple(sorted(set(S) - {q[k]}))
+                    vid = self.vertex(anchor, sub_S, q[:k])
+                    is_crossing = vid is not None
+                    if is_crossing:
+                        boundary_vertex[key] = vid
+                else:
+                    is_crossing = self.lambdas(facet) is not None
+                if is_crossing:
+                    crossing.append(key)
+            if len(crossing) == 2:
+                a, b = crossing
+                links[a].append(b)
+                links[b].append(a)
+
+        edges = []
+        paired = set()
+        for start in sorted(boundary_vertex, key=lambda key: boundary_vertex[key]):
+            if start in paired:
+                continue
+            prev, cur = None, start
+            seen = {start}
+            end = None
+            while True:
+                nxt = [f for f in links[cur] if f != prev and f not in seen]
+                if not nxt:
+                    break
+                prev, cur = cur, nxt[0]
+                seen.add(cur)
+                if cur in boundary_vertex:
+                    end = cur
+                    break
+            if end is None:
+                self.walk_dead_ends.append((face, boundary_vertex[start]))
+                continue
+            paired.add(start)
+            paired.add(end)
+            edges.append(frozenset((boundary_vertex[start], boundary_vertex[end])))
+        return edges
+
+    # -- r-cells in (r+k)-faces -------------------------------------------------
+    def face_cells(self, face, r):
+        """The r-cells in an (r+k)-face: vertex sets of the connected components."""
+        key = (face, r)
+        if key not in self._face_cells:
+            uf = UnionFind()
+            touched = set()
+            for ef in subfaces(face, self.k + 1):
+                for e in self.face_edges(ef):
+                    a, b = tuple(e)
+                    uf.union(a, b)
+                    touched.update((a, b))
+            comps = defaultdict(set)
+            for v in touched:
+                comps[uf.find(v)].add(v)
+            self._face_cells[key] = [frozenset(c) for c in comps.values()]
+        return self._face_cells[key]
+
+    # -- driver ---------------------------------------------------------------------
+    def run(self):
+        n, k = self.n, self.k
+        dim = n - k
+        cells = {r: {} for r in range(1, dim + 1)}   # r -> {(face, vset): faces}
+        for origin in naive_candidates(self.values):
+            cube = (tuple(origin), tuple(range(n)))
+            for kf in subfaces(cube, k):               # all vertices of the cube
+                self.kface_vertices(kf)
+            for r in range(1, dim + 1):
+                for f in subfaces(cube, r + k):
+                    for X in self.face_cells(f, r):
+                        ident = (f, X)
+                        if ident in cells[r]:
+                            continue
+                        if r == 1:
+                            faces = X                  # the two vertex ids
+                        else:
+                            faces = set()
+                            for g in subfaces(f, r + k - 1):
+                                for Y in self.face_cells(g, r - 1):
+                                    if Y <= X:
+                                        faces.add((g, Y))
+                            faces = frozenset(faces)
+                        cells[r][ident] = faces
+        # number the cells: r-cell -> index in its list
+        out_cells = {}
+        index = {}
+        for r in range(1, dim + 1):
+            idents = list(cells[r])
+            index[r] = {ident: i for i, ident in enumerate(idents)}
+            lst = []
+            for ident in idents:
+                faces = cells[r][ident]
+                if r == 1:
+                    face_ids = frozenset(faces)
+                else:
+                    face_ids = frozenset(index[r - 1][y] for y in faces)
+                lst.append((ident[1], face_ids))
+            out_cells[r] = lst
+        vertices = (np.array(self.positions, dtype=np.float64).reshape(-1, n))
+        return {
+            "vertices": vertices,
+            "cells": out_cells,
+            "cell_faces": {r: [ident[0] for ident in cells[r]] for r in cells},
+            "vertex_keys": list(self.vertex_keys),
+            "candidates": naive_candidates(self.values),
+            "walk_dead_ends": list(self.walk_dead_ends),
+            "walked_faces": list(self.walked_faces),
+        }
+
+
+def naive_extract(values, axes, sign_shortcut=True):
+    """GCMH on sampled values, the slow way.
+
+    values: (d_0+1, ..., d_{n-1}+1, k) float64 -- F at the grid vertices
+    axes:   n 1-D arrays, the grid line coordinates (len d_a + 1)
+
+    Returns a dict:
+      'vertices': (V, n) float64
+      'cells': {r: [(frozenset vertex ids, frozenset face ids), ...]} for
+               r = 1..n-k; for r = 1 the faces are the two vertex ids, for
+               r >= 2 they index into cells[r-1]
+      'cell_faces': {r: [grid face (anchor, S) of each r-cell]}
+      'vertex_keys': identity (anchor, S, perm) of each vertex
+      'candidates': sorted candidate cube origins
+      'walk_dead_ends': walks that did not reach a second boundary vertex
+      'walked_faces': (k+1)-faces with more than two vertices (the walk ran)
+    """
+    return NaiveGCMH(values, axes, sign_shortcut).run()
+
+
+# --------------------------------------------------------------------------
+# helpers for tests
+# --------------------------------------------------------------------------
+
+def cell_vertex_sets(result, r):
+    """List of frozensets of vertex ids of the r-cells of a naive result."""
+    return [vs for vs, _ in result["cells"][r]]
+
+
+def signature(result, vertex_map=None):
+    """{r: list of (frozenset vertices, frozenset of faces-as-vertex-sets)}.
+
+    ``vertex_map`` renames vertex ids (e.g. naive id -> engine id)."""
+    m = (lambda v: v) if vertex_map is None else (lambda v: vertex_map[v])
+    out = {}
+    for r, lst in result["cells"].items():
+        sig = []
+        for vs, faces in lst:
+            X = frozenset(m(v) for v in vs)
+            if r == 1:
+                Fs = frozenset(frozenset([m(v)]) for v in faces)
+            else:
+                Fs = frozenset(frozenset(m(v) for v in result["cells"][r - 1][f][0])
+                               for f in faces)
+            sig.append((X, Fs))
+        out[r] = sig
+    return out
+
+
+def euler_characteristic(result):
+    chi = len(result["vertices"])
+    for r, lst in result["cells"].items():
+        chi += (-1) ** r * len(lst)
+    return chi

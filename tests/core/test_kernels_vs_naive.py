@@ -1,0 +1,607 @@
+"""The fast engine against the slow reference (tests/core/naive.py).
+
+Part 1 proves the reference itself (sphere, circle, Clifford torus, a saddle
+that needs the walk, ...).  Part 2 runs gcmh_core.extract and the naive code
+on the same sampled values over the same perturbed grid and demands identical
+complexes: same vertices (to 1e-9), and the same r-cells, each as its vertex
+set together with the vertex sets of its faces, as multisets, r = 1..n-k.
+Part 3 tests the numba kernels one by one against naive pieces.
+"""
+from __future__ import annotations
+
+import itertools
+import math
+import os
+import sys
+from collections import Counter
+
+import numpy as np
+import pytest
+
+_HERE = os.path.dirname(os.path.abspath(__file__))
+_ROOT = os.path.dirname(os.path.dirname(_HERE))
+for _p in (_HERE, _ROOT):
+    if _p not in sys.path:
+        sys.path.insert(0, _p)
+
+from naive import (  # noqa: E402
+    euler_characteristic,
+    kuhn_path,
+    naive_candidates,
+    naive_extract,
+    signature,
+    simplex_lambdas,
+    subfaces,
+)
+
+
+# ---------------------------------------------------------------------------
+# helpers
+# ---------------------------------------------------------------------------
+
+def local_axes(bounds, div, seed=0, eps=1e-3):
+    """Perturbed grid lines for the self-checks (independent of the engine)."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for (lo, hi), d in zip(bounds, div):
+        h = (hi - lo) / d
+        out.append(lo + np.arange(d + 1) * h + rng.uniform(-1, 1, d + 1) * eps * h)
+    return out
+
+
+def sample(axes, func):
+    """values[..., j] = F_j on the meshgrid of ``axes``."""
+    X = np.meshgrid(*axes, indexing="ij")
+    comps = func(*X)
+    return np.stack([np.broadcast_to(c, X[0].shape) for c in comps], axis=-1).astype(np.float64)
+
+
+def random_system(n, k, seed):
+    """A random polynomial F: R^n -> R^k whose zero set crosses [-1, 1]^n.
+
+    Three families, chosen by the seed: quadrics through a random point p
+    (affine + quadratic part), products of two affine forms (saddles/crossings,
+    which make the walk work), and intersections of random ellipsoids.
+    """
+    rng = np.random.default_rng(1000 + 17 * n + 101 * k + seed)
+    family = seed % 3
+    p = rng.uniform(-0.4, 0.4, n)
+    comps = []
+    for j in range(k):
+        a = rng.normal(size=n)
+        Q = rng.normal(size=(n, n))
+        Q = 0.5 * (Q + Q.T)
+        if family == 0:
+            comps.append(("quad", a, 0.8 / k * Q, p))
+        elif family == 1 and j == 0:
+            b = rng.normal(size=n)
+            comps.append(("prod", a, b, p + rng.uniform(-0.2, 0.2, n), rng.normal() * 0.05))
+        elif family == 1:
+            comps.append(("quad", a, 0.3 * Q, p))
+        else:
+            c = rng.uniform(0.5, 2.0, n)
+            u = rng.normal(size=n)
+            centre = p + rng.uniform(0.6, 1.2) * u / np.linalg.norm(u)
+            r2 = float(np.sum(c * (p - centre) ** 2))   # passes through p
+            comps.append(("ell", c, centre, r2))
+
+    def F(*X):
+        X = np.stack(X, axis=-1)
+        out = []
+        for comp in comps:
+            if comp[0] == "quad":
+                _, a, Q, q = comp
+                Y = X - q
+                out.append(Y @ a + np.einsum("...i,ij,...j->...", Y, Q, Y))
+            elif comp[0] == "prod":
+                _, a, b, q, e = comp
+                Y = X - q
+                out.append((Y @ a) * (Y @ b) + e)
+            else:
+                _, c, centre, r2 = comp
+                out.append(((X - centre) ** 2) @ c - r2)
+        return out
+
+    return F
+
+
+def edge_multiplicity(result):
+    """How many top 2-cells contain each edge (n - k == 2)."""
+    c = Counter()
+    for _, faces in result["cells"][2]:
+        for e in faces:
+            c[e] += 1
+    return c
+
+
+# ---------------------------------------------------------------------------
+# Part 1: the reference proves itself
+# ---------------------------------------------------------------------------
+
+def test_kuhn_simplices_tile_the_cube():
+    # k! simplices per k-face, each of volume 1/k!, all distinct, covering the cube
+    for m in range(1, 5):
+        anchor = (0,) * m
+        S = tuple(range(m))
+        sims = [kuhn_path(anchor, p) for p in itertools.permutations(S)]
+        assert len(sims) == math.factorial(m)
+        vol = 0.0
+        for s in sims:
+            M = np.array([np.subtract(v, s[0]) for v in s[1:]], float)
+            vol += abs(np.linalg.det(M)) / math.factorial(m)
+            assert s[0] == anchor and s[-1] == (1,) * m
+        assert vol == pytest.approx(1.0)
+        # every point of the cube lies in the simplex of the order of its coordinates
+        rng = np.random.default_rng(m)
+        for x in rng.random((20, m)):
+            perm = tuple(np.argsort(-x))
+            s = np.array(kuhn_path(anchor, perm), float)
+            lam = np.linalg.solve(np.vstack([s.T, np.ones(m + 1)]), np.append(x, 1.0))
+            assert np.all(lam >= -1e-12)
+
+
+def test_subfaces_counts():
+    cube = ((0, 0, 0, 0), (0, 1, 2, 3))
+    for m in range(5):
+        assert len(subfaces(cube, m)) == math.comb(4, m) * 2 ** (4 - m)
+    face = ((1, 0, 2), (0, 2))
+    assert sorted(subfaces(face, 1)) == sorted(
+        [((1, 0, 2), (0,)), ((1, 0, 3), (0,)), ((1, 0, 2), (2,)), ((2, 0, 2), (2,))])
+
+
+def test_simplex_lambdas_by_hand():
+    # k = 1: F = -1 at v0, +3 at v1 -> zero at lambda = (3/4, 1/4)
+    lam = simplex_lambdas([[-1.0], [3.0]])
+    assert np.allclose(lam, [0.75, 0.25])
+    assert simplex_lambdas([[1.0], [3.0]]) is None
+    assert simplex_lambdas([[1.0], [3.0]], sign_shortcut=False) is None
+    # k = 2: F(v) = v - c on the triangle (0,0),(1,0),(0,1): lambdas of c
+    V = np.array([[0, 0], [1, 0], [0, 1]], float)
+    c = np.array([0.2, 0.3])
+    lam = simplex_lambdas(V - c)
+    assert np.allclose(lam, [0.5, 0.2, 0.3])
+    assert simplex_lambdas(V - np.array([0.8, 0.8])) is None
+    # singular system: both components identical -> no vertex
+    assert simplex_lambdas([[-1.0, -1.0], [1.0, 1.0], [1.0, 1.0]]) is None
+
+
+def test_candidates_by_hand():
+    vals = np.ones((3, 2, 1))
+    vals[0, 0, 0] = -1
+    assert naive_candidates(vals) == [(0, 0)]
+    vals[2, 1, 0] = np.nan
+    assert naive_candidates(vals) == [(0, 0)]
+    vals[1, 1, 0] = np.nan
+    assert naive_candidates(vals) == []
+    vals = np.ones((2, 2, 2, 2))
+    vals[0, 0, 0, 0] = -1
+    assert naive_candidates(vals) == []          # component 1 never changes sign
+    vals[1, 1, 1, 1] = -0.5
+    assert naive_candidates(vals) == [(0, 0, 0)]
+
+
+def test_naive_circle():
+    ax = local_axes([(-1.3, 1.3)] * 2, [9, 9])
+    res = naive_extract(sample(ax, lambda x, y: [x * x + y * y - 1]), ax)
+    V, E = len(res["vertices"]), len(res["cells"][1])
+    assert V == E > 0
+    deg = Counter(v for vs, _ in res["cells"][1] for v in vs)
+    assert set(deg.values()) == {2}
+    assert np.allclose(np.hypot(*res["vertices"].T), 1, atol=0.05)
+
+
+def test_naive_sphere_is_closed_surface():
+    ax = local_axes([(-1.3, 1.3)] * 3, [6, 6, 6])
+    res = naive_extract(sample(ax, lambda x, y, z: [x * x + y * y + z * z - 1]), ax)
+    assert euler_characteristic(res) == 2
+    mult = edge_multiplicity(res)
+    assert len(mult) == len(res["cells"][1])
+    assert set(mult.values()) == {2}
+    assert np.allclose(np.linalg.norm(res["vertices"], axis=1), 1, atol=0.06)
+    assert not res["walk_dead_ends"]
+
+
+def test_naive_clifford_torus():
+    ax = local_axes([(-1.0, 1.0)] * 4, [6] * 4, seed=3)
+    res = naive_extract(sample(ax, lambda x, y, z, w: [x * x + y * y - 0.5, z * z + w * w - 0.5]), ax)
+    assert euler_characteristic(res) == 0
+    assert set(edge_multiplicity(res).values()) == {2}
+    assert len(res["cells"][2]) > 0
+
+
+def test_naive_two_spheres_intersection_in_r3_is_a_circle():
+    # n = 3, k = 2: a curve; every vertex on exactly two edges
+    ax = local_axes([(-1.5, 1.5)] * 3, [7] * 3, seed=1)
+    res = naive_extract(sample(ax, lambda x, y, z: [x * x + y * y + z * z - 1, x + 0.3 * y - 0.2 * z - 0.1]), ax)
+    deg = Counter(v for vs, _ in res["cells"][1] for v in vs)
+    assert len(deg) == len(res["vertices"]) > 0
+    assert set(deg.values()) == {2}
+
+
+def test_naive_walk_resolves_a_saddle_square():
+    # one square, signs + - + - around it: four vertices, the walk pairs them
+    ax = [np.array([0.0, 1.0]), np.array([0.0, 1.0])]
+    vals = np.array([[[1.0], [-1.0]], [[-1.0], [2.0]]])
+    res = naive_extract(vals, ax)
+    assert len(res["vertices"]) == 4
+    assert len(res["cells"][1]) == 2
+    assert res["walked_faces"] and not res["walk_dead_ends"]
+    # the Kuhn diagonal (0,0)-(1,1) has values 1 and 2: both positive, so the
+    # two edges cut off the two negative corners
+    pos = res["vertices"]
+    for vs, _ in res["cells"][1]:
+        a, b = sorted(vs)
+        mid = 0.5 * (pos[a] + pos[b])
+        assert (mid[0] > mid[1]) == (pos[a][0] > pos[a][1])   # same side of the diagonal
+
+
+def test_naive_walk_in_3d_consistent():
+    # many ambiguous faces: a product of two planes in R^3 (a crossing)
+    ax = local_axes([(-1, 1)] * 3, [4] * 3, seed=5)
+    res = naive_extract(sample(ax, lambda x, y, z: [(x - 0.1 * y + 0.05) * (y + 0.2 * z - 0.03) + 0.01]), ax)
+    assert res["walked_faces"]
+    assert not res["walk_dead_ends"]
+    # an edge is on at most two polygons, and every polygon is a closed loop
+    assert max(edge_multiplicity(res).values()) <= 2
+    for vs, faces in res["cells"][2]:
+        deg = Counter(v for e in faces for v in res["cells"][1][e][0])
+        assert set(deg.values()) == {2} and set(deg) == set(vs)
+
+
+@pytest.mark.parametrize("n,k", [(3, 1), (4, 2), (4, 1)])
+def test_naive_random_faces_of_faces(n, k):
+    # structural sanity on random systems: boundary of a boundary is empty
+    # (each (r-2)-cell appears an even number of times among faces of faces)
+    for seed in range(3):
+        div = [3] * n
+        ax = local_axes([(-1, 1)] * n, div, seed=seed)
+        res = naive_extract(sample(ax, random_system(n, k, seed)), ax)
+        assert not res["walk_dead_ends"]
+        cells = res["cells"]
+        for r in range(2, n - k + 1):
+            for vs, faces in cells[r]:
+                cnt = Counter()
+                for f in faces:
+                    assert cells[r - 1][f][0] <= vs
+                    for g in cells[r - 1][f][1]:
+                        cnt[g] += 1
+                assert all(c % 2 == 0 for c in cnt.values()), (seed, r)
+
+
+# ---------------------------------------------------------------------------
+# Part 2: engine vs naive
+# ---------------------------------------------------------------------------
+
+CASES = [(2, 1), (3, 1), (3, 2), (4, 1), (4, 2), (5, 3), (6, 3)]
+SEEDS = list(range(8))
+
+
+def _engine():
+    try:
+        import gcmh_core
+        from gcmh_core import grid
+    except ImportError as exc:  # pragma: no cover - the engine is required
+        pytest.fail(f"engine not importable: {exc}")
+    assert hasattr(gcmh_core, "extract"), "gcmh_core.extract missing"
+    assert hasattr(grid, "perturbed_axes"), "gcmh_core.grid.perturbed_axes missing"
+    return gcmh_core, grid
+
+
+def case_grid(n, k, seed):
+    rng = np.random.default_rng(7 * seed + n * 131 + k)
+    hi = 2 if n >= 6 else (3 if n >= 5 else 4)
+    div = [int(d) for d in rng.integers(2, hi + 1, n)]
+    bounds = [(-1.0, 1.0)] * n
+    return bounds, div
+
+
+def match_vertices(A, B, tol=1e-9):
+    """Bijection i -> j with |A[i] - B[j]| < tol, or an assertion error."""
+    assert A.shape == B.shape, f"vertex count: naive {len(A)}, engine {len(B)}"
+    if len(A) == 0:
+        return {}
+    oa = np.lexsort(A.T[::-1])
+    ob = np.lexsort(B.T[::-1])
+    if np.allclose(A[oa], B[ob], rtol=0, atol=tol):
+        mapping = {int(i): int(j) for i, j in zip(oa, ob)}
+    else:
+        # lexicographic order can flip on ties at the 1e-15 level: match by distance
+        mapping = {}
+        for i, a in enumerate(A):
+            d = np.max(np.abs(B - a), axis=1)
+            j = int(np.argmin(d))
+            assert d[j] < tol, f"naive vertex {i} at {a} has no engine twin (nearest {d[j]:.3g})"
+            mapping[i] = j
+    assert len(set(mapping.values())) == len(A), "vertex matching is not one-to-one"
+    return mapping
+
+
+def _same_points(A, B, tol=1e-9):
+    try:
+        match_vertices(A, B, tol)
+        return True
+    except AssertionError:
+        return False
+
+
+def engine_signature(cx):
+    out = {}
+    dim = cx.n - cx.k
+    edges = np.asarray(cx.edges)
+    out[1] = [(frozenset(map(int, e)), frozenset(frozenset([int(v)]) for v in e)) for e in edges]
+    prev = [frozenset(map(int, e)) for e in edges]
+    for r in range(2, dim + 1):
+        off, vids = cx.cell_vertices(r)
+        foff, faces = cx.cells[r]
+        cur = []
+        for i in range(len(off) - 1):
+            X = frozenset(int(v) for v in vids[off[i]:off[i + 1]])
+            Fs = frozenset(prev[int(f)] for f in faces[foff[i]:foff[i + 1]])
+            out.setdefault(r, []).append((X, Fs))
+            cur.append(X)
+        out.setdefault(r, [])
+        prev = cur
+    return out
+
+
+def _describe(cells, verts, limit=4):
+    lines = []
+    for X, Fs in list(cells)[:limit]:
+        lines.append(f"  cell on {len(X)} vertices {sorted(X)} with {len(Fs)} faces; "
+                     f"first vertex at {np.round(verts[min(X)], 4).tolist()}")
+    return "\n".join(lines)
+
+
+def compare(n, k, seed, values=None, bounds=None, div=None):
+    """Run engine and naive on the same sampled values; fail on any difference."""
+    gcmh_core, grid = _engine()
+    if values is None:
+        bounds, div = case_grid(n, k, seed)
+    axes = grid.perturbed_axes(np.array(bounds, float), np.array(div, np.int64), seed)
+    if values is None:
+        values = sample(axes, random_system(n, k, seed))
+    # Sampled values can't be moved, so the engine places them on the exact grid
+    # (amplitude 0); the values themselves come from the perturbed grid, which
+    # keeps them generic.  The topology depends on the values only.
+    flat = grid.perturbed_axes(np.array(bounds, float), np.array(div, np.int64), seed, 0.0)
+    ref = naive_extract(values, flat)
+    cx = gcmh_core.extract(values, bounds=bounds, div=div, seed=seed)
+    tag = f"(n={n}, k={k}, seed={seed}, div={div})"
+    assert _same_points(ref["vertices"], np.asarray(cx.vertices)), f"{tag} vertex positions differ"
+
+    assert cx.n == n and cx.k == k
+    if "candidate_cubes" in cx.meta:
+        assert int(cx.meta["candidate_cubes"]) == len(ref["candidates"]), \
+            f"{tag} candidate cubes: engine {cx.meta['candidate_cubes']}, naive {len(ref['candidates'])}"
+
+    V_ref = ref["vertices"]
+    V_eng = np.asarray(cx.vertices)
+    assert V_eng.shape == V_ref.shape, (
+        f"{tag} vertex count: engine {len(V_eng)}, naive {len(V_ref)} "
+        f"(if every vertex is off, the engine may not use perturbed_axes(bounds, div, seed) for sampled data)")
+    vmap = match_vertices(V_ref, V_eng)
+
+    sig_ref = signature(ref, vmap)
+    sig_eng = engine_signature(cx)
+    for r in range(1, n - k + 1):
+        a, b = Counter(sig_ref[r]), Counter(sig_eng.get(r, []))
+        if a != b:
+            only_ref, only_eng = a - b, b - a
+            vs_a = Counter(X for X, _ in sig_ref[r])
+            vs_b = Counter(X for X, _ in sig_eng.get(r, []))
+            pytest.fail(
+                f"{tag} r={r}: naive {sum(a.values())} cells, engine {sum(b.values())}; "
+                f"vertex sets agree: {vs_a == vs_b}\n"
+                f"only in naive ({sum(only_ref.values())}):\n{_describe(only_ref, V_eng)}\n"
+                f"only in engine ({sum(only_eng.values())}):\n{_describe(only_eng, V_eng)}")
+    return ref, cx
+
+
+@pytest.mark.parametrize("n,k", CASES)
+@pytest.mark.parametrize("seed", SEEDS)
+def test_extract_matches_naive(n, k, seed):
+    compare(n, k, seed)
+
+
+def test_sampled_data_sits_on_the_exact_grid():
+    # sampled values are F at the grid's own vertices: no perturbation of positions
+    gcmh_core, grid = _engine()
+    bounds, div, seed = [(-1.0, 1.0)] * 2, [5, 4], 3
+    axes = [np.linspace(lo, hi, d + 1) for (lo, hi), d in zip(bounds, div)]
+    assert all(np.array_equal(a, b) for a, b in zip(axes, grid.perturbed_axes(np.array(bounds), np.array(div), seed, 0.0)))
+    vals = sample(axes, lambda x, y: [x * x + y * y - 0.5])
+    ref = naive_extract(vals, axes)
+    cx = gcmh_core.extract(vals, bounds=bounds, div=div, seed=seed)
+    V = np.asarray(cx.vertices)
+    assert len(V) == len(ref["vertices"])
+    assert _same_points(ref["vertices"], V)
+
+
+def test_random_cases_are_not_vacuous():
+    # the random systems must actually cross the grids, and the walk must run
+    _, grid = _engine()
+    walked = 0
+    for n, k in CASES:
+        tops = 0
+        for seed in SEEDS:
+            bounds, div = case_grid(n, k, seed)
+            ax = grid.perturbed_axes(np.array(bounds, float), np.array(div, np.int64), seed)
+            ref = naive_extract(sample(ax, random_system(n, k, seed)), ax)
+            tops += len(ref["cells"][n - k]) > 0
+            walked += len(ref["walked_faces"])
+        assert tops >= len(SEEDS) // 2, (n, k, tops)
+    assert walked > 0
+
+
+def test_extract_sphere_matches_naive_self_check():
+    gcmh_core, grid = _engine()
+    bounds, div = [(-1.3, 1.3)] * 3, [6, 6, 6]
+    axes = grid.perturbed_axes(np.array(bounds), np.array(div, np.int64), 0)
+    vals = sample(axes, lambda x, y, z: [x * x + y * y + z * z - 1])
+    cx = gcmh_core.extract(vals, bounds=bounds, div=div, seed=0)
+    assert cx.euler_characteristic() == 2
+    assert euler_characteristic(naive_extract(vals, axes)) == 2
+
+
+def test_extract_nonfinite_values_match_naive():
+    _, grid = _engine()
+    n, k, seed = 3, 1, 11
+    bounds, div = [(-1.0, 1.0)] * 3, [4, 4, 4]
+    axes = grid.perturbed_axes(np.array(bounds), np.array(div, np.int64), seed)
+    vals = sample(axes, lambda x, y, z: [x * x + y * y + z * z - 0.6])
+    vals[2, 1, 1, 0] = np.nan
+    vals[1, 3, 2, 0] = np.inf
+    ref, cx = compare(n, k, seed, vals, bounds, div)
+    assert len(ref["candidates"]) < len(naive_candidates(np.nan_to_num(vals, posinf=1.0)))
+    assert len(ref["cells"][2]) > 0
+
+
+@pytest.mark.parametrize("n,k,seed,div", [(4, 2, 0, 1), (4, 2, 1, 1), (4, 2, 3, 3), (5, 3, 0, 2)])
+def test_degenerate_sampled_data_gives_no_empty_cells(n, k, seed, div):
+    # Integer-valued samples put zeros on grid vertices and make walks end early, so
+    # some vertices stay isolated.  Contract: an r-cell is a connected component WITH
+    # AT LEAST ONE EDGE; an isolated vertex is no cell.  (Exact naive == engine is not
+    # demanded here: coincident vertices make coordinate matching ambiguous.)
+    gcmh_core, _ = _engine()
+    rng = np.random.default_rng(seed)
+    vals = rng.integers(-1 if div == 1 else -2, 2 if div == 1 else 3,
+                        size=(div + 1,) * n + (k,)).astype(float)
+    axes = [np.linspace(0.0, 1.0, div + 1)] * n
+    ref = naive_extract(vals, axes)
+    cx = gcmh_core.extract(vals, bounds=[(0.0, 1.0)] * n, div=div, seed=seed)
+    sig = engine_signature(cx)
+    for r in range(2, n - k + 1):
+        empty = [i for i, (X, Fs) in enumerate(sig[r]) if len(X) < 2 or not Fs]
+        assert all(len(X) >= 2 and Fs for X, Fs in signature(ref)[r])
+        assert not empty, (
+            f"(n={n}, k={k}, seed={seed}, div={div}) engine has {len(empty)} of {len(sig[r])} "
+            f"{r}-cells with no vertices/faces (naive: {len(ref['cells'][r])} cells, none empty); "
+            f"looks like _process_cube step 3 makes components of isolated vertices")
+
+
+# ---------------------------------------------------------------------------
+# Part 3: kernel by kernel
+# ---------------------------------------------------------------------------
+
+def _bits(corner, n):
+    return tuple((corner >> a) & 1 for a in range(n))
+
+
+@pytest.mark.parametrize("k", [1, 2, 3, 4, 5])
+def test_simplex_crosses_matches_naive_solve(k):
+    from gcmh_core._kernels import simplex_crosses
+    rng = np.random.default_rng(40 + k)
+    m = k + 1
+    corner_off = np.arange(m, dtype=np.int64)
+    corners = np.arange(m, dtype=np.int64)
+    full = (1 << k) - 1
+    mat = np.empty((k, k))
+    rhs = np.empty(k)
+    lam = np.empty(k + 1)
+    hits = 0
+    for trial in range(3000):
+        vals = rng.normal(size=(m, k))
+        if trial % 3 == 0:      # bias towards simplices that hold a zero
+            lam_true = rng.dirichlet(np.ones(m))
+            vals -= lam_true @ vals
+        pos_mask = np.zeros(m, np.int64)
+        for i in range(m):
+            for j in range(k):
+                if vals[i, j] >= 0:
+                    pos_mask[i] |= 1 << j
+        got = simplex_crosses(vals, 0, corner_off, corners, k, pos_mask, full, mat, rhs, lam)
+        want = simplex_lambdas(vals)
+        assert got == (want is not None), (k, trial, vals, want)
+        if got:
+            hits += 1
+            assert np.allclose(lam, want, rtol=0, atol=1e-9), (k, trial, lam, want)
+    assert hits > 500
+
+
+def test_simplex_crosses_singular_and_offsets():
+    from gcmh_core._kernels import simplex_crosses
+    k = 2
+    mat, rhs, lam = np.empty((k, k)), np.empty(k), np.empty(k + 1)
+    # identical components -> singular -> no vertex, in both
+    vals = np.array([[-1.0, -1.0], [1.0, 1.0], [2.0, 2.0]])
+    pos = np.array([0, 3, 3], np.int64)
+    idx = np.arange(3, dtype=np.int64)
+    assert not simplex_crosses(vals, 0, idx, idx, k, pos, 3, mat, rhs, lam)
+    assert simplex_lambdas(vals) is None
+    # rows reached through o + corner_off[corner]: same answer as the packed layout
+    rng = np.random.default_rng(9)
+    V = np.array([[0, 0], [1, 0], [0, 1]], float)
+    big = rng.normal(size=(20, 2))
+    big[[5 + 0, 5 + 3, 5 + 7]] = V - np.array([0.2, 0.3])
+    corner_off = np.array([0, 3, 7, 11], np.int64)     # "corner" c lives at row o + corner_off[c]
+    corners = np.array([0, 1, 2], np.int64)
+    posm = np.array([(v >= 0) @ [1, 2] for v in big[5 + corner_off]], np.int64)
+    assert simplex_crosses(big, 5, corner_off, corners, k, posm, 3, mat, rhs, lam)
+    assert np.allclose(lam, [0.5, 0.2, 0.3])
+
+
+@pytest.mark.parametrize("n,k", [(1, 1), (2, 1), (3, 1), (3, 2), (4, 2), (5, 3)])
+def test_candidate_cubes_match_naive(n, k):
+    from gcmh_core.grid import candidate_cubes
+    rng = np.random.default_rng(n * 10 + k)
+    for trial in range(20):
+        shape = tuple(int(s) for s in rng.integers(2, 5 if n < 5 else 4, n)) + (k,)
+        vals = rng.normal(size=shape) + rng.normal(scale=0.7, size=k)
+        if trial % 4 == 1:
+            vals[rng.random(shape) < 0.05] = np.nan
+        if trial % 4 == 2:
+            vals[rng.random(shape) < 0.05] = rng.choice([np.inf, -np.inf])
+        if trial % 4 == 3:
+            vals = np.round(vals)                         # exact zeros: >= 0 is positive
+        mask = candidate_cubes(vals)
+        assert mask.shape == tuple(s - 1 for s in shape[:-1])
+        got = sorted(tuple(int(i) for i in ix) for ix in zip(*np.nonzero(mask)))
+        assert got == naive_candidates(vals), (n, k, trial)
+
+
+@pytest.mark.parametrize("n,k", [(2, 1), (3, 1), (3, 2), (4, 2), (5, 3), (6, 3)])
+def test_cube_tables_match_naive_kuhn(n, k):
+    from gcmh_core._tables import cube_tables
+    T = cube_tables(n, k)
+    origin = (0,) * n
+    cube = (origin, tuple(range(n)))
+    # faces of each dimension r >= k: same set as naive subfaces
+    for r in range(k, n + 1):
+        rows = range(T.face_start[r], T.face_start[r + 1])
+        got = sorted((_bits(int(T.face_fixed[f]), n), tuple(a for a in range(n) if T.face_free[f] >> a & 1))
+                     for f in rows)
+        assert got == sorted(subfaces(cube, r))
+    # Kuhn k-simplices: corner chains equal the naive Kuhn paths, perm rank in itertools order
+    kf0 = T.face_start[k]
+    want = set()
+    for anchor, S in subfaces(cube, k):
+        for rank, p in enumerate(itertools.permutations(S)):
+            want.add((anchor, S, rank, tuple(kuhn_path(anchor, p))))
+    got = set()
+    for s in range(len(T.ksimp_corners)):
+        f = kf0 + T.ksimp_face[s]
+        anchor = _bits(int(T.face_fixed[f]), n)
+        S = tuple(a for a in range(n) if T.face_free[f] >> a & 1)
+        got.add((anchor, S, int(T.ksimp_perm[s]), tuple(_bits(int(c), n) for c in T.ksimp_corners[s])))
+    assert got == want
+    # walk template: (k+1)! simplices, each facet j = chain minus vertex j; boundary nodes map to
+    # the Kuhn simplex of the cube with the same corner set
+    m = k + 1
+    assert len(T.tmpl_corners) == math.factorial(m)
+    nb_ = T.n_boundary_nodes
+    assert nb_ == 2 * m * math.factorial(k)
+    f1 = T.face_start[m]
+    for fi in range(T.face_start[m + 1] - f1):
+        cmap = T.walk_corner_map[fi]
+        for t in range(len(T.tmpl_corners)):
+            chain = [int(cmap[c]) for c in T.tmpl_corners[t]]
+            for j in range(m + 1):
+                facet = set(chain[:j] + chain[j + 1:])
+                node = T.tmpl_facets[t, j]
+                if node < nb_:
+                    assert j in (0, m)
+                    s = T.walk_boundary_simplex[fi, node]
+                    assert set(int(c) for c in T.ksimp_corners[s]) == facet
+                else:
+                    assert 0 < j < m
+                    assert set(int(cmap[c]) for c in T.tmpl_interior[node - nb_]) == facet
