@@ -19,9 +19,9 @@ from . import _kernels
 from ._tables import cube_tables
 from .complex import CellComplex
 from .errors import Cancelled, InputError
-from .grid import PERTURBATION, candidate_cubes, perturbed_axes
+from .grid import PERTURBATION, candidate_cubes, perturbed_axes, sign_codes
 
-METHODS = ("gcmh",)
+METHODS = ("gcmh", "gcch")
 
 # Vertices evaluated per slab: bounds the memory of a run independently of div along axis 0.
 _SLAB_VERTICES = 1 << 22
@@ -195,6 +195,11 @@ def extract(
         Grid cubes per axis (default 10; for sampled values, the array's shape).
     variables : names of the n variables (default x1..xn).
     seed : the grid perturbation's seed; same seed, same output bit for bit.
+    method : "gcmh" (every cube of the grid) or "gcch" (continuation: only the cubes
+        M passes through, reached from the start cubes; paper Section 5).
+    start : for "gcch": a point (n,), several points (m, n), or "auto" (default):
+        each point is projected onto M by Gauss-Newton with F's exact Jacobian;
+        "auto" projects a lattice of points and continues from each component found.
     progress : callable(phase, fraction), called between slabs.
     cancel : callable() -> bool, polled between slabs; True raises `Cancelled`.
 
@@ -218,7 +223,13 @@ def extract(
     n_, k_, bounds_, div_, system, sampled = _prepare(F, variables, n, k, bounds, div)
     amplitude = 0.0 if sampled is not None else PERTURBATION  # sampled data can't be moved: its positions are exact
     axes = perturbed_axes(bounds_, div_, seed, amplitude)
-    result = _run_gcmh(n_, k_, axes, system, sampled, progress, cancel)
+    if method == "gcch":
+        starts = _as_starts("auto" if start is None else start, n_)
+        result = _run_gcch(n_, k_, axes, bounds_, system, sampled, starts, progress, cancel)
+    else:
+        if start is not None:
+            raise InputError("a start point is used by continuation only: pass method='gcch'")
+        result = _run_gcmh(n_, k_, axes, system, sampled, progress, cancel)
     result.meta.update(
         method=method,
         div=div_.tolist(),
@@ -345,6 +356,166 @@ def _run_gcmh(n, k, axes, system, sampled, progress, cancel) -> CellComplex:
         grid.run_kernel(values.reshape(-1, k), cube_lin, origin, grid.corner_off)
     if progress is not None:
         progress("assembling", 1.0)
+    return grid.assemble()
+
+
+# ----------------------------------------------------------------------------- continuation (GCCH)
+_NEWTON_STEPS = 50
+
+
+def _project_onto_M(system, x0: np.ndarray, bounds: np.ndarray) -> np.ndarray:
+    """Gauss-Newton x <- x - J^+ F(x) with sympy's exact Jacobian; a clear error when it fails."""
+    x = np.array(x0, np.float64)
+    scale = float(np.max(bounds[:, 1] - bounds[:, 0]))
+    where = "(" + ", ".join(f"{v:g}" for v in x0) + ")"
+    for _ in range(_NEWTON_STEPS):
+        F = system.evaluate_points(x[None])[0]
+        if not np.all(np.isfinite(F)):
+            raise InputError(f"start point {where}: F is not finite near ({', '.join(f'{v:g}' for v in x)})")
+        if np.linalg.norm(F) <= 1e-12 * max(1.0, scale):
+            break
+        J = system.jacobian_points(x[None])[0]
+        if not np.all(np.isfinite(J)):
+            raise InputError(f"start point {where}: the Jacobian of F is not finite there")
+        x = x - np.linalg.lstsq(J, F, rcond=None)[0]
+        if np.any(x < bounds[:, 0] - 1e-9 * scale) or np.any(x > bounds[:, 1] + 1e-9 * scale):
+            raise InputError(f"start point {where}: Newton's projection onto M left the domain")
+    else:
+        F = system.evaluate_points(x[None])[0]
+        if not np.linalg.norm(F) <= 1e-8 * max(1.0, scale):
+            raise InputError(
+                f"start point {where}: Newton's projection onto M did not converge in {_NEWTON_STEPS} steps "
+                f"(|F| = {np.linalg.norm(F):.3g}); try a point closer to M"
+            )
+    return x
+
+
+def _as_starts(start, n: int) -> list | str:
+    if isinstance(start, str):
+        if start.strip().lower() == "auto":
+            return "auto"
+        raise InputError(f"start must be a point, a list of points or 'auto', got {start!r}")
+    try:
+        arr = np.array(start, np.float64)
+    except (TypeError, ValueError):
+        raise InputError(f"start must be a point of {n} numbers, a list of points or 'auto', got {start!r}") from None
+    if arr.ndim == 1:
+        arr = arr[None]
+    if arr.ndim != 2 or arr.shape[1] != n or len(arr) == 0:
+        raise InputError(f"a start point needs {n} coordinates, got {start!r}")
+    if not np.all(np.isfinite(arr)):
+        raise InputError("start point coordinates must be finite")
+    return list(arr)
+
+
+def _cube_of(axes, x) -> np.ndarray:
+    return np.array(
+        [min(max(int(np.searchsorted(ax, v, side="right")) - 1, 0), len(ax) - 2) for ax, v in zip(axes, x)], np.int64
+    )
+
+
+def _start_cubes(n, axes, bounds, system, sampled, starts) -> np.ndarray:
+    """Origins (m, n) of the cubes to start from."""
+    if starts == "auto":
+        if system is None:  # no Jacobian for sampled data: start from every cube that crosses M
+            return np.argwhere(candidate_cubes(sampled)).astype(np.int64)
+        # project a spread of points (a coarse 5^n lattice, capped) onto M
+        per_axis = max(2, min(5, int(round(4096 ** (1.0 / n)))))
+        lattice = np.stack(
+            np.meshgrid(*[np.linspace(lo, hi, per_axis + 2)[1:-1] for lo, hi in bounds], indexing="ij"), -1
+        ).reshape(-1, n)
+        origins = []
+        for x0 in lattice:
+            try:
+                origins.append(_cube_of(axes, _project_onto_M(system, x0, bounds)))
+            except InputError:
+                continue
+        if not origins:
+            raise InputError("start='auto' found no point of M in the domain")
+        return np.unique(np.array(origins), axis=0)
+    origins = []
+    for x0 in starts:
+        outside = [a + 1 for a in range(n) if not bounds[a, 0] <= x0[a] <= bounds[a, 1]]
+        if outside:
+            raise InputError(f"start point ({', '.join(f'{v:g}' for v in x0)}) is outside the domain on axis {outside[0]}")
+        x = x0 if system is None else _project_onto_M(system, x0, bounds)
+        origins.append(_cube_of(axes, x))
+    return np.unique(np.array(origins), axis=0)
+
+
+def _run_gcch(n, k, axes, bounds, system, sampled, starts, progress, cancel) -> CellComplex:
+    """Continuation: process only cubes reached from the start cubes across crossed facets."""
+    grid = _Grid(n, k, axes)
+    div = grid.dims - 1
+    bits = np.array([[(c >> a) & 1 for a in range(n)] for c in range(1 << n)], np.int64)
+    value_off = np.arange(1 << n, dtype=np.int64)
+    steps = np.zeros((2 * n, n), np.int64)
+    for a in range(n):
+        steps[2 * a, a] = -1  # facet (a, side 0) leads to the cube below
+        steps[2 * a + 1, a] = 1
+    cube_strides = np.ones(n, np.int64)
+    for a in range(n - 2, -1, -1):
+        cube_strides[a] = cube_strides[a + 1] * div[a + 1]
+    visited: set[int] = set()
+    nonfinite: set[int] = set()
+    wave = _start_cubes(n, axes, bounds, system, sampled, starts)
+    expanded_start = False
+    n_waves = 0
+    while len(wave):
+        if cancel is not None and cancel():
+            raise Cancelled("extraction cancelled")
+        lin = wave @ cube_strides
+        fresh = np.array([c not in visited for c in lin.tolist()], bool)
+        wave, lin = wave[fresh], lin[fresh]
+        if not len(wave):
+            break
+        visited.update(lin.tolist())
+        n_waves += 1
+        if progress is not None:
+            progress(f"continuation: wave {n_waves}, {len(visited):,} cubes", min(0.99, 1 - 1 / (1 + 0.01 * n_waves)))
+        t = time.perf_counter()
+        corners = (wave[:, None, :] + bits[None]) @ grid.strides  # (m, 2^n) global vertex ids
+        uniq, inverse = np.unique(corners.reshape(-1), return_inverse=True)
+        if sampled is not None:
+            uvals = sampled.reshape(-1, k)[uniq]
+        else:
+            multi = np.stack(np.unravel_index(uniq, tuple(grid.dims)), axis=1)
+            points = np.stack([axes[a][multi[:, a]] for a in range(n)], axis=1)
+            uvals = system.evaluate_points(points)
+        bad = ~np.isfinite(uvals).all(axis=1)
+        if bad.any():
+            nonfinite.update(uniq[bad].tolist())
+        values = np.ascontiguousarray(uvals[inverse.reshape(-1)], np.float64)
+        grid.timings["evaluate"] += time.perf_counter() - t
+        t = time.perf_counter()
+        code = np.bitwise_or.reduce(sign_codes(values).reshape(len(wave), 1 << n), axis=1)
+        full = code.dtype.type(sum(3 << (2 * j) for j in range(k)))
+        cand = (code & (full | code.dtype.type(1 << (2 * k)))) == full
+        grid.timings["candidates"] += time.perf_counter() - t
+        idx = np.nonzero(cand)[0]
+        masks = grid.run_kernel(values, idx.astype(np.int64) << n, wave[idx], value_off) if len(idx) else np.zeros(0, np.int64)
+        if not masks.any() and not expanded_start:
+            # the start cube held no piece of M_A (M grazes it): try its neighbourhood once
+            expanded_start = True
+            around = np.array(np.meshgrid(*[[-1, 0, 1]] * n, indexing="ij")).reshape(n, -1).T
+            wave = (wave[:, None, :] + around[None]).reshape(-1, n)
+            wave = np.unique(wave[np.all((wave >= 0) & (wave < div), axis=1)], axis=0)
+            continue
+        expanded_start = True
+        nxt = []
+        for f in range(2 * n):
+            sel = (masks >> f) & 1 == 1
+            if sel.any():
+                nxt.append(wave[idx[sel]] + steps[f])
+        if not nxt:
+            break
+        wave = np.unique(np.concatenate(nxt), axis=0)
+        wave = wave[np.all((wave >= 0) & (wave < div), axis=1)]
+    if progress is not None:
+        progress("assembling", 1.0)
+    grid.stats["nonfinite_vertices"] = len(nonfinite)
+    grid.stats["visited_cubes"] = len(visited)
+    grid.stats["waves"] = n_waves
     return grid.assemble()
 
 
