@@ -1,0 +1,206 @@
+"""GCMH Studio: ``gcmh-app`` / ``python -m app``.
+
+    gcmh-app                                   # the window, opening on the Klein bottle
+    gcmh-app --example complex-cosine          # the window, opening on another example
+    gcmh-app --session my.json                 # the window, restoring a saved session
+    gcmh-app --example klein-bottle --screenshot klein.png --size 1600x1200 [--div 30]
+                                               # no window: extract, render off screen, write the PNG
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+
+def _size(text: str) -> tuple[int, int]:
+    try:
+        w, h = text.lower().replace("*", "x").split("x")
+        w, h = int(w), int(h)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"size must look like 1600x1200, got {text!r}") from None
+    if not (16 <= w <= 16384 and 16 <= h <= 16384):
+        raise argparse.ArgumentTypeError("size out of range (16..16384 pixels per side)")
+    return w, h
+
+
+def _div(text: str):
+    try:
+        parts = [int(p) for p in text.replace(",", " ").split()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"div must be an integer or a comma-separated list, got {text!r}") from None
+    if not parts or min(parts) < 1:
+        raise argparse.ArgumentTypeError("div must be at least 1")
+    return parts[0] if len(parts) == 1 else parts
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="gcmh-app", description="GCMH Studio: see implicit manifolds of any dimension.")
+    p.add_argument("--example", metavar="NAME", help="open this example (see --list)")
+    p.add_argument("--session", metavar="FILE", help="open a saved session (.json)")
+    p.add_argument("--list", action="store_true", help="list the examples and exit")
+    p.add_argument("--screenshot", metavar="PNG", help="render without a window, write this PNG and exit")
+    p.add_argument("--size", type=_size, default=(1600, 1200), metavar="WxH", help="screenshot size (default 1600x1200)")
+    p.add_argument("--div", type=_div, metavar="N", help="override the example's grid divisions (N or N1,N2,...)")
+    p.add_argument("--seed", type=int, default=0, help="grid perturbation seed (default 0)")
+    p.add_argument("--method", default="gcmh", type=str.lower,
+                   help="extraction method: gcmh (whole grid) or, if the engine has it, gcch (continuation "
+                        "from the example's start point)")
+    p.add_argument("--window-screenshot", metavar="PNG",
+                   help="show the window, wait for the first result, save a picture of the whole window and exit")
+    p.add_argument("--transparent", action="store_true", help="screenshot with a transparent background")
+    p.add_argument("--color", metavar="VAR", help="colour by this variable instead of the example's choice")
+    p.add_argument("--project", metavar="A,B,C", help="show these three variables as X, Y, Z")
+    p.add_argument("--rotate", metavar="I-J=DEG", action="append", default=[],
+                   help="rotate in the plane of variables I and J by DEG degrees (repeatable), e.g. s-x=30")
+    return p
+
+
+def _prepare_env() -> None:
+    if not os.environ.get("XDG_RUNTIME_DIR"):
+        d = os.path.join("/tmp", f"runtime-{os.getuid()}") if hasattr(os, "getuid") else None
+        if d:
+            os.makedirs(d, mode=0o700, exist_ok=True)
+            os.environ["XDG_RUNTIME_DIR"] = d
+
+
+def headless_screenshot(args) -> int:
+    """Extract the example, render it off screen with the window's drawing code, write the PNG."""
+    import numpy as np
+    import pyvista as pv
+
+    from gcmh_core.errors import InputError
+    from gcmh_core.examples import load_example
+
+    from .projection import ProjectionModel
+    from .scene import Scene, Style, default_camera, describe
+    from .worker import Job, run_job
+
+    if args.session:
+        return _headless_session(args)
+    name = args.example or "klein-bottle"
+    try:
+        ex = load_example(name)
+    except InputError as e:
+        print(f"gcmh-app: {e}", file=sys.stderr)
+        return 2
+    job = Job(formulas=list(ex.formulas), variables=list(ex.variables), bounds=[tuple(b) for b in ex.bounds],
+              div=args.div if args.div is not None else ex.div, seed=args.seed, method=args.method,
+              start=(list(ex.start) if ex.start else "auto") if args.method == "gcch" else None)
+    try:
+        cx = run_job(job)
+    except InputError as e:
+        print(f"gcmh-app: {e}", file=sys.stderr)
+        return 2
+    names = list(ex.variables)
+    view = dict(ex.view or {})
+    project = args.project.split(",") if args.project else view.get("project", names[:3])
+    color = args.color or view.get("color")
+    try:
+        model = ProjectionModel(n=len(names), axes=tuple(names.index(a.strip()) for a in project))
+        for spec in args.rotate:
+            plane, deg = spec.split("=")
+            a, b = (names.index(t.strip()) for t in plane.replace("\u2013", "-").split("-"))
+            i, j = min(a, b), max(a, b)
+            sgn = 1.0 if a < b else -1.0
+            model.angles[model.planes.index((i, j))] = sgn * float(deg)
+    except ValueError as e:
+        print(f"gcmh-app: bad --project/--rotate ({e}); variables are {', '.join(names)}", file=sys.stderr)
+        return 2
+    if color is not None and color not in names:
+        print(f"gcmh-app: --color must be one of {', '.join(names)}", file=sys.stderr)
+        return 2
+    model.set_vertices(cx.vertices)
+    w, h = args.size
+    pl = pv.Plotter(off_screen=True, window_size=[w, h])
+    try:
+        scene = Scene(pl)
+        dim = cx.dim
+        scene.set_complex(cx, names, model.matrix(), Style(color_by=color, title=ex.title,
+                                                             subtitle=describe(cx, names, color)))
+        default_camera(pl)
+        if args.transparent:
+            pl.renderer.GradientBackgroundOff()
+        pl.render()
+        img = pl.screenshot(args.screenshot, transparent_background=args.transparent, return_img=True)
+    finally:
+        pl.close()
+    counts = ", ".join(str(c) for c in cx.counts())
+    print(f"{args.screenshot}: {img.shape[1]}x{img.shape[0]}, {ex.title}, dim {dim}, cells by dimension {counts}, "
+          f"chi = {cx.euler_characteristic()}, {cx.meta.get('seconds', float('nan')):.2f} s")
+    return 0 if np.asarray(img).size else 1
+
+
+def _headless_session(args) -> int:
+    """Headless screenshot of a saved session: uses the window's own code, unshown."""
+    from qtpy.QtCore import QEventLoop, QTimer
+    from qtpy.QtWidgets import QApplication
+
+    from .qt_main_window import QtMainWindow
+
+    app = QApplication.instance() or QApplication(sys.argv[:1])
+    win = QtMainWindow(example=None)
+    loop = QEventLoop()
+    outcome = {}
+
+    def finished(how):
+        outcome["how"] = how
+        QTimer.singleShot(0, loop.quit)
+
+    win.runFinished.connect(finished)
+    if not win.open_session(args.session):
+        print(f"gcmh-app: {win.last_status}", file=sys.stderr)
+        return 2
+    loop.exec_()
+    if outcome.get("how") != "done":
+        print(f"gcmh-app: {win.last_status}", file=sys.stderr)
+        win.close()
+        return 1
+    win.save_screenshot(args.screenshot, size=args.size, transparent=args.transparent)
+    print(args.screenshot)
+    win.close()
+    return 0
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
+    _prepare_env()
+    if args.list:
+        from gcmh_core.examples import list_examples
+        for ex in list_examples():
+            print(f"{ex.name:18s} {ex.title}  (n={ex.n}, k={ex.k})")
+        return 0
+    if args.screenshot:
+        return headless_screenshot(args)
+
+    from qtpy.QtWidgets import QApplication
+
+    from .qt_main_window import QtMainWindow
+
+    app = QApplication.instance() or QApplication(sys.argv[:1])
+    app.setApplicationName("GCMH Studio")
+    win = QtMainWindow(example=None if args.session else (args.example or "klein-bottle"), div=args.div,
+                       method=args.method)
+    if args.window_screenshot:
+        w, h = args.size if args.size != (1600, 1200) else (1400, 900)
+        win.resize(w, h)
+
+        def grab(how):
+            win.tabs.setCurrentIndex(1)
+            app.processEvents()
+            win.plotter.render()
+            win.grab().save(args.window_screenshot)
+            print(f"{args.window_screenshot} ({how}: {win.result_label.text()})")
+            win.close()
+            app.quit()
+
+        win.runFinished.connect(grab)
+    if args.session:
+        win.open_session(args.session)
+    win.show()
+    return app.exec_()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

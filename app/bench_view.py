@@ -1,0 +1,114 @@
+"""Benchmark of one rotation-slider step: project V vertices R^n -> R^3 in place.
+
+    python -m app.bench_view                 # table for 10k, 100k, 1M vertices; n = 4, 5, 10
+    python -m app.bench_view --render        # also time a render off screen (needs GL: xvfb-run or EGL)
+
+The test surface is a flat torus (a product of two circles) of V vertices,
+turned into R^n by a fixed orthogonal map and built as a real
+``gcmh_core.CellComplex`` of quads; the step is exactly what the window does
+when a slider moves (:meth:`app.scene.Scene.set_projection`): one
+``(V, n) @ (n, 3)`` float32 matmul into the VTK points buffer, one
+``(V, m) @ (m, 3)`` matmul for the vertex normals (m = n(n-1)/2), and the
+VTK Modified() calls. Render time depends on the GPU (software Mesa here).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+
+import numpy as np
+
+
+def torus_complex(side: int, n: int, seed: int = 0):
+    """A torus with side*side vertices and quads: a ring torus for n = 3, else a flat torus turned into R^n."""
+    from gcmh_core.complex import CellComplex
+
+    u = np.linspace(0, 2 * np.pi, side, endpoint=False)
+    U, W = np.meshgrid(u, u, indexing="ij")
+    if n == 3:  # a ring torus in R^3
+        X = np.stack([(2 + np.cos(W)) * np.cos(U), (2 + np.cos(W)) * np.sin(U), np.sin(W)], -1).reshape(-1, 3)
+    else:
+        X4 = np.stack([np.cos(U), np.sin(U), np.cos(W), np.sin(W)], axis=-1).reshape(-1, 4)
+        Q, _ = np.linalg.qr(np.random.default_rng(seed).standard_normal((n, n)))
+        X = X4 @ Q[:4]
+    idx = np.arange(side * side).reshape(side, side)
+    right = np.roll(idx, -1, axis=0)
+    up = np.roll(idx, -1, axis=1)
+    e_h = np.stack([idx.ravel(), right.ravel()], 1)       # edge id i
+    e_v = np.stack([idx.ravel(), up.ravel()], 1)          # edge id V + i
+    edges = np.concatenate([e_h, e_v])
+    Vn = side * side
+    i = idx.ravel()
+    # quad (a, a+u, a+u+w, a+w): edges h(a), v(a+u), h(a+w), v(a)
+    faces = np.stack([i, Vn + right.ravel(), up.ravel(), Vn + i], 1).ravel()
+    offsets = np.arange(0, 4 * Vn + 1, 4, dtype=np.int64)
+    return CellComplex(n, n - 2, X, edges.astype(np.int64), {2: (offsets, faces.astype(np.int64))},
+                       meta={"variables": [f"x{j + 1}" for j in range(n)]})
+
+
+def bench(V: int, n: int, steps: int = 20, render: bool = False) -> dict:
+    import pyvista as pv
+
+    from .projection import ProjectionModel
+    from .scene import Scene, Style
+
+    side = int(round(math.sqrt(V)))
+    cx = torus_complex(side, n)
+    pl = pv.Plotter(off_screen=True, window_size=[800, 600])
+    try:
+        scene = Scene(pl)
+        model = ProjectionModel(n=n)
+        t0 = time.perf_counter()
+        scene.set_complex(cx, cx.point_names(), model.matrix(), Style(color_by="x1", axes=False))
+        build = time.perf_counter() - t0
+        if render:
+            pl.ren_win.Render()
+        tp, tn, tt, tr = [], [], [], []
+        for s in range(steps):
+            model.angles[s % len(model.angles)] += 3.0
+            P = model.matrix()
+            t0 = time.perf_counter()
+            scene.projector.project(P, out=scene._pts)
+            t1 = time.perf_counter()
+            scene._P = P
+            scene._write_normals()
+            t2 = time.perf_counter()
+            scene.set_projection(P, render=False)   # the whole step as the window does it
+            t3 = time.perf_counter()
+            if render:
+                pl.ren_win.Render()
+            t4 = time.perf_counter()
+            tp.append(t1 - t0)
+            tn.append(t2 - t1)
+            tt.append(t3 - t2)
+            tr.append(t4 - t3)
+    finally:
+        pl.close()
+    med = lambda a: 1000 * float(np.median(a))  # noqa: E731
+    return dict(V=side * side, n=n, build_s=build, project_ms=med(tp), normals_ms=med(tn),
+                step_ms=med(tt), render_ms=med(tr) if render else float("nan"))
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(prog="python -m app.bench_view", description=__doc__.split("\n")[0])
+    p.add_argument("--sizes", default="10000,100000,1000000", help="vertex counts (comma-separated)")
+    p.add_argument("--dims", default="3,4,5,10", help="ambient dimensions n (comma-separated, >= 3)")
+    p.add_argument("--steps", type=int, default=20)
+    p.add_argument("--render", action="store_true", help="also time an off-screen render")
+    a = p.parse_args(argv)
+    sizes = [int(s) for s in a.sizes.split(",")]
+    dims = [int(s) for s in a.dims.split(",")]
+    print(f"{'vertices':>10} {'n':>3} {'project ms':>11} {'normals ms':>11} {'step ms':>9} {'render ms':>10} {'build s':>8}")
+    for V in sizes:
+        for n in dims:
+            r = bench(V, n, a.steps, a.render)
+            print(f"{r['V']:>10,} {r['n']:>3} {r['project_ms']:>11.2f} {r['normals_ms']:>11.2f} "
+                  f"{r['step_ms']:>9.2f} {r['render_ms']:>10.1f} {r['build_s']:>8.2f}", flush=True)
+    print("step = points + normals written in place + VTK Modified (what a slider move costs before drawing)")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

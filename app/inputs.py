@@ -1,0 +1,190 @@
+"""Checking what the user types into the side panel (pure Python, no Qt).
+
+Each ``check_*`` function returns ``None`` when the text is fine and a short
+message otherwise; the panel shows the message under the field and keeps Run
+disabled. Numbers may be written as constant expressions (``-pi/2``,
+``2*pi``, ``1e-3``); they are read with a whitelisted ``ast`` walk, never eval.
+"""
+
+from __future__ import annotations
+
+import ast
+import math
+import operator
+import re
+
+_CONSTANTS = {"pi": math.pi, "e": math.e, "tau": math.tau}
+_FUNCS = {"sqrt": math.sqrt, "exp": math.exp, "log": math.log, "sin": math.sin, "cos": math.cos,
+          "tan": math.tan, "abs": abs}
+_BINOPS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul,
+           ast.Div: operator.truediv, ast.Pow: operator.pow}
+_UNOPS = {ast.UAdd: operator.pos, ast.USub: operator.neg}
+
+# names a variable may not take: they mean something in formulas
+RESERVED = set(_CONSTANTS) | set(_FUNCS) | {
+    "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh", "asinh", "acosh", "atanh",
+    "exp", "log", "ln", "sqrt", "abs", "sign", "min", "max", "floor", "ceil", "re", "im",
+    "I", "j", "inf", "nan", "E", "hypot", "cbrt", "mod", "arg",
+}
+_IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+
+
+class NumberError(ValueError):
+    pass
+
+
+def parse_number(text: str) -> float:
+    """A finite float from a constant expression such as ``-pi/2`` or ``3.5``."""
+    s = str(text).strip()
+    if not s:
+        raise NumberError("empty")
+    if len(s) > 200:
+        raise NumberError("too long")
+    s = s.replace("^", "**").replace("π", "pi")
+    try:
+        tree = ast.parse(s, mode="eval")
+    except SyntaxError:
+        raise NumberError(f"not a number: {text.strip()!r}") from None
+
+    def ev(node):
+        if isinstance(node, ast.Expression):
+            return ev(node.body)
+        if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) \
+                and not isinstance(node.value, bool):
+            return float(node.value)
+        if isinstance(node, ast.Name):
+            if node.id in _CONSTANTS:
+                return _CONSTANTS[node.id]
+            raise NumberError(f"unknown name {node.id!r}")
+        if isinstance(node, ast.BinOp) and type(node.op) in _BINOPS:
+            a, b = ev(node.left), ev(node.right)
+            if isinstance(node.op, ast.Pow) and abs(b) > 1000:
+                raise NumberError("exponent too large")
+            try:
+                return float(_BINOPS[type(node.op)](a, b))
+            except ZeroDivisionError:
+                raise NumberError("division by zero") from None
+            except (OverflowError, ValueError):
+                raise NumberError("out of range") from None
+        if isinstance(node, ast.UnaryOp) and type(node.op) in _UNOPS:
+            return _UNOPS[type(node.op)](ev(node.operand))
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in _FUNCS \
+                and len(node.args) == 1 and not node.keywords:
+            try:
+                return float(_FUNCS[node.func.id](ev(node.args[0])))
+            except (ValueError, OverflowError):
+                raise NumberError(f"{node.func.id}: argument out of range") from None
+        raise NumberError(f"not a constant expression: {text.strip()!r}")
+
+    v = ev(tree)
+    if not math.isfinite(v):
+        raise NumberError("not finite")
+    return v
+
+
+def default_variables(n: int) -> list[str]:
+    return [f"x{i + 1}" for i in range(n)]
+
+
+def split_names(text: str) -> list[str]:
+    return [t for t in re.split(r"[,\s]+", text.strip()) if t]
+
+
+def check_variables(text: str, n: int) -> str | None:
+    names = split_names(text)
+    if len(names) != n:
+        return f"{n} names needed (separated by commas), got {len(names)}"
+    for nm in names:
+        if not _IDENT.match(nm):
+            return f"{nm!r} is not a name (letters, digits, _; not starting with a digit)"
+        if nm in RESERVED:
+            return f"{nm!r} is reserved (a function or constant)"
+    seen = set()
+    for nm in names:
+        if nm in seen:
+            return f"{nm!r} appears twice"
+        seen.add(nm)
+    return None
+
+
+def check_nk(n: int, k: int) -> str | None:
+    if n < 1:
+        return "n must be at least 1"
+    if not 1 <= k < n:
+        return f"k must satisfy 1 <= k < n (got n = {n}, k = {k})"
+    return None
+
+
+def check_bounds(lo_text: str, hi_text: str) -> tuple[str | None, str | None, tuple[float, float] | None]:
+    """Messages for the lower and upper cell, and the parsed pair when both are fine."""
+    lo = hi = None
+    elo = ehi = None
+    try:
+        lo = parse_number(lo_text)
+    except NumberError as e:
+        elo = f"lower: {e}"
+    try:
+        hi = parse_number(hi_text)
+    except NumberError as e:
+        ehi = f"upper: {e}"
+    if elo or ehi:
+        return elo, ehi, None
+    if not lo < hi:
+        return None, f"empty interval: lower {lo:g} is not below upper {hi:g}", None
+    return None, None, (lo, hi)
+
+
+def check_div(text: str) -> tuple[str | None, int | None]:
+    try:
+        v = parse_number(text)
+    except NumberError as e:
+        return f"div: {e}", None
+    if v != int(v):
+        return f"div must be a whole number, got {v:g}", None
+    v = int(v)
+    if v < 1:
+        return f"div must be at least 1, got {v}", None
+    if v > 100000:
+        return "div is unreasonably large", None
+    return None, v
+
+
+def check_start(text: str, n: int):
+    """A start point for continuation: empty or "auto" (the engine finds one), or n numbers."""
+    if not text.strip() or text.strip().lower() == "auto":
+        return None, "auto"
+    parts = [p for p in re.split(r"[,;\s]+", text.strip()) if p]
+    if len(parts) != n:
+        return f"the start point needs {n} coordinates, got {len(parts)}", None
+    out = []
+    for p in parts:
+        try:
+            out.append(parse_number(p))
+        except NumberError as e:
+            return f"start point: {e}", None
+    return None, out
+
+
+def human_bytes(b: float) -> str:
+    b = float(b)
+    for unit in ("B", "KB", "MB", "GB", "TB"):
+        if abs(b) < 1024 or unit == "TB":
+            return f"{b:.0f} {unit}" if unit == "B" else f"{b:.1f} {unit}"
+        b /= 1024
+    return f"{b:.1f} TB"
+
+
+def available_memory() -> int | None:
+    """Bytes of memory available now (Linux /proc/meminfo, else total physical), or None."""
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    try:
+        import os
+        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (ValueError, OSError, AttributeError):
+        return None

@@ -1,0 +1,313 @@
+"""Linear projections R^n -> R^3 for viewing an n-dimensional complex (pure numpy).
+
+The view shows ``P(theta) @ (x - c)`` for every vertex ``x``, where
+
+* ``c`` is a centre (the middle of the vertices' bounding box), so rotations
+  turn the object in place instead of swinging it around the origin;
+* ``R(theta)`` is a composition of Givens rotations, one per coordinate plane
+  ``(i, j)``, ``i < j``, applied in lexicographic order of the planes;
+* ``B`` is a base projection, a ``(3, n)`` matrix with orthonormal rows:
+  three chosen coordinates, a generic (seeded random) orthonormal frame, or the
+  principal axes of the vertices;
+* ``P(theta) = B @ R(theta)``, so its rows stay orthonormal.
+
+This module knows nothing of Qt or VTK; :class:`ProjectionModel` is the state
+the projection panel edits and the viewer reads.
+
+Examples
+--------
+>>> import numpy as np
+>>> P = projection_matrix(coordinate_basis(4, (0, 1, 3)), rotation(4, {(2, 3): np.pi / 2}))
+>>> np.allclose(P @ P.T, np.eye(3))
+True
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+KINDS = ("coordinates", "generic", "principal")
+KIND_LABELS = {
+    "coordinates": "Coordinate axes",
+    "generic": "Generic (random orthonormal)",
+    "principal": "Principal axes of the vertices",
+}
+
+
+def planes(n: int) -> list[tuple[int, int]]:
+    """The coordinate planes ``(i, j)``, ``0 <= i < j < n``, in lexicographic order."""
+    return [(i, j) for i in range(n) for j in range(i + 1, n)]
+
+
+def givens(n: int, i: int, j: int, theta: float) -> np.ndarray:
+    """The ``(n, n)`` rotation by ``theta`` radians in the plane of axes ``i`` and ``j``.
+
+    It maps ``e_i -> cos(theta) e_i + sin(theta) e_j``.
+    """
+    if not (0 <= i < n and 0 <= j < n and i != j):
+        raise ValueError(f"plane ({i}, {j}) is not a pair of distinct axes of R^{n}")
+    G = np.eye(n)
+    c, s = math.cos(theta), math.sin(theta)
+    G[i, i] = c
+    G[j, j] = c
+    G[j, i] = s
+    G[i, j] = -s
+    return G
+
+
+def rotation(n: int, angles) -> np.ndarray:
+    """Compose Givens rotations: ``R = G(p_1) @ G(p_2) @ ... `` over the planes in order.
+
+    ``angles`` is either a mapping ``{(i, j): theta}`` (missing planes are 0) or
+    a sequence of ``n(n-1)/2`` angles in the order of :func:`planes`. Radians.
+    Returns an ``(n, n)`` orthogonal float64 matrix.
+    """
+    ps = planes(n)
+    if isinstance(angles, dict):
+        thetas = [float(angles.get(p, 0.0)) for p in ps]
+        unknown = set(angles) - set(ps)
+        if unknown:
+            raise ValueError(f"not planes of R^{n}: {sorted(unknown)}")
+    else:
+        thetas = [float(a) for a in angles]
+        if len(thetas) != len(ps):
+            raise ValueError(f"expected {len(ps)} angles for n = {n}, got {len(thetas)}")
+    R = np.eye(n)
+    for (i, j), t in zip(ps, thetas):
+        if t != 0.0:
+            # R @ G only mixes columns i and j: O(n) instead of a full product.
+            c, s = math.cos(t), math.sin(t)
+            ci, cj = R[:, i].copy(), R[:, j].copy()
+            R[:, i] = c * ci + s * cj
+            R[:, j] = -s * ci + c * cj
+    return R
+
+
+def coordinate_basis(n: int, axes=(0, 1, 2)) -> np.ndarray:
+    """The ``(3, n)`` base projection sending coordinate ``axes[a]`` to screen axis ``a``.
+
+    For ``n < 3`` the missing screen axes are zero rows.
+    """
+    axes = tuple(int(a) for a in axes)
+    if len(axes) != 3:
+        raise ValueError("three axes are needed (screen X, Y, Z)")
+    B = np.zeros((3, n))
+    used = [a for a in axes if a >= 0]
+    if len(set(used)) != len(used):
+        raise ValueError(f"the screen axes must show different coordinates, got {axes}")
+    for row, a in enumerate(axes):
+        if a < 0:
+            continue
+        if a >= n:
+            raise ValueError(f"axis {a} does not exist in R^{n}")
+        B[row, a] = 1.0
+    return B
+
+
+def default_axes(n: int) -> tuple[int, int, int]:
+    """``(0, 1, 2)``, with ``-1`` (an empty screen axis) where ``n < 3``."""
+    return tuple(a if a < n else -1 for a in range(3))
+
+
+def generic_basis(n: int, seed: int = 0) -> np.ndarray:
+    """A seeded random ``(3, n)`` matrix with orthonormal rows (QR of a Gaussian matrix)."""
+    rng = np.random.default_rng(seed)
+    m = min(3, n)
+    A = rng.standard_normal((n, m))
+    Q, Rr = np.linalg.qr(A)
+    Q = Q * np.sign(np.diag(Rr))  # a unique, seed-determined frame
+    B = np.zeros((3, n))
+    B[:m] = Q.T
+    return B
+
+
+def principal_basis(vertices: np.ndarray) -> np.ndarray:
+    """The three principal axes of ``vertices`` ``(V, n)`` as a ``(3, n)`` matrix.
+
+    Rows are the right singular vectors of the centred vertices with the largest
+    singular values, signs fixed so the largest entry of each row is positive.
+    Falls back to coordinate axes when there are too few vertices.
+    """
+    X = np.asarray(vertices, dtype=np.float64)
+    n = X.shape[1]
+    X = X[np.all(np.isfinite(X), axis=1)]
+    if len(X) < 2:
+        return coordinate_basis(n, default_axes(n))
+    if len(X) > 200_000:  # a subsample gives the same axes, much faster
+        X = X[np.random.default_rng(0).choice(len(X), 200_000, replace=False)]
+    Xc = X - X.mean(axis=0)
+    _, _, Vt = np.linalg.svd(Xc, full_matrices=False)
+    m = min(3, n, Vt.shape[0])
+    B = np.zeros((3, n))
+    B[:m] = Vt[:m]
+    for r in range(m):
+        if B[r, np.argmax(np.abs(B[r]))] < 0:
+            B[r] = -B[r]
+    return B
+
+
+def projection_matrix(base: np.ndarray, R: np.ndarray) -> np.ndarray:
+    """``P = base @ R``: ``(3, n)`` with orthonormal rows when ``base`` has them."""
+    return np.asarray(base, dtype=np.float64) @ np.asarray(R, dtype=np.float64)
+
+
+def project(X: np.ndarray, P: np.ndarray, center=None, out: np.ndarray | None = None) -> np.ndarray:
+    """Project points ``X`` ``(V, n)`` to ``(V, 3)``: ``(X - center) @ P.T``.
+
+    For speed, centre ``X`` once (:meth:`Projector`) and pass ``center=None``;
+    ``out`` (``(V, 3)``, same dtype as ``X``) is written in place.
+    """
+    Pt = np.ascontiguousarray(np.asarray(P).T, dtype=X.dtype)
+    if center is not None:
+        X = X - np.asarray(center, dtype=X.dtype)
+    if out is None:
+        return X @ Pt
+    np.matmul(X, Pt, out=out)
+    return out
+
+
+def bbox_center(vertices: np.ndarray) -> np.ndarray:
+    """Middle of the bounding box of the finite vertices (zeros when there are none)."""
+    X = np.asarray(vertices, dtype=np.float64)
+    fin = np.all(np.isfinite(X), axis=1)
+    if not fin.any():
+        return np.zeros(X.shape[1])
+    X = X[fin]
+    return 0.5 * (X.min(axis=0) + X.max(axis=0))
+
+
+def axis_label(row: np.ndarray, names, tol: float = 1e-6, terms: int = 2) -> str:
+    """A short label for a screen axis with direction ``row`` (length n) in R^n.
+
+    A pure coordinate gives its name (``"s"``, or ``"-s"``); a mixture gives its
+    largest terms, e.g. ``"0.71 x + 0.71 w"`` (with ``"+ ..."`` when more follow).
+    """
+    row = np.asarray(row, dtype=float)
+    if not np.any(np.abs(row) > tol):
+        return ""
+    order = np.argsort(-np.abs(row), kind="stable")
+    big = [i for i in order if abs(row[i]) > tol]
+    if len(big) == 1 or abs(abs(row[big[0]]) - 1.0) < 1e-9:
+        return ("-" if row[big[0]] < 0 else "") + names[big[0]]
+    parts = []
+    for t, i in enumerate(big[:terms]):
+        c = row[i]
+        sign = "-" if c < 0 else "+"
+        txt = f"{abs(c):.2f} {names[i]}"
+        parts.append(("-" + txt if c < 0 else txt) if t == 0 else f" {sign} {txt}")
+    if len(big) > terms:
+        parts.append(" + ...")
+    return "".join(parts)
+
+
+@dataclass
+class ProjectionModel:
+    """The state of the view projection: kind, base parameters and the plane angles.
+
+    Angles are in degrees (what the sliders show), one per plane of :func:`planes`.
+    The principal base needs the vertices: call :meth:`set_vertices` when a new
+    result arrives.
+    """
+
+    n: int
+    kind: str = "coordinates"
+    axes: tuple = (0, 1, 2)
+    seed: int = 0
+    angles: np.ndarray = field(default=None)
+    _principal: np.ndarray | None = field(default=None, repr=False)
+
+    def __post_init__(self):
+        if self.kind not in KINDS:
+            raise ValueError(f"unknown projection kind {self.kind!r}; choose one of {KINDS}")
+        if self.angles is None:
+            self.angles = np.zeros(len(planes(self.n)))
+        self.angles = np.asarray(self.angles, dtype=float).copy()
+        if len(self.angles) != len(planes(self.n)):
+            raise ValueError("wrong number of angles")
+        if tuple(self.axes) == (0, 1, 2):
+            self.axes = default_axes(self.n)
+        coordinate_basis(self.n, self.axes)  # validates
+
+    @property
+    def planes(self) -> list[tuple[int, int]]:
+        return planes(self.n)
+
+    def set_vertices(self, vertices: np.ndarray) -> None:
+        """Recompute the principal axes (used by the ``principal`` kind)."""
+        self._principal = principal_basis(vertices) if len(vertices) else None
+
+    def base(self) -> np.ndarray:
+        if self.kind == "coordinates":
+            return coordinate_basis(self.n, self.axes)
+        if self.kind == "generic":
+            return generic_basis(self.n, self.seed)
+        if self._principal is None:
+            return coordinate_basis(self.n, default_axes(self.n))
+        return self._principal
+
+    def rotation(self) -> np.ndarray:
+        return rotation(self.n, np.radians(self.angles))
+
+    def matrix(self) -> np.ndarray:
+        """The current ``(3, n)`` projection ``P(theta)``."""
+        return projection_matrix(self.base(), self.rotation())
+
+    def reset_angles(self) -> None:
+        self.angles[:] = 0.0
+
+    def labels(self, names) -> list[str]:
+        """Labels of the three screen axes, from the rows of :meth:`matrix`."""
+        P = self.matrix()
+        return [axis_label(P[r], names) for r in range(3)]
+
+    def to_dict(self, names=None) -> dict:
+        d = {"kind": self.kind, "axes": [int(a) for a in self.axes], "seed": int(self.seed),
+             "angles": [float(a) for a in self.angles]}
+        if names is not None:
+            d["axes_names"] = [names[a] if a >= 0 else None for a in self.axes]
+            d["planes"] = [f"{names[i]}-{names[j]}" for i, j in self.planes]
+        return d
+
+    @classmethod
+    def from_dict(cls, n: int, d: dict) -> "ProjectionModel":
+        return cls(n=n, kind=d.get("kind", "coordinates"), axes=tuple(d.get("axes", default_axes(n))),
+                   seed=int(d.get("seed", 0)), angles=d.get("angles"))
+
+
+class Projector:
+    """Fast repeated projection of fixed vertices: centred once, float32, preallocated.
+
+    ``Projector(vertices).project(P, out)`` writes ``(V, 3)`` into ``out`` with
+    one matmul and no temporary of size V. The centred vertices are stored
+    transposed, ``(n, V)``, so the product is ``P (3, n) @ X^T (n, V)`` written
+    into ``out.T``: a wide, BLAS-friendly product (1M vertices, n = 10: ~5 ms).
+    """
+
+    def __init__(self, vertices: np.ndarray, center=None, dtype=np.float32):
+        X = np.asarray(vertices, dtype=np.float64)
+        self.center = bbox_center(X) if center is None else np.asarray(center, float)
+        Xc = X - self.center
+        Xc[~np.isfinite(Xc)] = 0.0
+        self.XT = np.ascontiguousarray(Xc.T, dtype=dtype)
+        self.dtype = np.dtype(dtype)
+
+    @property
+    def X(self) -> np.ndarray:
+        """The centred vertices (V, n) (a transposed view)."""
+        return self.XT.T
+
+    def empty(self) -> np.ndarray:
+        return np.empty((self.XT.shape[1], 3), dtype=self.dtype)
+
+    def project(self, P: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        P = np.asarray(P, dtype=self.dtype)
+        if out is None:
+            out = self.empty()
+        if out.flags.c_contiguous and out.dtype == self.dtype:
+            np.matmul(P, self.XT, out=out.T)
+        else:
+            out[...] = (P @ self.XT).T
+        return out

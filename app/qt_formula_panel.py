@@ -1,0 +1,560 @@
+"""QtFormulaPanel: the system F: R^n -> R^k, its domain grid, the method and seed.
+
+Everything is checked as the user types: a wrong field gets a red mark and a
+one-line message under it (the formula parser's own message for formulas), and
+``validityChanged(False)`` keeps Run disabled. No dialog ever opens for a typo.
+
+``state()`` / ``set_state(d)`` give the panel's contents as a plain dict (the
+session file stores it); ``job()`` builds a :class:`app.worker.Job` when valid.
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+from qtpy.QtCore import Qt, Signal
+from qtpy.QtWidgets import (
+    QAbstractItemView, QCheckBox, QComboBox, QFormLayout, QGroupBox, QHBoxLayout, QHeaderView,
+    QLabel, QLineEdit, QSpinBox, QTableWidget, QTableWidgetItem, QVBoxLayout, QWidget,
+)
+
+from . import inputs
+from .worker import Job
+
+N_MAX = 12
+ERROR_STYLE = "QLineEdit { border: 2px solid #d33; background: #fff0f0; }"
+ERROR_LABEL_STYLE = "color: #c22; font-size: 11px;"
+METHOD_LABELS = {"gcmh": "GCMH (whole grid)", "gcch": "GCCH (continuation from a start point)",
+                 "cms": "CMS (baseline)", "ccs": "CCS (baseline)"}
+
+
+def engine_methods() -> tuple[str, ...]:
+    """The extraction methods the installed engine supports."""
+    try:
+        import gcmh_core
+        m = getattr(gcmh_core, "METHODS", None)
+        if m:
+            return tuple(str(x).lower() for x in m)
+    except ImportError:
+        pass
+    return ("gcmh",)
+
+
+def format_number(v: float) -> str:
+    """Short text for a bound: simple multiples of pi as ``-pi/2``, others as ``%g``."""
+    v = float(v)
+    if v == 0:
+        return "0"
+    fr = Fraction(v / math.pi).limit_denominator(12)
+    if fr != 0 and abs(float(fr) * math.pi - v) < 1e-12 * max(1.0, abs(v)):
+        p, q = fr.numerator, fr.denominator
+        sign = "-" if p < 0 else ""
+        p = abs(p)
+        num = "pi" if p == 1 else f"{p}*pi"
+        return f"{sign}{num}" if q == 1 else f"{sign}{num}/{q}"
+    return f"{v:.10g}"
+
+
+def _error_label() -> QLabel:
+    lab = QLabel("")
+    lab.setStyleSheet(ERROR_LABEL_STYLE)
+    lab.setWordWrap(True)
+    lab.setVisible(False)
+    return lab
+
+
+def _mark(edit: QLineEdit, label: QLabel, message: str | None) -> None:
+    edit.setStyleSheet(ERROR_STYLE if message else "")
+    edit.setToolTip(message or "")
+    label.setText(message or "")
+    label.setVisible(bool(message))
+
+
+class QtFormulaPanel(QWidget):
+    """Side panel: n, k, variable names, k formulas, domain table, div, method, seed."""
+
+    validityChanged = Signal(bool)
+    changed = Signal()
+    estimateChanged = Signal(object)   # dict(cubes, bytes) or None
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self._building = False
+        self._valid = False
+        self.errors: dict[str, str] = {}
+        self._auto_names = True
+        self.methods = engine_methods()
+
+        lay = QVBoxLayout(self)
+        lay.setContentsMargins(0, 0, 0, 0)
+
+        # --- system -------------------------------------------------------
+        sys_box = QGroupBox("System  F(x) = 0,  F: R^n \u2192 R^k")
+        sl = QVBoxLayout(sys_box)
+        row = QHBoxLayout()
+        self.n_spin = QSpinBox()
+        self.n_spin.setRange(1, N_MAX)
+        self.n_spin.setValue(3)
+        self.n_spin.setToolTip("n: the dimension of the ambient space")
+        self.k_spin = QSpinBox()
+        self.k_spin.setRange(1, N_MAX)
+        self.k_spin.setValue(1)
+        self.k_spin.setToolTip("k: the number of equations (1 <= k < n); the manifold has dimension n - k")
+        row.addWidget(QLabel("n"))
+        row.addWidget(self.n_spin)
+        row.addSpacing(12)
+        row.addWidget(QLabel("k"))
+        row.addWidget(self.k_spin)
+        self.dim_label = QLabel("")
+        self.dim_label.setStyleSheet("color: #666;")
+        row.addSpacing(12)
+        row.addWidget(self.dim_label, 1)
+        sl.addLayout(row)
+        self.nk_error = _error_label()
+        sl.addWidget(self.nk_error)
+
+        form = QFormLayout()
+        form.setFieldGrowthPolicy(QFormLayout.AllNonFixedFieldsGrow)
+        self.vars_edit = QLineEdit()
+        self.vars_edit.setToolTip("the variable names, separated by commas")
+        form.addRow("variables", self.vars_edit)
+        sl.addLayout(form)
+        self.vars_error = _error_label()
+        sl.addWidget(self.vars_error)
+
+        self.formula_box = QWidget()
+        self.formula_layout = QVBoxLayout(self.formula_box)
+        self.formula_layout.setContentsMargins(0, 0, 0, 0)
+        self.formula_layout.setSpacing(2)
+        sl.addWidget(self.formula_box)
+        self.formula_edits: list[QLineEdit] = []
+        self.formula_errors: list[QLabel] = []
+        self.formula_labels: list[QLabel] = []
+        lay.addWidget(sys_box)
+
+        # --- domain -------------------------------------------------------
+        dom_box = QGroupBox("Domain and grid")
+        dl = QVBoxLayout(dom_box)
+        self.table = QTableWidget(0, 3)
+        self.table.setHorizontalHeaderLabels(["lower", "upper", "div"])
+        self.table.horizontalHeader().setSectionResizeMode(QHeaderView.Stretch)
+        self.table.verticalHeader().setDefaultSectionSize(22)
+        self.table.setEditTriggers(QAbstractItemView.AllEditTriggers)
+        self.table.setToolTip("bounds per axis; constant expressions such as -pi/2 are fine")
+        dl.addWidget(self.table)
+        self.domain_error = _error_label()
+        dl.addWidget(self.domain_error)
+        drow = QHBoxLayout()
+        drow.addWidget(QLabel("div"))
+        self.div_edit = QLineEdit("10")
+        self.div_edit.setMaximumWidth(70)
+        self.div_edit.setToolTip("grid divisions per axis (one number for all axes)")
+        drow.addWidget(self.div_edit)
+        self.per_axis = QCheckBox("per axis")
+        self.per_axis.setToolTip("set a different div for each axis in the table")
+        drow.addWidget(self.per_axis)
+        drow.addStretch(1)
+        dl.addLayout(drow)
+        self.div_error = _error_label()
+        dl.addWidget(self.div_error)
+        lay.addWidget(dom_box)
+
+        # --- method -------------------------------------------------------
+        m_box = QGroupBox("Method")
+        ml = QFormLayout(m_box)
+        self.method_combo = QComboBox()
+        for m in self.methods:
+            self.method_combo.addItem(METHOD_LABELS.get(m, m.upper()), m)
+        ml.addRow("method", self.method_combo)
+        self.start_edit = QLineEdit("")
+        self.start_edit.setPlaceholderText("auto")
+        self.start_edit.setToolTip("a point on (or near) the manifold, n numbers separated by commas; "
+                                   "empty or 'auto': the engine looks for points of M itself")
+        self.start_label = QLabel("start point")
+        ml.addRow(self.start_label, self.start_edit)
+        self.start_error = _error_label()
+        ml.addRow(self.start_error)
+        self.seed_spin = QSpinBox()
+        self.seed_spin.setRange(0, 2**31 - 1)
+        self.seed_spin.setToolTip("seed of the grid perturbation: same seed, same result")
+        ml.addRow("seed", self.seed_spin)
+        self.estimate_label = QLabel("")
+        self.estimate_label.setWordWrap(True)
+        self.estimate_label.setStyleSheet("color: #555;")
+        ml.addRow(self.estimate_label)
+        lay.addWidget(m_box)
+        lay.addStretch(1)
+
+        # signals
+        self.n_spin.valueChanged.connect(self._on_nk)
+        self.k_spin.valueChanged.connect(self._on_nk)
+        self.vars_edit.textEdited.connect(self._on_vars_edited)
+        self.vars_edit.textChanged.connect(self._validate)
+        self.table.itemChanged.connect(lambda *_: self._validate())
+        self.div_edit.textChanged.connect(self._validate)
+        self.per_axis.toggled.connect(self._on_per_axis)
+        self.method_combo.currentIndexChanged.connect(self._on_method)
+        self.start_edit.textChanged.connect(self._validate)
+        self.seed_spin.valueChanged.connect(lambda *_: self.changed.emit())
+
+        self._rebuild(3, 1)
+        self._on_method()
+        self._on_per_axis(False)
+        self._validate()
+
+    # ------------------------------------------------------------ structure
+    @property
+    def n(self) -> int:
+        return self.n_spin.value()
+
+    @property
+    def k(self) -> int:
+        return self.k_spin.value()
+
+    def variables(self) -> list[str]:
+        return inputs.split_names(self.vars_edit.text())
+
+    def _on_vars_edited(self, *_):
+        self._auto_names = False
+
+    def _on_nk(self, *_):
+        if self._building:
+            return
+        self._rebuild(self.n, self.k)
+        self._validate()
+
+    def _rebuild(self, n: int, k: int) -> None:
+        """Resize the variable list, the formula fields and the table, keeping what was typed."""
+        self._building = True
+        try:
+            names = self.variables()
+            if self._auto_names or not names:
+                names = inputs.default_variables(n)
+            else:
+                names = (names + [f"x{i + 1}" for i in range(len(names), n)])[:n]
+                # fill in defaults that would clash
+                for i in range(len(names)):
+                    if names[i] in names[:i]:
+                        names[i] = f"x{i + 1}"
+            self.vars_edit.setText(", ".join(names))
+            # formulas: k fields (k may be invalid, show at least 1 and at most n_max)
+            kk = max(1, min(k, N_MAX))
+            texts = [e.text() for e in self.formula_edits]
+            while self.formula_layout.count():
+                it = self.formula_layout.takeAt(0)
+                w = it.widget()
+                if w is not None:
+                    w.hide()
+                    w.setParent(None)
+                    w.deleteLater()
+            self.formula_edits, self.formula_errors, self.formula_labels = [], [], []
+            for i in range(kk):
+                roww = QWidget()
+                rl = QHBoxLayout(roww)
+                rl.setContentsMargins(0, 0, 0, 0)
+                lab = QLabel(f"F{i + 1} =")
+                lab.setMinimumWidth(34)
+                ed = QLineEdit(texts[i] if i < len(texts) else "")
+                ed.setPlaceholderText("e.g. x1^2 + x2^2 - 1")
+                ed.setToolTip(f"component {i + 1} of F; the manifold is where all components vanish")
+                ed.textChanged.connect(self._validate)
+                rl.addWidget(lab)
+                rl.addWidget(ed, 1)
+                err = _error_label()
+                self.formula_layout.addWidget(roww)
+                self.formula_layout.addWidget(err)
+                self.formula_edits.append(ed)
+                self.formula_errors.append(err)
+                self.formula_labels.append(lab)
+            # domain table
+            old = [(self._cell(r, 0), self._cell(r, 1), self._cell(r, 2)) for r in range(self.table.rowCount())]
+            self.table.setRowCount(n)
+            for r in range(n):
+                lo, hi, dv = old[r] if r < len(old) else ("-1", "1", self.div_edit.text() or "10")
+                for c, t in enumerate((lo, hi, dv)):
+                    self.table.setItem(r, c, QTableWidgetItem(t))
+            self._update_table_headers()
+            h = self.table.verticalHeader().defaultSectionSize() * min(n, 6) + \
+                self.table.horizontalHeader().height() + 6
+            self.table.setFixedHeight(h)
+        finally:
+            self._building = False
+
+    def _cell(self, r: int, c: int) -> str:
+        it = self.table.item(r, c)
+        return it.text() if it is not None else ""
+
+    def _update_table_headers(self) -> None:
+        names = self.variables()
+        labels = [names[r] if r < len(names) else f"x{r + 1}" for r in range(self.table.rowCount())]
+        self.table.setVerticalHeaderLabels(labels)
+
+    def _on_per_axis(self, on: bool) -> None:
+        self.table.setColumnHidden(2, not on)
+        self.div_edit.setEnabled(not on)
+        if on and not self._building:
+            err, v = inputs.check_div(self.div_edit.text())
+            if v is not None:
+                self._building = True
+                for r in range(self.table.rowCount()):
+                    self.table.item(r, 2).setText(str(v))
+                self._building = False
+        self._validate()
+
+    def _on_method(self, *_):
+        gcch = self.method() == "gcch"
+        self.start_edit.setVisible(gcch)
+        self.start_label.setVisible(gcch)
+        self._validate()
+
+    def method(self) -> str:
+        return self.method_combo.currentData() or "gcmh"
+
+    def set_method(self, method: str) -> bool:
+        i = self.method_combo.findData(method)
+        if i < 0:
+            return False
+        self.method_combo.setCurrentIndex(i)
+        return True
+
+    # ------------------------------------------------------------ validation
+    def _validate(self, *_) -> bool:
+        if self._building:
+            return self._valid
+        errs: dict[str, str] = {}
+        n, k = self.n, self.k
+        m = inputs.check_nk(n, k)
+        if m:
+            errs["nk"] = m
+        self.nk_error.setText(m or "")
+        self.nk_error.setVisible(bool(m))
+        self.dim_label.setText("" if m else f"{n - k}-dimensional manifold in R^{n}")
+
+        m = inputs.check_variables(self.vars_edit.text(), n)
+        _mark(self.vars_edit, self.vars_error, m)
+        if m:
+            errs["variables"] = m
+        else:
+            self._update_table_headers()
+        names = self.variables()
+
+        for i, (ed, lab) in enumerate(zip(self.formula_edits, self.formula_errors)):
+            msg = None
+            if i >= k:
+                msg = None
+            elif not ed.text().strip():
+                msg = "empty formula"
+            elif "variables" in errs:
+                msg = None
+            else:
+                msg = self._check_formula(ed.text(), names, i)
+            _mark(ed, lab, msg)
+            if msg:
+                errs[f"F{i + 1}"] = msg
+
+        # domain
+        dom_msgs = []
+        self._building = True
+        try:
+            for r in range(self.table.rowCount()):
+                elo, ehi, _ = inputs.check_bounds(self._cell(r, 0), self._cell(r, 1))
+                name = names[r] if r < len(names) else f"x{r + 1}"
+                for c, e in ((0, elo), (1, ehi)):
+                    it = self.table.item(r, c)
+                    if it is not None:
+                        it.setBackground(Qt.red if e else Qt.white)
+                        it.setToolTip(e or "")
+                if elo or ehi:
+                    if ehi and not elo and "empty interval" in ehi:
+                        self.table.item(r, 0).setBackground(Qt.red)
+                    dom_msgs.append(f"{name}: {elo or ehi}")
+                if self.per_axis.isChecked():
+                    ed, _v = inputs.check_div(self._cell(r, 2))
+                    it = self.table.item(r, 2)
+                    if it is not None:
+                        it.setBackground(Qt.red if ed else Qt.white)
+                        it.setToolTip(ed or "")
+                    if ed:
+                        dom_msgs.append(f"{name}: {ed}")
+        finally:
+            self._building = False
+        msg = "; ".join(dom_msgs[:3]) + (" ..." if len(dom_msgs) > 3 else "")
+        self.domain_error.setText(msg)
+        self.domain_error.setVisible(bool(msg))
+        if msg:
+            errs["domain"] = msg
+
+        if not self.per_axis.isChecked():
+            m, _ = inputs.check_div(self.div_edit.text())
+            _mark(self.div_edit, self.div_error, m)
+            if m:
+                errs["div"] = m
+        else:
+            _mark(self.div_edit, self.div_error, None)
+
+        if self.method() == "gcch":
+            m, _ = inputs.check_start(self.start_edit.text(), n)
+            _mark(self.start_edit, self.start_error, m)
+            if m:
+                errs["start"] = m
+        else:
+            _mark(self.start_edit, self.start_error, None)
+
+        self.errors = errs
+        valid = not errs
+        self._update_estimate(valid)
+        if valid != self._valid:
+            self._valid = valid
+            self.validityChanged.emit(valid)
+        self.changed.emit()
+        return valid
+
+    @staticmethod
+    def _check_formula(text: str, names, index: int) -> str | None:
+        try:
+            from gcmh_core.formula import check_component
+        except ImportError:
+            return "the formula parser (gcmh_core.formula) is not installed"
+        try:
+            check_component(text, names, index)
+        except Exception as e:  # noqa: BLE001 - FormulaError or any InputError
+            return str(e)
+        return None
+
+    def is_valid(self) -> bool:
+        return self._valid
+
+    # ------------------------------------------------------------- values
+    def bounds(self) -> list[tuple[float, float]]:
+        out = []
+        for r in range(self.table.rowCount()):
+            _, _, pair = inputs.check_bounds(self._cell(r, 0), self._cell(r, 1))
+            if pair is None:
+                raise ValueError(f"bad bounds in row {r + 1}")
+            out.append(pair)
+        return out
+
+    def div(self):
+        """An int, or a list of n ints when 'per axis' is on."""
+        if self.per_axis.isChecked():
+            return [inputs.check_div(self._cell(r, 2))[1] for r in range(self.table.rowCount())]
+        return inputs.check_div(self.div_edit.text())[1]
+
+    def div_list(self) -> list[int] | None:
+        d = self.div()
+        if d is None or (isinstance(d, list) and None in d):
+            return None
+        return list(d) if isinstance(d, list) else [d] * self.n
+
+    def start(self):
+        if self.method() != "gcch":
+            return None
+        return inputs.check_start(self.start_edit.text(), self.n)[1]
+
+    def formulas(self) -> list[str]:
+        return [e.text().strip() for e in self.formula_edits[: self.k]]
+
+    def job(self) -> Job:
+        if not self._validate():
+            raise ValueError("; ".join(self.errors.values()))
+        return Job(formulas=self.formulas(), variables=self.variables(), bounds=self.bounds(),
+                   div=self.div(), method=self.method(), seed=self.seed_spin.value(), start=self.start())
+
+    def estimate(self) -> dict | None:
+        d = self.div_list()
+        if d is None or inputs.check_nk(self.n, self.k):
+            return None
+        try:
+            import gcmh_core
+            fn = getattr(gcmh_core, "estimate_work")
+        except (ImportError, AttributeError):
+            return None
+        try:
+            return dict(fn(self.n, self.k, d))
+        except Exception:  # noqa: BLE001 - an estimate must never break the panel
+            return None
+
+    def _update_estimate(self, valid: bool) -> None:
+        est = self.estimate()
+        if est is None:
+            self.estimate_label.setText("")
+        else:
+            cubes = int(est.get("cubes", 0))
+            text = f"work: {cubes:,} cubes, about {inputs.human_bytes(est.get('bytes', 0))} peak memory"
+            avail = inputs.available_memory()
+            if self.method() == "gcch":
+                text = f"full grid: {cubes:,} cubes; continuation visits only those M passes through"
+                self.estimate_label.setStyleSheet("color: #555;")
+            elif avail and est.get("bytes", 0) > 0.8 * avail:
+                text += f"  \u2014 more than the {inputs.human_bytes(avail)} available!"
+                self.estimate_label.setStyleSheet("color: #c22; font-weight: bold;")
+            else:
+                self.estimate_label.setStyleSheet("color: #555;")
+            self.estimate_label.setText(text)
+        self.estimateChanged.emit(est)
+
+    # ------------------------------------------------------------- state
+    def state(self) -> dict:
+        return {
+            "n": self.n, "k": self.k, "variables": self.variables(),
+            "formulas": [e.text() for e in self.formula_edits[: self.k]],
+            "bounds": [[self._cell(r, 0), self._cell(r, 1)] for r in range(self.table.rowCount())],
+            "div": ([self._cell(r, 2) for r in range(self.table.rowCount())]
+                    if self.per_axis.isChecked() else self.div_edit.text()),
+            "method": self.method(), "seed": self.seed_spin.value(),
+            "start": self.start_edit.text(),
+        }
+
+    def set_state(self, d: dict) -> None:
+        """Fill the panel from a dict like :meth:`state` (numbers or texts accepted)."""
+        n = int(d.get("n", self.n))
+        k = int(d.get("k", self.k))
+        self._building = True
+        try:
+            self.n_spin.setValue(n)
+            self.k_spin.setValue(k)
+        finally:
+            self._building = False
+        variables = d.get("variables") or inputs.default_variables(n)
+        self._auto_names = list(variables) == inputs.default_variables(n)
+        self.vars_edit.setText(", ".join(variables))
+        self._rebuild(n, k)
+        self._building = True
+        try:
+            for e, t in zip(self.formula_edits, d.get("formulas", [])):
+                e.setText(str(t))
+            bounds = d.get("bounds")
+            if bounds is not None:
+                if len(bounds) == 2 and not isinstance(bounds[0], (list, tuple)):
+                    bounds = [bounds] * n
+                for r, (lo, hi) in enumerate(list(bounds)[:n]):
+                    self.table.item(r, 0).setText(lo if isinstance(lo, str) else format_number(lo))
+                    self.table.item(r, 1).setText(hi if isinstance(hi, str) else format_number(hi))
+            div = d.get("div", 10)
+            if isinstance(div, (list, tuple)):
+                vals = [str(v) for v in div]
+                if len(set(vals)) == 1:
+                    self.per_axis.setChecked(False)
+                    self.div_edit.setText(vals[0])
+                else:
+                    self.per_axis.setChecked(True)
+                    for r, v in enumerate(vals[:n]):
+                        self.table.item(r, 2).setText(v)
+            else:
+                self.per_axis.setChecked(False)
+                self.div_edit.setText(str(div))
+            meth = str(d.get("method", "gcmh")).lower()
+            i = self.method_combo.findData(meth)
+            self.method_combo.setCurrentIndex(i if i >= 0 else 0)
+            self.seed_spin.setValue(int(d.get("seed", 0)))
+            start = d.get("start")
+            if isinstance(start, (list, tuple)):
+                start = ", ".join(format_number(v) for v in start)
+            self.start_edit.setText(start or "")
+        finally:
+            self._building = False
+        self.table.setColumnHidden(2, not self.per_axis.isChecked())
+        self.div_edit.setEnabled(not self.per_axis.isChecked())
+        self._on_method()
+        self._validate()

@@ -1,0 +1,121 @@
+"""Running ``gcmh_core.extract`` off the GUI thread.
+
+:class:`ExtractWorker` is a ``QThread``: ``start()`` runs the extraction,
+progress arrives as the ``progress(phase, fraction, seconds)`` signal (queued
+to the GUI thread, at most ~20 per second), and exactly one of ``done(complex)``,
+``failed(message)`` or ``cancelled()`` ends a run. ``cancel()`` sets a flag the
+engine polls through its ``cancel`` callback; the engine then raises
+``gcmh_core.errors.Cancelled``. No VTK, pyvista or widget is touched here.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+import traceback
+from dataclasses import dataclass, field
+
+from qtpy.QtCore import QThread, Signal
+
+
+@dataclass
+class Job:
+    """Everything ``gcmh_core.extract`` needs for one run."""
+
+    formulas: list
+    variables: list
+    bounds: list
+    div: object = 10
+    method: str = "gcmh"
+    seed: int = 0
+    start: list | str | None = None   # for continuation: a point, or "auto"
+    extra: dict = field(default_factory=dict)
+
+    def kwargs(self) -> dict:
+        kw = dict(bounds=[tuple(b) for b in self.bounds], div=self.div, variables=list(self.variables),
+                  seed=int(self.seed), method=self.method)
+        if self.start is not None:
+            kw["start"] = self.start if isinstance(self.start, str) else list(self.start)
+        kw.update(self.extra)
+        return kw
+
+
+def run_job(job: Job, progress=None, cancel=None):
+    """Run one job synchronously (the headless path and the worker share this)."""
+    import gcmh_core
+
+    return gcmh_core.extract(list(job.formulas), progress=progress, cancel=cancel, **job.kwargs())
+
+
+class ExtractWorker(QThread):
+    """One extraction in a thread. Create a new worker per run."""
+
+    progress = Signal(str, float, float)   # phase, fraction in [0, 1], elapsed seconds
+    done = Signal(object)                  # the CellComplex
+    failed = Signal(str)                   # a one-line message for the status area
+    cancelled = Signal()
+
+    PROGRESS_INTERVAL = 0.05
+
+    def __init__(self, job: Job, parent=None):
+        super().__init__(parent)
+        self.job = job
+        self._cancel = threading.Event()
+        self._t0 = 0.0
+        self._last_emit = 0.0
+        self._last_phase = None
+        self.result = None
+        self.error: str | None = None
+        self.traceback: str | None = None
+
+    # called from the GUI thread
+    def cancel(self) -> None:
+        self._cancel.set()
+
+    def is_cancelled(self) -> bool:
+        return self._cancel.is_set()
+
+    def elapsed(self) -> float:
+        return time.perf_counter() - self._t0 if self._t0 else 0.0
+
+    # called from the worker thread (by the engine)
+    def _on_progress(self, phase: str, fraction: float) -> None:
+        now = time.perf_counter()
+        if phase != self._last_phase or now - self._last_emit >= self.PROGRESS_INTERVAL or fraction >= 1.0:
+            self._last_phase = phase
+            self._last_emit = now
+            self.progress.emit(str(phase), float(fraction), now - self._t0)
+
+    def _should_cancel(self) -> bool:
+        return self._cancel.is_set()
+
+    def run(self) -> None:  # the thread body
+        from gcmh_core.errors import Cancelled, InputError
+
+        self._t0 = time.perf_counter()
+        self.progress.emit("starting", 0.0, 0.0)
+        try:
+            if self._cancel.is_set():
+                raise Cancelled("cancelled before start")
+            cx = run_job(self.job, progress=self._on_progress, cancel=self._should_cancel)
+        except Cancelled:
+            self.cancelled.emit()
+            return
+        except InputError as e:
+            self.error = str(e)
+            self.failed.emit(str(e))
+            return
+        except MemoryError:
+            self.error = "out of memory: try a smaller div or the continuation method (GCCH)"
+            self.failed.emit(self.error)
+            return
+        except Exception as e:  # noqa: BLE001 - any engine error goes to the status line
+            self.traceback = traceback.format_exc()
+            self.error = f"{type(e).__name__}: {e}"
+            self.failed.emit(self.error)
+            return
+        if self._cancel.is_set():
+            self.cancelled.emit()
+            return
+        self.result = cx
+        self.done.emit(cx)

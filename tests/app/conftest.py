@@ -1,0 +1,28 @@
+"""Fixtures for the window tests (pytest-qt; they need a real X server, e.g. Xvfb).
+
+Run:  xvfb-run -a /work/venv/bin/python -m pytest tests/app -q
+  or: /work/venv/bin/python -m pytest tests/app -q --xvfb-backend xvfb
+"""
+
+import os
+import tempfile
+
+import pytest
+
+if not os.environ.get("XDG_RUNTIME_DIR"):
+    d = os.path.join(tempfile.gettempdir(), f"runtime-{os.getuid()}")
+    os.makedirs(d, mode=0o700, exist_ok=True)
+    os.environ["XDG_RUNTIME_DIR"] = d
+
+
+@pytest.fixture
+def window(qtbot):
+    from app.qt_main_window import QtMainWindow
+
+    w = QtMainWindow(example=None)
+    qtbot.addWidget(w)
+    w.resize(1200, 800)
+    w.show()
+    qtbot.waitExposed(w)
+    yield w
+    w.close()

@@ -1,0 +1,36 @@
+"""The panel's input checks, without Qt."""
+
+import math
+
+import pytest
+
+from app import inputs
+
+
+@pytest.mark.parametrize("text,value", [("1", 1.0), ("-pi/2", -math.pi / 2), ("2*pi", 2 * math.pi),
+                                        ("1e-3", 1e-3), ("2^3", 8.0), ("sqrt(2)", math.sqrt(2))])
+def test_parse_number(text, value):
+    assert inputs.parse_number(text) == pytest.approx(value)
+
+
+@pytest.mark.parametrize("text", ["", "pi pi", "__import__('os')", "x", "1/0", "abc(1)", "[1]", "9**9**9"])
+def test_parse_number_refuses(text):
+    with pytest.raises(inputs.NumberError):
+        inputs.parse_number(text)
+
+
+def test_checks():
+    assert inputs.check_variables("x, y, z", 3) is None
+    assert "3 names" in inputs.check_variables("x, y", 3)
+    assert "twice" in inputs.check_variables("x, y, x", 3)
+    assert "reserved" in inputs.check_variables("x, sin, z", 3)
+    assert "not a name" in inputs.check_variables("x, 2y, z", 3)
+    assert inputs.check_nk(3, 1) is None
+    assert inputs.check_nk(3, 3) is not None
+    assert inputs.check_bounds("-pi", "pi")[2] == pytest.approx((-math.pi, math.pi))
+    assert "empty interval" in inputs.check_bounds("2", "1")[1]
+    assert inputs.check_div("0")[0] is not None
+    assert inputs.check_div("2.5")[0] is not None
+    assert inputs.check_div("12") == (None, 12)
+    assert inputs.check_start("1, 2, 3", 3) == (None, [1.0, 2.0, 3.0])
+    assert inputs.check_start("1, 2", 3)[0] is not None

@@ -1,0 +1,126 @@
+"""Pure-numpy tests of the projection model (no Qt, no X needed)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from app import projection as pj
+
+
+@pytest.mark.parametrize("n", [2, 3, 4, 5, 6, 10])
+def test_planes_count(n):
+    assert len(pj.planes(n)) == n * (n - 1) // 2
+    assert all(i < j for i, j in pj.planes(n))
+
+
+@pytest.mark.parametrize("n", [3, 4, 5, 7, 10])
+def test_projection_rows_orthonormal_for_random_angles(n):
+    rng = np.random.default_rng(n)
+    for kind in pj.KINDS:
+        m = pj.ProjectionModel(n=n, kind=kind, seed=3)
+        m.set_vertices(rng.standard_normal((200, n)) * np.arange(1, n + 1))
+        for _ in range(5):
+            m.angles[:] = rng.uniform(-180, 180, len(m.angles))
+            P = m.matrix()
+            assert P.shape == (3, n)
+            np.testing.assert_allclose(P @ P.T, np.eye(3), atol=1e-12)
+
+
+def test_givens_is_a_plane_rotation():
+    G = pj.givens(4, 1, 3, 0.3)
+    np.testing.assert_allclose(G @ G.T, np.eye(4), atol=1e-15)
+    assert math.isclose(np.linalg.det(G), 1.0)
+    e1 = np.eye(4)[1]
+    np.testing.assert_allclose(G @ e1, [0, math.cos(0.3), 0, math.sin(0.3)])
+    # axes outside the plane stay put
+    np.testing.assert_allclose(G @ np.eye(4)[0], np.eye(4)[0])
+    np.testing.assert_allclose(G @ np.eye(4)[2], np.eye(4)[2])
+    with pytest.raises(ValueError):
+        pj.givens(3, 1, 1, 0.1)
+
+
+def test_rotation_composes_givens_in_plane_order():
+    n = 5
+    rng = np.random.default_rng(1)
+    thetas = rng.uniform(-3, 3, n * (n - 1) // 2)
+    R = pj.rotation(n, thetas)
+    expected = np.eye(n)
+    for (i, j), t in zip(pj.planes(n), thetas):
+        expected = expected @ pj.givens(n, i, j, t)
+    np.testing.assert_allclose(R, expected, atol=1e-12)
+    # dict form, missing planes are zero
+    np.testing.assert_allclose(pj.rotation(n, {(1, 4): 0.7}), pj.givens(n, 1, 4, 0.7))
+    np.testing.assert_allclose(pj.rotation(n, np.zeros(10)), np.eye(n))
+    with pytest.raises(ValueError):
+        pj.rotation(n, [0.1, 0.2])
+
+
+def test_coordinate_choice_picks_columns():
+    rng = np.random.default_rng(2)
+    X = rng.standard_normal((50, 6))
+    B = pj.coordinate_basis(6, (4, 0, 2))
+    Y = pj.project(X, B)
+    np.testing.assert_array_equal(Y, X[:, [4, 0, 2]])
+    with pytest.raises(ValueError):
+        pj.coordinate_basis(6, (1, 1, 2))
+    with pytest.raises(ValueError):
+        pj.coordinate_basis(3, (0, 1, 5))
+
+
+def test_quarter_turn_swaps_coordinates_into_view():
+    # rotating the plane (z, w) of R^4 by 90 degrees shows -w... and +w along screen Z
+    m = pj.ProjectionModel(n=4, axes=(0, 1, 2))
+    m.angles[m.planes.index((2, 3))] = 90.0
+    P = m.matrix()
+    np.testing.assert_allclose(np.abs(P[2]), [0, 0, 0, 1], atol=1e-12)
+    assert m.labels(["x", "y", "z", "w"])[:2] == ["x", "y"]
+    assert m.labels(["x", "y", "z", "w"])[2].lstrip("-") == "w"
+
+
+def test_generic_is_seeded_and_principal_finds_the_spread():
+    a = pj.generic_basis(7, seed=5)
+    np.testing.assert_array_equal(a, pj.generic_basis(7, seed=5))
+    assert not np.allclose(a, pj.generic_basis(7, seed=6))
+    rng = np.random.default_rng(0)
+    X = rng.standard_normal((2000, 5)) * np.array([0.01, 5.0, 0.02, 3.0, 1.0])
+    B = pj.principal_basis(X)
+    # largest spreads are axes 1, 3, 4 in that order
+    assert [int(np.argmax(np.abs(r))) for r in B] == [1, 3, 4]
+    np.testing.assert_allclose(B @ B.T, np.eye(3), atol=1e-12)
+
+
+def test_small_n_pads_with_zero_rows():
+    m = pj.ProjectionModel(n=2)
+    P = m.matrix()
+    assert P.shape == (3, 2)
+    np.testing.assert_allclose(P[:2], np.eye(2))
+    np.testing.assert_allclose(P[2], 0)
+
+
+def test_projector_matches_plain_matmul_and_writes_in_place():
+    rng = np.random.default_rng(3)
+    X = rng.standard_normal((1000, 6)) + 5.0
+    pr = pj.Projector(X)
+    P = pj.ProjectionModel(n=6, kind="generic").matrix()
+    out = pr.empty()
+    r = pr.project(P, out=out)
+    assert r is out
+    expected = (X - pj.bbox_center(X)) @ P.T
+    np.testing.assert_allclose(out, expected, rtol=1e-5, atol=1e-4)
+
+
+def test_axis_label():
+    names = ["x", "y", "z", "w"]
+    assert pj.axis_label([0, 0, 1, 0], names) == "z"
+    assert pj.axis_label([0, 0, -1, 0], names) == "-z"
+    lab = pj.axis_label([0.6, 0, 0, 0.8], names)
+    assert "w" in lab and "x" in lab
+
+
+def test_model_dict_roundtrip():
+    m = pj.ProjectionModel(n=5, kind="generic", seed=9)
+    m.angles[3] = 42.0
+    d = m.to_dict(["a", "b", "c", "d", "e"])
+    m2 = pj.ProjectionModel.from_dict(5, d)
+    np.testing.assert_allclose(m2.matrix(), m.matrix())

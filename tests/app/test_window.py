@@ -1,0 +1,552 @@
+"""The main window under Xvfb: examples, runs, worker thread, projection, input checks, files."""
+
+import json
+import os
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pytestqt")
+
+from app_helpers import picture_stats, run_and_wait, small_div, wait_run  # noqa: E402
+
+from gcmh_core.examples import list_examples  # noqa: E402
+
+EXAMPLES = [ex.name for ex in list_examples()]
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def changed_fraction(a, b):
+    return float(np.mean(np.any(a[..., :3] != b[..., :3], axis=-1)))
+
+
+def set_system(qtbot, w, n, k, formulas, bounds=("-1.5", "1.5"), div="8", variables=None):
+    """Fill the Manifold panel through its widgets, as a user would."""
+    p = w.formula_panel
+    p.n_spin.setValue(n)
+    p.k_spin.setValue(k)
+    if variables is not None:
+        p.vars_edit.clear()
+        qtbot.keyClicks(p.vars_edit, ", ".join(variables))
+    for e, f in zip(p.formula_edits, formulas):
+        e.clear()
+        qtbot.keyClicks(e, f)
+    for r in range(n):
+        p.table.item(r, 0).setText(bounds[0])
+        p.table.item(r, 1).setText(bounds[1])
+    p.per_axis.setChecked(False)
+    p.div_edit.clear()
+    qtbot.keyClicks(p.div_edit, str(div))
+
+
+# --------------------------------------------------------------------------- examples
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_each_example_gives_a_picture(qtbot, window, name):
+    from gcmh_core.examples import load_example
+
+    blank = window.screenshot_array()
+    ex = load_example(name)
+    with qtbot.waitSignal(window.runFinished, timeout=180_000) as b:
+        assert window.load_example(name, div=small_div(ex))
+    assert b.args[0] == "done", window.last_status
+    assert window.result is not None and window.result.count(0) > 0
+    img = window.screenshot_array()
+    assert picture_stats(img) > 300, "too few colours: is anything drawn?"
+    assert changed_fraction(img, blank) > 0.03
+    # the example's suggested view is applied
+    pp = window.projection_panel
+    assert pp.color_by() == ex.view["color"]
+    assert [pp.names[a] for a in pp.model.axes] == list(ex.view["project"])
+    assert "\u03c7 =" in window.result_label.text()
+
+
+def test_examples_menu_lists_every_example(window):
+    assert set(window.example_actions) == set(EXAMPLES)
+    for name, a in window.example_actions.items():
+        assert a.text() and a.statusTip()
+
+
+# --------------------------------------------------------------------------- typing and running
+def test_sphere_typed_in_gives_euler_characteristic_2(qtbot, window):
+    set_system(qtbot, window, 3, 1, ["x1^2 + x2^2 + x3^2 - 1"], div="8")
+    assert window.formula_panel.is_valid(), window.formula_panel.errors
+    assert window.run_button.isEnabled()
+    with qtbot.waitSignal(window.runFinished, timeout=60_000) as b:
+        qtbot.mouseClick(window.run_button, 1)  # Qt.LeftButton
+    assert b.args[0] == "done", window.last_status
+    cx = window.result
+    assert cx.dim == 2
+    assert cx.euler_characteristic() == 2
+    assert len(cx.boundary_facets()) == 0
+    assert "\u03c7 = 2" in window.result_label.text()
+
+
+def test_circle_in_the_plane_draws_lines(qtbot, window):
+    set_system(qtbot, window, 2, 1, ["x1^2 + x2^2 - 1"], div="12")
+    assert run_and_wait(qtbot, window) == "done"
+    assert window.result.dim == 1
+    assert window.result.euler_characteristic() == 0
+    assert window.scene.mesh.n_lines == window.result.count(1)
+
+
+def test_worker_error_goes_to_status_not_a_crash(qtbot, window):
+    # log of a negative number everywhere: the engine may refuse or return nothing; never a crash
+    set_system(qtbot, window, 3, 1, ["x1 + x2 + x3 - 1"], div="4")
+    assert run_and_wait(qtbot, window) == "done"
+    job = window.formula_panel.job()
+    job.bounds = [(1.0, 0.0)] * 3    # invalid: bypasses the panel's checks, reaches the engine
+    from app.worker import ExtractWorker
+
+    w = ExtractWorker(job)
+    with qtbot.waitSignal(w.failed, timeout=30_000) as b:
+        w.start()
+    w.wait(5000)
+    assert b.args[0]
+
+
+# --------------------------------------------------------------------------- the worker thread
+def _long_run(qtbot, window):
+    """A run that takes several seconds: the Klein bottle on a fine grid."""
+    window.load_example("klein-bottle", run=False, div=[56, 56, 28, 56, 56])
+    assert window.run()
+
+
+def test_gui_stays_responsive_and_cancel_is_prompt(qtbot, window):
+    from qtpy.QtCore import QTimer
+
+    # a first result, to be kept on screen
+    assert window.load_example("complex-cosine", div=[8, 8, 8, 8]) or True
+    assert wait_run(qtbot, window) == "done"
+    old = window.result
+    old_cells = window.scene.mesh.n_cells
+
+    ticks = []
+    timer = QTimer()
+    timer.setInterval(20)
+    timer.timeout.connect(lambda: ticks.append(time.perf_counter()))
+    _long_run(qtbot, window)
+    timer.start()
+    t0 = time.perf_counter()
+    # meanwhile the old result can be turned
+    window.projection_panel.sliders[0].setValue(30)
+    qtbot.wait(2000)
+    assert window.is_running(), "the long run ended too early for this test"
+    elapsed = time.perf_counter() - t0
+    expected = elapsed / 0.020
+    assert len(ticks) > 0.5 * expected, f"GUI stalled: {len(ticks)} timer ticks of {expected:.0f}"
+    assert window.progress.value() >= 0
+
+    t1 = time.perf_counter()
+    with qtbot.waitSignal(window.runFinished, timeout=5000) as b:
+        window.cancel_action.trigger()
+    took = time.perf_counter() - t1
+    timer.stop()
+    assert b.args[0] == "cancelled"
+    assert took < 1.0, f"cancel took {took:.2f} s"
+    assert window.result is old
+    assert window.scene.mesh is not None and window.scene.mesh.n_cells == old_cells
+    assert "Cancelled" in window.last_status
+    assert window.run_button.isEnabled()
+
+
+def test_escape_key_cancels(qtbot, window):
+    from qtpy.QtCore import Qt
+
+    window.activateWindow()
+    qtbot.waitActive(window)
+    _long_run(qtbot, window)
+    qtbot.wait(300)
+    target = window.focusWidget() or window
+    with qtbot.waitSignal(window.runFinished, timeout=5000) as b:
+        qtbot.keyClick(target, Qt.Key_Escape)
+    assert b.args[0] == "cancelled"
+
+
+# --------------------------------------------------------------------------- projection
+def test_rotation_slider_changes_picture_not_topology(qtbot, window):
+    with qtbot.waitSignal(window.runFinished, timeout=60_000):
+        window.load_example("klein-bottle", div=[12, 12, 6, 12, 12])
+    mesh = window.scene.mesh
+    n_cells, n_points = mesh.n_cells, mesh.n_points
+    before = window.screenshot_array()
+    pts_before = np.array(mesh.points)
+    pp = window.projection_panel
+    row = pp.model.planes.index((0, 3))   # x-s
+    assert pp.slider_labels[row].text() == "x\u2013s"
+    pp.sliders[row].setValue(60)
+    after = window.screenshot_array()
+    assert window.scene.mesh is mesh, "the mesh must be updated in place"
+    assert mesh.n_cells == n_cells and mesh.n_points == n_points
+    assert not np.allclose(pts_before, mesh.points)
+    assert changed_fraction(before, after) > 0.02
+    assert window.scene.axes_labels()[0] != "x"
+    # reset brings back the coordinate view
+    pp.reset()
+    np.testing.assert_allclose(mesh.points, pts_before, atol=1e-5)
+    assert window.scene.axes_labels() == ["x", "y", "z"]
+
+
+def _view_complex(qtbot, window, n):
+    """A real n-dimensional complex for the view tests: from the engine for n <= 5,
+    else a flat torus built as a CellComplex (the engine at k = n - 2 > 3 is slow)."""
+    if n <= 5:
+        k = n - 2 if n > 3 else 1
+        names = [f"x{i + 1}" for i in range(n)]
+        if n == 3:
+            forms = ["x1^2 + x2^2 + x3^2 - 1"]
+        elif n == 4:
+            forms = ["x1^2 + x2^2 - 1", "x3^2 + x4^2 - 1"]
+        else:
+            forms = ["x1^2 + x2^2 - 1", "x3^2 + x4^2 - 1", "x5 - x1*x3"]
+        set_system(qtbot, window, n, k, forms, div="6")
+        assert run_and_wait(qtbot, window) == "done", window.last_status
+        return window.result
+    from app.bench_view import torus_complex
+
+    cx = torus_complex(24, n)
+    window.show_result(cx, cx.point_names(), title=f"flat torus in R^{n}")
+    return cx
+
+
+@pytest.mark.parametrize("n", [3, 4, 5, 6, 10])
+def test_projection_chooser(qtbot, window, n):
+    cx = _view_complex(qtbot, window, n)
+    pp = window.projection_panel
+    assert len(pp.sliders) == n * (n - 1) // 2
+    mesh = window.scene.mesh
+    n_cells = mesh.n_cells
+    seen = []
+    for kind in ("coordinates", "generic", "principal"):
+        pp.set_kind(kind)
+        P = pp.matrix()
+        np.testing.assert_allclose(P @ P.T, np.eye(3), atol=1e-9)
+        expected = (cx.vertices - window.scene.projector.center) @ P.T
+        np.testing.assert_allclose(mesh.points, expected, rtol=1e-4, atol=1e-4)
+        assert mesh.n_cells == n_cells
+        seen.append(np.array(mesh.points))
+        img = window.screenshot_array()
+        assert picture_stats(img) > 100
+    assert not np.allclose(seen[0], seen[1])
+    # coordinate triple chosen by the user
+    pp.set_kind("coordinates")
+    if n == 3:  # a duplicate screen axis is refused with a message
+        pp.axis_combos[0].setCurrentIndex(pp.axis_combos[0].findData(2))
+        assert not pp.axes_error.isHidden() and pp.axes_error.text() and pp.model.axes == (0, 1, 2)
+    for c in pp.axis_combos:
+        c.setCurrentIndex(c.findData(-1))
+    for c, a in zip(pp.axis_combos, (n - 1, 0, 1)):
+        c.setCurrentIndex(c.findData(a))
+    assert pp.model.axes == (n - 1, 0, 1)
+    assert pp.axes_error.isHidden()
+    np.testing.assert_allclose(mesh.points[:, 0], cx.vertices[:, n - 1] - window.scene.projector.center[n - 1],
+                               rtol=1e-4, atol=1e-4)
+    # the last slider exists and moves the picture
+    pp.sliders[-1].setValue(45)
+    assert mesh.n_cells == n_cells
+
+
+def test_colour_opacity_edges(qtbot, window):
+    with qtbot.waitSignal(window.runFinished, timeout=60_000):
+        window.load_example("klein-bottle", div=[12, 12, 6, 12, 12])
+    pp = window.projection_panel
+    assert pp.color_by() == "s"
+    assert "s" in window.plotter.scalar_bars.keys()
+    pp.set_color_by("t")
+    assert "t" in window.plotter.scalar_bars.keys() and "s" not in window.plotter.scalar_bars.keys()
+    pp.set_color_by(None)
+    assert len(window.plotter.scalar_bars.keys()) == 0
+    pp.opacity_slider.setValue(40)
+    assert window.scene.actor.prop.opacity == pytest.approx(0.4)
+    pp.edges_check.setChecked(True)
+    assert window.scene.actor.prop.show_edges
+
+
+# --------------------------------------------------------------------------- input checks
+def _msg_visible(label):
+    return label.isVisible() and bool(label.text())
+
+
+def test_bad_input_is_refused_next_to_the_field(qtbot, window):
+    p = window.formula_panel
+    set_system(qtbot, window, 3, 1, ["x1^2 + x2^2 + x3^2 - 1"])
+    assert p.is_valid() and window.run_button.isEnabled()
+
+    def refused(label, key=None):
+        assert not p.is_valid()
+        assert not window.run_button.isEnabled()
+        assert not window.run_action.isEnabled()
+        assert _msg_visible(label), "no message next to the field"
+        assert not window.run()  # even a forced run is refused, with a message
+        assert window.last_status.startswith("Cannot run")
+
+    def fixed():
+        assert p.is_valid(), p.errors
+        assert window.run_button.isEnabled()
+
+    f = p.formula_edits[0]
+    for bad, words in [("x1^2 + (x2", None), ("sinn(x1) - 1", "sinn"), ("x1 + y", "y"), ("", "empty"),
+                       ("x1 +* 2", None)]:
+        f.clear()
+        if bad:
+            qtbot.keyClicks(f, bad)
+        refused(p.formula_errors[0])
+        if words:
+            assert words in p.formula_errors[0].text()
+        assert "border" in f.styleSheet()   # the red mark
+    f.clear()
+    qtbot.keyClicks(f, "x1^2 + x2^2 + x3^2 - 1")
+    fixed()
+
+    # k >= n
+    p.k_spin.setValue(3)
+    refused(p.nk_error)
+    p.k_spin.setValue(1)
+    fixed()
+
+    # variables
+    p.vars_edit.setText("a, b")
+    refused(p.vars_error)
+    p.vars_edit.setText("x1, x2, x2")
+    refused(p.vars_error)
+    p.vars_edit.setText("x1, x2, x3")
+    fixed()
+
+    # domain: lower above upper, empty interval, not a number
+    for lo, hi in [("2", "1"), ("1", "1"), ("abc", "1"), ("", "1"), ("-pi/2", "1/0")]:
+        p.table.item(1, 0).setText(lo)
+        p.table.item(1, 1).setText(hi)
+        refused(p.domain_error)
+    p.table.item(1, 0).setText("-pi/2")
+    p.table.item(1, 1).setText("pi/2")
+    fixed()
+
+    # div 0, negative, fractional, text
+    for bad in ["0", "-3", "2.5", "ten"]:
+        p.div_edit.setText(bad)
+        refused(p.div_error)
+    p.div_edit.setText("6")
+    fixed()
+    # per-axis div
+    p.per_axis.setChecked(True)
+    p.table.item(2, 2).setText("0")
+    refused(p.domain_error)
+    p.table.item(2, 2).setText("5")
+    fixed()
+    assert p.div() == [6, 6, 5]
+    assert run_and_wait(qtbot, window) == "done"
+
+
+def test_big_run_asks_first(qtbot, window, monkeypatch):
+    set_system(qtbot, window, 3, 1, ["x1^2 + x2^2 + x3^2 - 1"], div="8")
+    asked = []
+    monkeypatch.setattr(window.formula_panel, "estimate", lambda: {"cubes": 10**12, "bytes": 10**15})
+    monkeypatch.setattr(window, "confirm_big_run", lambda est, avail: asked.append(est) or None)
+    assert not window.run()
+    assert asked and "smaller div" in window.last_status
+    assert not window.is_running()
+    import gcmh_core
+
+    if "gcch" in gcmh_core.METHODS:   # the dialog's other answer: switch to continuation and run
+        monkeypatch.setattr(window, "confirm_big_run", lambda est, avail: "gcch")
+        assert window.run()
+        assert window.formula_panel.method() == "gcch"
+        assert wait_run(qtbot, window) == "done"
+        assert window.result.euler_characteristic() == 2
+
+
+# --------------------------------------------------------------------------- files
+def test_session_save_and_open_restores_state(qtbot, window, tmp_path):
+    with qtbot.waitSignal(window.runFinished, timeout=60_000):
+        window.load_example("complex-cosine", div=[7, 7, 7, 7])
+    pp = window.projection_panel
+    pp.set_kind("generic")
+    pp.seed_spin.setValue(4)
+    pp.sliders[2].setValue(33)
+    pp.set_color_by("u")
+    pp.opacity_slider.setValue(70)
+    window.formula_panel.seed_spin.setValue(3)
+    with qtbot.waitSignal(window.runFinished, timeout=60_000):
+        window.run()
+    pp.sliders[2].setValue(33)
+    state = window.session()
+    path = tmp_path / "s.json"
+    window.save_session(path)
+    d = json.loads(path.read_text())
+    assert d["format"] == "gcmh-session/1"
+    points = np.array(window.scene.mesh.points)
+
+    from app.qt_main_window import QtMainWindow
+
+    w2 = QtMainWindow(example=None)
+    qtbot.addWidget(w2)
+    w2.show()
+    try:
+        with qtbot.waitSignal(w2.runFinished, timeout=60_000):
+            assert w2.open_session(path)
+        s2 = w2.session()
+        assert s2["system"] == state["system"]
+        assert s2["view"] == state["view"]
+        np.testing.assert_allclose(s2["camera"]["position"], state["camera"]["position"], rtol=1e-6)
+        np.testing.assert_allclose(w2.scene.mesh.points, points, atol=1e-5)
+        assert w2.projection_panel.color_by() == "u"
+    finally:
+        w2.close()
+
+
+def test_open_bad_session_reports(window, tmp_path):
+    p = tmp_path / "bad.json"
+    p.write_text("{not json")
+    assert not window.open_session(p)
+    assert "Cannot open" in window.last_status
+
+
+def test_screenshot_export_size_and_transparency(qtbot, window, tmp_path):
+    with qtbot.waitSignal(window.runFinished, timeout=60_000):
+        window.load_example("torus")
+    import pyvista as pv
+
+    path = tmp_path / "shot.png"
+    window.save_screenshot(path, size=(640, 360))
+    img = pv.read(str(path))
+    assert tuple(img.dimensions[:2]) == (640, 360)
+    arr = window.save_screenshot(tmp_path / "t.png", size=(320, 200), transparent=True)
+    assert arr.shape == (200, 320, 4)
+    alpha = arr[..., 3]
+    assert (alpha == 0).mean() > 0.2 and (alpha == 255).mean() > 0.02
+
+
+def test_exports(qtbot, window, tmp_path):
+    with qtbot.waitSignal(window.runFinished, timeout=60_000):
+        window.load_example("torus")
+    from gcmh_core.complex import CellComplex
+
+    window.export_complex(tmp_path / "c.npz")
+    back = CellComplex.load(tmp_path / "c.npz")
+    assert back.counts() == window.result.counts()
+    window.export_complex(tmp_path / "c.vtu")
+    assert (tmp_path / "c.vtu").stat().st_size > 0
+    import pyvista as pv
+
+    for ext in ("ply", "obj", "vtp"):
+        window.export_mesh(tmp_path / f"m.{ext}")
+        m = pv.read(str(tmp_path / f"m.{ext}"))
+        assert m.n_points > 0 and m.n_cells > 0
+    with pytest.raises(ValueError):
+        window.export_mesh(tmp_path / "m.xyz")
+
+
+def test_shortcuts(window):
+    from qtpy.QtGui import QKeySequence
+
+    def keys(a):
+        return {s.toString() for s in a.shortcuts()}
+
+    assert "Ctrl+R" in keys(window.run_action)
+    assert "Esc" in keys(window.cancel_action)
+    assert {"Ctrl+Shift+S", "F12"} <= keys(window.screenshot_action)
+    assert "Ctrl+O" in keys(window.open_action)
+    assert "Ctrl+S" in keys(window.save_action)
+
+
+# --------------------------------------------------------------------------- headless command
+def test_headless_screenshot_command(tmp_path):
+    out = tmp_path / "klein.png"
+    env = dict(os.environ)
+    env["PYTHONPATH"] = REPO + os.pathsep + env.get("PYTHONPATH", "")
+    r = subprocess.run([sys.executable, "-m", "app", "--example", "klein-bottle", "--screenshot", str(out),
+                        "--size", "400x300", "--div", "10"], cwd=REPO, env=env,
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    import pyvista as pv
+
+    img = pv.read(str(out))
+    assert tuple(img.dimensions[:2]) == (400, 300)
+    arr = np.asarray(img.point_data.active_scalars)
+    assert len(np.unique(arr.reshape(len(arr), -1), axis=0)) > 300
+
+
+def test_headless_bad_example_is_a_clean_error(tmp_path):
+    env = dict(os.environ)
+    env["PYTHONPATH"] = REPO + os.pathsep + env.get("PYTHONPATH", "")
+    r = subprocess.run([sys.executable, "-m", "app", "--example", "no-such-thing", "--screenshot",
+                        str(tmp_path / "x.png")], cwd=REPO, env=env, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2
+    assert "no-such-thing" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_empty_result_is_explained(qtbot, window):
+    set_system(qtbot, window, 3, 1, ["x1^2 + x2^2 + x3^2 + 1"], div="4")
+    assert run_and_wait(qtbot, window) == "done"
+    assert window.result.count(0) == 0
+    assert window.scene.mesh is None
+    assert "empty" in window.last_status
+    window.projection_panel.sliders[0].setValue(20)   # no mesh: nothing to move, no error
+
+
+def test_engine_error_in_the_window_goes_to_the_status(qtbot, window, monkeypatch):
+    import app.worker
+
+    set_system(qtbot, window, 3, 1, ["x1^2 + x2^2 + x3^2 - 1"], div="6")
+    assert run_and_wait(qtbot, window) == "done"
+    old = window.result
+
+    def broken(job, progress=None, cancel=None):
+        raise RuntimeError("simulated failure inside the engine")
+
+    monkeypatch.setattr(app.worker, "run_job", broken)
+    assert run_and_wait(qtbot, window) == "failed"
+    assert "simulated failure" in window.last_status
+    assert window.result is old and window.scene.mesh is not None
+    assert window.run_button.isEnabled()
+
+
+def test_methods_offered_are_the_engines(window):
+    import gcmh_core
+
+    p = window.formula_panel
+    offered = [p.method_combo.itemData(i) for i in range(p.method_combo.count())]
+    assert offered == [m.lower() for m in getattr(gcmh_core, "METHODS", ("gcmh",))]
+
+
+def test_opens_on_the_klein_bottle(qtbot):
+    from app.qt_main_window import QtMainWindow
+
+    w = QtMainWindow()          # the default: the Klein bottle, run at start
+    qtbot.addWidget(w)
+    w.show()
+    try:
+        assert wait_run(qtbot, w, timeout=180_000) == "done"
+        pp = w.projection_panel
+        assert pp.names == ["x", "y", "z", "s", "t"]
+        assert [pp.names[a] for a in pp.model.axes] == ["x", "y", "z"]
+        assert pp.color_by() == "s"
+        assert "s" in w.plotter.scalar_bars.keys()
+        assert w.result.dim == 2
+    finally:
+        w.close()
+
+
+def test_continuation_from_the_panel(qtbot, window):
+    import gcmh_core
+
+    if "gcch" not in gcmh_core.METHODS:
+        pytest.skip("the engine has no continuation method")
+    p = window.formula_panel
+    set_system(qtbot, window, 3, 1, ["x1^2 + x2^2 + x3^2 - 1"], div="10")
+    assert run_and_wait(qtbot, window) == "done"
+    full = window.result.counts()
+    assert p.set_method("gcch")
+    assert p.start_edit.isVisibleTo(p)
+    p.start_edit.setText("1, 2")             # wrong number of coordinates
+    assert not p.is_valid() and p.start_error.text()
+    p.start_edit.setText("0, 0, 1")
+    assert p.is_valid()
+    assert run_and_wait(qtbot, window) == "done"
+    assert window.result.counts() == full
+    p.start_edit.setText("")                 # auto
+    assert p.is_valid()
+    assert run_and_wait(qtbot, window) == "done"
+    assert window.result.counts() == full
