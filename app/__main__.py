@@ -88,11 +88,6 @@ def headless_screenshot(args) -> int:
     job = Job(formulas=list(ex.formulas), variables=list(ex.variables), bounds=[tuple(b) for b in ex.bounds],
               div=args.div if args.div is not None else ex.div, seed=args.seed, method=args.method,
               start=(list(ex.start) if ex.start else "auto") if args.method == "gcch" else None)
-    try:
-        cx = run_job(job)
-    except InputError as e:
-        print(f"gcmh-app: {e}", file=sys.stderr)
-        return 2
     names = list(ex.variables)
     view = dict(ex.view or {})
     project = args.project.split(",") if args.project else view.get("project", names[:3])
@@ -111,6 +106,14 @@ def headless_screenshot(args) -> int:
     if color is not None and color not in names:
         print(f"gcmh-app: --color must be one of {', '.join(names)}", file=sys.stderr)
         return 2
+    try:
+        cx = run_job(job)
+    except InputError as e:
+        print(f"gcmh-app: {e}", file=sys.stderr)
+        return 2
+    if cx.count(0) == 0:
+        print("gcmh-app: the result is empty (no sign change of F on this grid): nothing to draw", file=sys.stderr)
+        return 1
     model.set_vertices(cx.vertices)
     w, h = args.size
     pl = pv.Plotter(off_screen=True, window_size=[w, h])
@@ -180,6 +183,18 @@ def main(argv=None) -> int:
 
     app = QApplication.instance() or QApplication(sys.argv[:1])
     app.setApplicationName("GCMH Studio")
+
+    def excepthook(kind, value, tb):
+        # PyQt5 aborts on an exception escaping a slot unless a hook is set: print it, tell the user
+        import traceback
+
+        traceback.print_exception(kind, value, tb)
+        try:
+            win.set_status(f"Internal error: {kind.__name__}: {value}", error=True)
+        except Exception:  # noqa: BLE001
+            pass
+
+    sys.excepthook = excepthook
     win = QtMainWindow(example=None if args.session else (args.example or "klein-bottle"), div=args.div,
                        method=args.method)
     if args.window_screenshot:

@@ -13,7 +13,8 @@ from __future__ import annotations
 import math
 from fractions import Fraction
 
-from qtpy.QtCore import Qt, Signal
+from qtpy.QtCore import Signal
+from qtpy.QtGui import QColor
 from qtpy.QtWidgets import (
     QAbstractItemView, QCheckBox, QComboBox, QFormLayout, QGroupBox, QHBoxLayout, QHeaderView,
     QLabel, QLineEdit, QSpinBox, QTableWidget, QTableWidgetItem, QVBoxLayout, QWidget,
@@ -25,6 +26,8 @@ from .worker import Job
 N_MAX = 12
 ERROR_STYLE = "QLineEdit { border: 2px solid #d33; background: #fff0f0; }"
 ERROR_LABEL_STYLE = "color: #c22; font-size: 11px;"
+BAD_CELL = QColor("#ffc8c8")
+GOOD_CELL = QColor("#ffffff")
 METHOD_LABELS = {"gcmh": "GCMH (whole grid)", "gcch": "GCCH (continuation from a start point)",
                  "cms": "CMS (baseline)", "ccs": "CCS (baseline)"}
 
@@ -363,17 +366,17 @@ class QtFormulaPanel(QWidget):
                 for c, e in ((0, elo), (1, ehi)):
                     it = self.table.item(r, c)
                     if it is not None:
-                        it.setBackground(Qt.red if e else Qt.white)
+                        it.setBackground(BAD_CELL if e else GOOD_CELL)
                         it.setToolTip(e or "")
                 if elo or ehi:
                     if ehi and not elo and "empty interval" in ehi:
-                        self.table.item(r, 0).setBackground(Qt.red)
+                        self.table.item(r, 0).setBackground(BAD_CELL)
                     dom_msgs.append(f"{name}: {elo or ehi}")
                 if self.per_axis.isChecked():
                     ed, _v = inputs.check_div(self._cell(r, 2))
                     it = self.table.item(r, 2)
                     if it is not None:
-                        it.setBackground(Qt.red if ed else Qt.white)
+                        it.setBackground(BAD_CELL if ed else GOOD_CELL)
                         it.setToolTip(ed or "")
                     if ed:
                         dom_msgs.append(f"{name}: {ed}")

@@ -99,6 +99,7 @@ class QtMainWindow(QMainWindow):
         self._old_workers: list[ExtractWorker] = []
         self._pending_view: dict | None = None
         self._pending_title = ""
+        self._title_system = None      # (formulas, variables) the pending title belongs to
         self._run_t0 = 0.0
         self._closing = False
         self.last_status = ""
@@ -162,6 +163,7 @@ class QtMainWindow(QMainWindow):
         self.setCentralWidget(split)
 
         self._make_menus()
+        self.statusBar()   # shows the menus' status tips (example descriptions)
         self._timer = QTimer(self)
         self._timer.setInterval(100)
         self._timer.timeout.connect(self._tick)
@@ -235,9 +237,8 @@ class QtMainWindow(QMainWindow):
 
     # ------------------------------------------------------------------ status
     def set_status(self, text: str, error: bool = False) -> None:
-        """The message line under the result (errors in red); also shown in the status bar."""
+        """The message line under the result (errors in red)."""
         self.last_status = text
-        self.statusBar().showMessage(text.splitlines()[0] if text else "", 8000)
         self.status_label.setStyleSheet("color: #c22;" if error else "")
         self.status_label.setText(text)
 
@@ -270,6 +271,7 @@ class QtMainWindow(QMainWindow):
             method=method, seed=0, start=list(ex.start) if ex.start else None))
         self._pending_view = dict(ex.view or {})
         self._pending_title = ex.title
+        self._title_system = ([f.strip() for f in ex.formulas], list(ex.variables))
         self.setWindowTitle(f"GCMH Studio \u2014 {ex.title}")
         self.set_status(" ".join(str(ex.description).split()))
         if run:
@@ -366,16 +368,23 @@ class QtMainWindow(QMainWindow):
             self._old_workers.append(w)
         self._update_buttons()
 
-    def _on_done(self, cx) -> None:
+    def _on_done(self, cx, geometry=None) -> None:
         if self.sender() is not self.worker:
             return
         job = self._job
         self._finish()
         self.progress.setValue(1000)
         self.progress.setFormat(f"done \u00b7 {time.perf_counter() - self._run_t0:.1f} s")
-        title = self._pending_title
-        self.show_result(cx, job.variables, view=self._pending_view, title=title)
-        self._pending_view = None
+        same_system = self._title_system is not None and self._title_system == (job.formulas, job.variables)
+        title = self._pending_title if same_system else ""
+        try:
+            self.show_result(cx, job.variables, view=self._pending_view, title=title, geometry=geometry)
+        except Exception as e:  # noqa: BLE001 - a drawing problem must not take the window down
+            self.set_status(f"Could not draw the result: {type(e).__name__}: {e}", error=True)
+            self.runFinished.emit("failed")
+            return
+        finally:
+            self._pending_view = None
         self.result_label.setText(summarize(cx))
         if cx.count(0) == 0:
             self.set_status("The result is empty: F has no sign change on this grid. Widen the domain, "
@@ -410,14 +419,14 @@ class QtMainWindow(QMainWindow):
         w.deleteLater()
 
     # ------------------------------------------------------------------ view
-    def show_result(self, cx, names, view: dict | None = None, title: str = "") -> None:
+    def show_result(self, cx, names, view: dict | None = None, title: str = "", geometry=None) -> None:
         """Put a CellComplex on screen (GUI thread)."""
         names = list(names)
         prev_dim = self.result.dim if self.result is not None else None
         prev_names = self.result_names
         self.result = cx
         self.result_names = names
-        self.result_title = title or self.result_title
+        self.result_title = title
         pp = self.projection_panel
         pp.set_variables(names, keep=(names == prev_names))
         pp.model.set_vertices(cx.vertices)
@@ -425,7 +434,7 @@ class QtMainWindow(QMainWindow):
             pp.set_style_defaults(cx.dim)
         if view:
             pp.apply_view(view)
-        self.scene.set_complex(cx, names, pp.matrix(), self._style())
+        self.scene.set_complex(cx, names, pp.matrix(), self._style(), geometry=geometry)
         self.reset_camera()
         self.resultChanged.emit(cx)
 
@@ -498,6 +507,7 @@ class QtMainWindow(QMainWindow):
             return False
         self.formula_panel.set_state(system)
         self._pending_title = d.get("title", "")
+        self._title_system = (self.formula_panel.formulas(), self.formula_panel.variables())
         self._session_view = d.get("view") or {}
         self._session_camera = d.get("camera")
         self._pending_view = None

@@ -140,6 +140,8 @@ class QtProjectionPanel(QWidget):
             self.color_combo.addItem(SOLID, None)
             for nm in names:
                 self.color_combo.addItem(nm, nm)
+            if color not in names and not keep and names:
+                color = names[-1]   # a new system: colour by its last coordinate
             i = self.color_combo.findData(color) if color in names else 0
             self.color_combo.setCurrentIndex(max(i, 0))
             self.kind_combo.setCurrentIndex(self.kind_combo.findData(self.model.kind))

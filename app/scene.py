@@ -1,19 +1,11 @@
 """Drawing a CellComplex through a projection on any pyvista plotter (no Qt here).
 
-:class:`Scene` owns one pyvista mesh built once per result: lines for curves
-(dim 1), filled polygons for surfaces (dim 2), the 2-skeleton for higher
-dimensions. Moving a projection slider calls :meth:`Scene.set_projection`,
-which writes the projected points (and, for surfaces, the exact vertex normals
-of the projected mesh) in place into the mesh's VTK arrays and re-renders: no
-new mesh, no new actor, same topology.
-
-Smooth shading of a projected surface: the area-weighted normal of a triangle
-(a, b) after projection is ``Pa x Pb = sum_{i<j} (a_i b_j - a_j b_i) (P_i x P_j)``
-(``P_i`` = column i of ``P``), linear in the bivector ``a ^ b``. So each vertex
-keeps the sum of its faces' bivectors in R^n (computed once, signs aligned with
-a neighbour because surfaces such as the Klein bottle are not orientable; the
-renderer lights both sides), and a slider step gets all normals with one more
-``(V, m) @ (m, 3)`` matmul, ``m = n(n-1)/2``.
+:class:`Scene` owns one pyvista mesh built once per result from an
+:class:`app.geometry.Geometry`: lines for curves (dim 1), filled polygons for
+surfaces (dim 2), the 2-skeleton for higher dimensions. Moving a projection
+slider calls :meth:`Scene.set_projection`, which writes the projected points
+(and, for surfaces, the vertex normals of the projected mesh) in place into the
+mesh's VTK arrays and re-renders: no new mesh, no new actor, same topology.
 
 The same class renders into the Qt window (a ``pyvistaqt.QtInteractor``) and
 into an off-screen ``pyvista.Plotter`` for headless screenshots.
@@ -26,7 +18,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import pyvista as pv
 
-from .projection import Projector, planes
+from .geometry import Geometry
+from .projection import Projector
 
 BACKGROUND = "#1f2430"
 BACKGROUND_TOP = "#4a5468"
@@ -43,7 +36,7 @@ class Style:
     cmap: str = CMAP
     opacity: float | None = None     # None: 1 for curves and surfaces, 0.35 above
     show_edges: bool | None = None   # None: off for surfaces, on above
-    line_width: float = 3.0
+    line_width: float = 5.0
     title: str = ""
     subtitle: str = ""
     scalar_bar: bool = True
@@ -59,258 +52,6 @@ class Style:
         if self.show_edges is not None:
             return bool(self.show_edges)
         return dim >= 3
-
-
-def polygon_faces(offsets: np.ndarray, vids: np.ndarray) -> np.ndarray:
-    """VTK legacy face array ``[m0, v.., m1, v.., ...]`` from a CSR list of loops."""
-    offsets = np.asarray(offsets, dtype=np.int64)
-    vids = np.asarray(vids, dtype=np.int64)
-    sizes = np.diff(offsets)
-    N = len(sizes)
-    out = np.empty(len(vids) + N, dtype=np.int64)
-    heads = offsets[:-1] + np.arange(N)
-    out[heads] = sizes
-    mask = np.ones(len(out), dtype=bool)
-    mask[heads] = False
-    out[mask] = vids
-    return out
-
-
-def _proper_polygons(offsets, vids):
-    """Drop loops with fewer than 3 vertices (degenerate 2-cells can't be drawn as polygons)."""
-    offsets = np.asarray(offsets, dtype=np.int64)
-    vids = np.asarray(vids, dtype=np.int64)
-    sizes = np.diff(offsets)
-    if len(sizes) == 0 or sizes.min() >= 3:
-        return offsets, vids
-    keep = sizes >= 3
-    vids = vids[np.repeat(keep, sizes)]
-    offsets = np.concatenate([[0], np.cumsum(sizes[keep])])
-    return offsets, vids
-
-
-def _wedge(a: np.ndarray, b: np.ndarray, pairs) -> np.ndarray:
-    """Bivector components ``a_i b_j - a_j b_i`` for each pair (i, j): (m, len(pairs))."""
-    I = np.array([p[0] for p in pairs], dtype=np.int64)
-    J = np.array([p[1] for p in pairs], dtype=np.int64)
-    return a[:, I] * b[:, J] - a[:, J] * b[:, I]
-
-
-def _orientation_flips(face_of, vids, nxt, n_faces: int) -> np.ndarray:
-    """Flip bits that orient the polygons coherently (BFS over faces sharing an edge).
-
-    Two faces sharing an edge agree when they run through it in opposite
-    directions. On a non-orientable piece the first assignment wins and a seam
-    remains. Returns (n_faces,) bool.
-    """
-    a = vids
-    b = vids[nxt]
-    lo = np.minimum(a, b)
-    hi = np.maximum(a, b)
-    fwd = a < b
-    V = int(vids.max()) + 1 if len(vids) else 1
-    key = lo * V + hi
-    order = np.argsort(key, kind="stable")
-    ks = key[order]
-    same = np.flatnonzero(ks[1:] == ks[:-1])        # consecutive corners on one edge
-    c1, c2 = order[same], order[same + 1]
-    f1, f2 = face_of[c1], face_of[c2]
-    rel = (fwd[c1] == fwd[c2]).astype(np.int8)       # 1: must differ in flip
-    ok = f1 != f2
-    f1, f2, rel = f1[ok], f2[ok], rel[ok]
-    # CSR adjacency, both directions
-    src = np.concatenate([f1, f2])
-    dst = np.concatenate([f2, f1])
-    rr = np.concatenate([rel, rel])
-    o = np.argsort(src, kind="stable")
-    src, dst, rr = src[o], dst[o], rr[o]
-    ptr = np.zeros(n_faces + 1, dtype=np.int64)
-    np.cumsum(np.bincount(src, minlength=n_faces), out=ptr[1:])
-    return _bfs_flips(ptr, dst.astype(np.int64), rr, n_faces)
-
-
-def _bfs_flips(ptr, dst, rel, n_faces):
-    try:
-        from numba import njit
-    except ImportError:  # pragma: no cover - numba is a dependency of gcmh_core
-        njit = None
-    global _BFS
-    if _BFS is None:
-        def bfs(ptr, dst, rel, n_faces):
-            flip = np.zeros(n_faces, dtype=np.bool_)
-            seen = np.zeros(n_faces, dtype=np.bool_)
-            queue = np.empty(n_faces, dtype=np.int64)
-            for s in range(n_faces):
-                if seen[s]:
-                    continue
-                seen[s] = True
-                head = 0
-                tail = 1
-                queue[0] = s
-                while head < tail:
-                    f = queue[head]
-                    head += 1
-                    for e in range(ptr[f], ptr[f + 1]):
-                        g = dst[e]
-                        if not seen[g]:
-                            seen[g] = True
-                            flip[g] = flip[f] ^ (rel[e] == 1)
-                            queue[tail] = g
-                            tail += 1
-            return flip
-        _BFS = njit(cache=True, nogil=True)(bfs) if njit is not None else bfs
-    return _BFS(ptr, dst, rel, n_faces)
-
-
-_BFS = None
-
-
-def orient_polygons(offsets: np.ndarray, vids: np.ndarray) -> np.ndarray:
-    """The loops with some reversed so that neighbouring polygons wind the same way."""
-    offsets = np.asarray(offsets, dtype=np.int64)
-    vids = np.asarray(vids, dtype=np.int64)
-    N = len(offsets) - 1
-    if N == 0:
-        return vids
-    sizes = np.diff(offsets)
-    face_of = np.repeat(np.arange(N), sizes)
-    pos = np.arange(len(vids))
-    nxt = pos + 1
-    nxt[offsets[1:] - 1] = offsets[:-1]
-    flip = _orientation_flips(face_of, vids, nxt, N)
-    if not flip.any():
-        return vids
-    # reverse flipped loops: position p in face f -> offsets[f] + (offsets[f+1] - 1 - p)
-    src = pos.copy()
-    fl = flip[face_of]
-    src[fl] = offsets[face_of[fl]] + offsets[face_of[fl] + 1] - 1 - pos[fl]
-    return vids[src]
-
-
-def vertex_bivectors(vertices: np.ndarray, offsets: np.ndarray, vids: np.ndarray) -> np.ndarray:
-    """Per-vertex sum of the area bivectors of its polygons (V, n(n-1)/2) float64.
-
-    Pass loops oriented by :func:`orient_polygons`; where orientation fails (a
-    non-orientable seam) each face's sign is also aligned with one reference
-    face at the vertex, so normals never cancel. Order of components: planes().
-    """
-    X = np.asarray(vertices, dtype=np.float64)
-    V, n = X.shape
-    pairs = planes(n)
-    m = len(pairs)
-    offsets = np.asarray(offsets, dtype=np.int64)
-    vids = np.asarray(vids, dtype=np.int64)
-    N = len(offsets) - 1
-    if N == 0 or m == 0:
-        return np.zeros((V, m))
-    sizes = np.diff(offsets)
-    face_of = np.repeat(np.arange(N), sizes)
-    pos = np.arange(len(vids))
-    nxt = pos + 1
-    nxt[offsets[1:] - 1] = offsets[:-1]
-    Xf = np.where(np.isfinite(X), X, 0.0)
-    csum = np.add.reduceat(Xf[vids], offsets[:-1], axis=0)
-    cent = csum / np.maximum(sizes, 1)[:, None]
-    a = Xf[vids] - cent[face_of]
-    b = Xf[vids[nxt]] - cent[face_of]
-    w = 0.5 * _wedge(a, b, pairs)                     # (corners, m)
-    Bf = np.add.reduceat(w, offsets[:-1], axis=0)     # (N, m) face bivectors
-    ref_face = np.full(V, -1, dtype=np.int64)
-    ref_face[vids[::-1]] = face_of[::-1]              # first incident face wins
-    s = np.sign(np.einsum("ij,ij->i", Bf[face_of], Bf[ref_face[vids]]))
-    s[s == 0] = 1.0
-    Bv = np.zeros((V, m))
-    for c in range(m):
-        Bv[:, c] = np.bincount(vids, weights=s * Bf[face_of, c], minlength=V)
-    return Bv
-
-
-def cross_table(P: np.ndarray) -> np.ndarray:
-    """(m, 3) rows ``P_i x P_j`` for the planes (i, j) of R^n; P is (3, n)."""
-    n = P.shape[1]
-    pairs = planes(n)
-    if not pairs:
-        return np.zeros((0, 3))
-    I = [p[0] for p in pairs]
-    J = [p[1] for p in pairs]
-    return np.cross(P[:, I].T, P[:, J].T)
-
-
-def tangent_pair(Bv: np.ndarray, n: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
-    """Two tangent vectors (V, n) per vertex with ``t1 ^ t2`` = the bivector ``Bv`` when it is simple.
-
-    With M the antisymmetric matrix of B and any vector a: u = M a and w = M u
-    lie in B's plane and ``B = -(u ^ w) / |u|^2``. A surface's summed bivector
-    is nearly simple, so this is accurate; it lets normals be computed with two
-    (3, n) projections instead of n(n-1)/2 components. Rows of Bv that are 0
-    give zero tangents.
-    """
-    pairs = planes(n)
-    I = np.array([p[0] for p in pairs])
-    J = np.array([p[1] for p in pairs])
-    V = len(Bv)
-
-    def apply(x):  # M x per vertex, M_ij = B_ij (i<j), M_ji = -B_ij
-        y = np.zeros((V, n))
-        for c, (i, j) in enumerate(pairs):
-            y[:, i] += Bv[:, c] * x[:, j]
-            y[:, j] -= Bv[:, c] * x[:, i]
-        return y
-
-    best_u = np.zeros((V, n))
-    best_norm = np.zeros(V)
-    rng = np.random.default_rng(seed)
-    for _ in range(3):  # a few probe vectors: keep the one with the largest |M a|
-        a = np.broadcast_to(rng.standard_normal(n), (V, n))
-        u = apply(a)
-        nu = np.einsum("ij,ij->i", u, u)
-        better = nu > best_norm
-        best_u[better] = u[better]
-        best_norm[better] = nu[better]
-    w = apply(best_u)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t2 = np.where(best_norm[:, None] > 0, -w / best_norm[:, None], 0.0)
-    return best_u, t2
-
-
-class NormalField:
-    """Vertex normals of the projected surface for any projection P, fast.
-
-    n <= 5: exact, ``N = Bv @ cross_table(P)`` (m = n(n-1)/2 <= 10 columns).
-    n > 5: ``N = (P t1) x (P t2)`` with the tangent pair of :func:`tangent_pair`.
-    Arrays are stored transposed (components, V) float32 for wide matmuls.
-    """
-
-    def __init__(self, Bv: np.ndarray, n: int):
-        self.n = n
-        V = len(Bv)
-        if n <= 5:
-            self.mode = "bivector"
-            self.BT = np.ascontiguousarray(Bv.T, dtype=np.float32)
-        else:
-            self.mode = "tangents"
-            t1, t2 = tangent_pair(Bv, n)
-            self.T1 = np.ascontiguousarray(t1.T, dtype=np.float32)
-            self.T2 = np.ascontiguousarray(t2.T, dtype=np.float32)
-            self._a = np.empty((3, V), dtype=np.float32)
-            self._b = np.empty((3, V), dtype=np.float32)
-            self._t = np.empty(V, dtype=np.float32)
-
-    def write(self, P: np.ndarray, out: np.ndarray) -> None:
-        """Write (V, 3) normals for projection P (3, n) into ``out`` (C-contiguous float32)."""
-        oT = out.T
-        if self.mode == "bivector":
-            C = cross_table(np.asarray(P, dtype=np.float64)).astype(np.float32)
-            np.matmul(C.T, self.BT, out=oT)
-            return
-        P32 = np.asarray(P, dtype=np.float32)
-        a, b, t = self._a, self._b, self._t
-        np.matmul(P32, self.T1, out=a)
-        np.matmul(P32, self.T2, out=b)
-        for r, (i, j) in enumerate(((1, 2), (2, 0), (0, 1))):
-            np.multiply(a[i], b[j], out=oT[r])
-            np.multiply(a[j], b[i], out=t)
-            np.subtract(oT[r], t, out=oT[r])
 
 
 class Scene:
@@ -359,36 +100,33 @@ class Scene:
         self.projector = None
         self._pts = self._normals = self._normal_field = None
 
-    def set_complex(self, cx, names, P: np.ndarray, style: Style | None = None) -> None:
-        """Build the mesh of ``cx`` (a CellComplex) projected by ``P`` (3, n) and show it."""
+    def set_complex(self, cx, names, P: np.ndarray, style: Style | None = None,
+                    geometry: Geometry | None = None) -> None:
+        """Build the mesh of ``cx`` (a CellComplex) projected by ``P`` (3, n) and show it.
+
+        ``geometry``: :meth:`Geometry.build` of ``cx`` if already made (the worker makes it
+        off the GUI thread); otherwise it is built here.
+        """
         self.clear()
         if style is not None:
             self.style = style
         if cx.count(0) == 0:   # nothing to draw (pyvista refuses empty meshes)
             self._set_title()
             return
+        geo = geometry if geometry is not None else Geometry.build(cx)
         self.complex = cx
         self.names = list(names)
         V = cx.vertices
-        self.projector = Projector(V)
+        self.projector = geo.projector
         pts = self.projector.project(P)
-        dim = cx.dim
-        if dim <= 1 or len(V) == 0:
-            edges = np.asarray(cx.edges, dtype=np.int64).reshape(-1, 2)
-            lines = np.empty((len(edges), 3), dtype=np.int64)
-            lines[:, 0] = 2
-            lines[:, 1:] = edges
-            mesh = pv.PolyData(pts, lines=lines.ravel()) if len(edges) else pv.PolyData(pts)
+        if geo.kind == "lines":
+            mesh = pv.PolyData(pts, lines=geo.cells) if len(geo.cells) else pv.PolyData(pts)
         else:
-            offsets, vids = _proper_polygons(*cx.polygons())
-            if dim == 2:
-                vids = orient_polygons(offsets, vids)
-            faces = polygon_faces(offsets, vids)
-            mesh = pv.PolyData(pts, faces=faces) if len(faces) else pv.PolyData(pts)
-            if dim == 2 and len(faces):
-                self._normal_field = NormalField(vertex_bivectors(V, offsets, vids), cx.n)
-                mesh.point_data["Normals"] = np.zeros((len(V), 3), dtype=np.float32)
-                mesh.point_data.active_normals_name = "Normals"
+            mesh = pv.PolyData(pts, faces=geo.cells) if len(geo.cells) else pv.PolyData(pts)
+        self._normal_field = geo.normals
+        if self._normal_field is not None:
+            mesh.point_data["Normals"] = np.zeros((len(V), 3), dtype=np.float32)
+            mesh.point_data.active_normals_name = "Normals"
         for i, name in enumerate(self.names):
             mesh.point_data[name] = np.ascontiguousarray(V[:, i])
         self.mesh = mesh
@@ -599,11 +337,59 @@ def describe(cx, names, color_by=None) -> str:
 
 
 def default_camera(plotter) -> None:
-    """An oblique view from above that fits the whole mesh."""
+    """An oblique view from above, zoomed so the object fills the picture between title and colour bar."""
     plotter.view_vector((1.0, -1.6, 1.1), viewup=(0.0, 0.0, 1.0), render=False)
     plotter.reset_camera(render=False)
-    plotter.camera.zoom(1.2)
+    fit_camera(plotter, margin_x=0.68, margin_y=0.76)
     plotter.renderer.ResetCameraClippingRange()
+
+
+def fit_camera(plotter, margin_x: float = 0.9, margin_y: float = 0.9, max_points: int = 50_000) -> None:
+    """Change the view angle so the shown points just fit (perspective camera, direction kept).
+
+    The points fill at most ``margin_x`` of the half-width and ``margin_y`` of the half-height.
+    """
+    pts = []
+    for actor in plotter.renderer.actors.values():
+        try:
+            if not actor.GetVisibility():
+                continue
+            ds = actor.GetMapper().GetInput()
+            n = ds.GetNumberOfPoints()
+        except AttributeError:
+            continue
+        if n == 0:
+            continue
+        P = pv.wrap(ds).points
+        step = max(1, n // max_points)
+        pts.append(np.asarray(P[::step], dtype=float))
+    if not pts:
+        return
+    X = np.concatenate(pts)
+    X = X[np.all(np.isfinite(X), axis=1)]
+    if len(X) == 0:
+        return
+    cam = plotter.camera
+    w, h = plotter.window_size
+    aspect = max(1e-6, w / max(h, 1))
+    for _ in range(2):  # centre the points on screen, then fit them
+        M = np.array([[cam.GetViewTransformMatrix().GetElement(i, j) for j in range(4)] for i in range(4)])
+        Y = X @ M[:3, :3].T + M[:3, 3]
+        depth = -Y[:, 2]
+        if np.any(depth <= 1e-9):
+            return
+        u = Y[:, 0] / depth
+        v = Y[:, 1] / depth
+        u0 = 0.5 * (u.min() + u.max())
+        v0 = 0.5 * (v.min() + v.max())
+        D = cam.distance
+        shift = D * (u0 * M[0, :3] + v0 * M[1, :3])   # rows of M: camera right, up, -forward
+        cam.focal_point = tuple(np.asarray(cam.focal_point) + shift)
+        cam.position = tuple(np.asarray(cam.position) + shift)
+    need = max(np.max(np.abs(v - v0)) / margin_y, np.max(np.abs(u - u0)) / (aspect * margin_x))
+    if not np.isfinite(need) or need <= 0:
+        return
+    cam.view_angle = float(min(max(2 * np.degrees(np.arctan(need)), 1.0), 120.0))
 
 
 def copy_camera(src, dst) -> None:

@@ -2,7 +2,9 @@
 
 :class:`ExtractWorker` is a ``QThread``: ``start()`` runs the extraction,
 progress arrives as the ``progress(phase, fraction, seconds)`` signal (queued
-to the GUI thread, at most ~20 per second), and exactly one of ``done(complex)``,
+to the GUI thread, at most ~20 per second), and exactly one of
+``done(complex, geometry)`` (the drawing arrays of :class:`app.geometry.Geometry`
+are prepared here too, so the GUI thread only hands them to VTK),
 ``failed(message)`` or ``cancelled()`` ends a run. ``cancel()`` sets a flag the
 engine polls through its ``cancel`` callback; the engine then raises
 ``gcmh_core.errors.Cancelled``. No VTK, pyvista or widget is touched here.
@@ -51,7 +53,7 @@ class ExtractWorker(QThread):
     """One extraction in a thread. Create a new worker per run."""
 
     progress = Signal(str, float, float)   # phase, fraction in [0, 1], elapsed seconds
-    done = Signal(object)                  # the CellComplex
+    done = Signal(object, object)          # the CellComplex, its Geometry (or None)
     failed = Signal(str)                   # a one-line message for the status area
     cancelled = Signal()
 
@@ -117,5 +119,17 @@ class ExtractWorker(QThread):
         if self._cancel.is_set():
             self.cancelled.emit()
             return
+        geometry = None
+        if cx.count(0):
+            self.progress.emit("preparing the view", 1.0, time.perf_counter() - self._t0)
+            try:
+                from .geometry import Geometry
+
+                geometry = Geometry.build(cx)
+            except Exception:  # noqa: BLE001 - the GUI thread will build it (and report) instead
+                self.traceback = traceback.format_exc()
+        if self._cancel.is_set():
+            self.cancelled.emit()
+            return
         self.result = cx
-        self.done.emit(cx)
+        self.done.emit(cx, geometry)

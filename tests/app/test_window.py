@@ -439,7 +439,6 @@ def test_exports(qtbot, window, tmp_path):
 
 
 def test_shortcuts(window):
-    from qtpy.QtGui import QKeySequence
 
     def keys(a):
         return {s.toString() for s in a.shortcuts()}
@@ -550,3 +549,28 @@ def test_continuation_from_the_panel(qtbot, window):
     assert p.is_valid()
     assert run_and_wait(qtbot, window) == "done"
     assert window.result.counts() == full
+
+
+def test_own_system_after_an_example_drops_the_example_title(qtbot, window):
+    with qtbot.waitSignal(window.runFinished, timeout=60_000):
+        window.load_example("torus")
+    assert window.scene.style.title
+    set_system(qtbot, window, 3, 1, ["x1^2 + x2^2 + x3^2 - 1"], div="6", variables=["x1", "x2", "x3"])
+    assert run_and_wait(qtbot, window) == "done"
+    assert window.scene.style.title == ""
+    assert window.projection_panel.color_by() == "x3"   # a new system is coloured by its last coordinate
+
+
+def test_headless_view_options(tmp_path):
+    env = dict(os.environ)
+    env["PYTHONPATH"] = REPO + os.pathsep + env.get("PYTHONPATH", "")
+    out = tmp_path / "c.png"
+    r = subprocess.run([sys.executable, "-m", "app", "--example", "complex-cosine", "--screenshot", str(out),
+                        "--size", "320x240", "--div", "8", "--project", "u,v,y", "--color", "x",
+                        "--rotate", "v-x=30", "--transparent"], cwd=REPO, env=env,
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    assert out.stat().st_size > 0
+    bad = subprocess.run([sys.executable, "-m", "app", "--example", "complex-cosine", "--screenshot", str(out),
+                          "--project", "u,v,q"], cwd=REPO, env=env, capture_output=True, text=True, timeout=300)
+    assert bad.returncode == 2 and "variables are" in bad.stderr

@@ -1,0 +1,325 @@
+"""Geometry of a CellComplex for drawing, in numpy only (no Qt, no VTK): safe in the worker thread.
+
+:class:`Geometry` holds what the viewer needs to draw a result and to redraw it
+quickly under any projection: the VTK-style cell array (lines for curves,
+polygons for surfaces and 2-skeletons), the centred float32 vertices
+(:class:`app.projection.Projector`) and, for surfaces, a :class:`NormalField`.
+
+Smooth shading of a projected surface: the area-weighted normal of a triangle
+(a, b) after projection is ``Pa x Pb = sum_{i<j} (a_i b_j - a_j b_i) (P_i x P_j)``
+(``P_i`` = column i of ``P``), linear in the bivector ``a ^ b``. So each vertex
+keeps the sum of its faces' bivectors in R^n (computed once, from polygons
+oriented coherently by a BFS; where a surface is not orientable the signs are
+also aligned with one neighbour), and a slider step gets every vertex normal
+with one more small matmul.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .projection import Projector, planes
+
+
+def polygon_faces(offsets: np.ndarray, vids: np.ndarray) -> np.ndarray:
+    """VTK legacy face array ``[m0, v.., m1, v.., ...]`` from a CSR list of loops."""
+    offsets = np.asarray(offsets, dtype=np.int64)
+    vids = np.asarray(vids, dtype=np.int64)
+    sizes = np.diff(offsets)
+    N = len(sizes)
+    out = np.empty(len(vids) + N, dtype=np.int64)
+    heads = offsets[:-1] + np.arange(N)
+    out[heads] = sizes
+    mask = np.ones(len(out), dtype=bool)
+    mask[heads] = False
+    out[mask] = vids
+    return out
+
+
+def _proper_polygons(offsets, vids):
+    """Drop loops with fewer than 3 vertices (degenerate 2-cells can't be drawn as polygons)."""
+    offsets = np.asarray(offsets, dtype=np.int64)
+    vids = np.asarray(vids, dtype=np.int64)
+    sizes = np.diff(offsets)
+    if len(sizes) == 0 or sizes.min() >= 3:
+        return offsets, vids
+    keep = sizes >= 3
+    vids = vids[np.repeat(keep, sizes)]
+    offsets = np.concatenate([[0], np.cumsum(sizes[keep])])
+    return offsets, vids
+
+
+def _wedge(a: np.ndarray, b: np.ndarray, pairs) -> np.ndarray:
+    """Bivector components ``a_i b_j - a_j b_i`` for each pair (i, j): (m, len(pairs))."""
+    I = np.array([p[0] for p in pairs], dtype=np.int64)
+    J = np.array([p[1] for p in pairs], dtype=np.int64)
+    return a[:, I] * b[:, J] - a[:, J] * b[:, I]
+
+
+def _orientation_flips(face_of, vids, nxt, n_faces: int) -> np.ndarray:
+    """Flip bits that orient the polygons coherently (BFS over faces sharing an edge).
+
+    Two faces sharing an edge agree when they run through it in opposite
+    directions. On a non-orientable piece the first assignment wins and a seam
+    remains. Returns (n_faces,) bool.
+    """
+    a = vids
+    b = vids[nxt]
+    lo = np.minimum(a, b)
+    hi = np.maximum(a, b)
+    fwd = a < b
+    V = int(vids.max()) + 1 if len(vids) else 1
+    key = lo * V + hi
+    order = np.argsort(key, kind="stable")
+    ks = key[order]
+    same = np.flatnonzero(ks[1:] == ks[:-1])        # consecutive corners on one edge
+    c1, c2 = order[same], order[same + 1]
+    f1, f2 = face_of[c1], face_of[c2]
+    rel = (fwd[c1] == fwd[c2]).astype(np.int8)       # 1: must differ in flip
+    ok = f1 != f2
+    f1, f2, rel = f1[ok], f2[ok], rel[ok]
+    # CSR adjacency, both directions
+    src = np.concatenate([f1, f2])
+    dst = np.concatenate([f2, f1])
+    rr = np.concatenate([rel, rel])
+    o = np.argsort(src, kind="stable")
+    src, dst, rr = src[o], dst[o], rr[o]
+    ptr = np.zeros(n_faces + 1, dtype=np.int64)
+    np.cumsum(np.bincount(src, minlength=n_faces), out=ptr[1:])
+    return _bfs_flips(ptr, dst.astype(np.int64), rr, n_faces)
+
+
+def _bfs_flips(ptr, dst, rel, n_faces):
+    try:
+        from numba import njit
+    except ImportError:  # pragma: no cover - numba is a dependency of gcmh_core
+        njit = None
+    global _BFS
+    if _BFS is None:
+        def bfs(ptr, dst, rel, n_faces):
+            flip = np.zeros(n_faces, dtype=np.bool_)
+            seen = np.zeros(n_faces, dtype=np.bool_)
+            queue = np.empty(n_faces, dtype=np.int64)
+            for s in range(n_faces):
+                if seen[s]:
+                    continue
+                seen[s] = True
+                head = 0
+                tail = 1
+                queue[0] = s
+                while head < tail:
+                    f = queue[head]
+                    head += 1
+                    for e in range(ptr[f], ptr[f + 1]):
+                        g = dst[e]
+                        if not seen[g]:
+                            seen[g] = True
+                            flip[g] = flip[f] ^ (rel[e] == 1)
+                            queue[tail] = g
+                            tail += 1
+            return flip
+        _BFS = njit(cache=True, nogil=True)(bfs) if njit is not None else bfs
+    return _BFS(ptr, dst, rel, n_faces)
+
+
+_BFS = None
+
+
+def orient_polygons(offsets: np.ndarray, vids: np.ndarray) -> np.ndarray:
+    """The loops with some reversed so that neighbouring polygons wind the same way."""
+    offsets = np.asarray(offsets, dtype=np.int64)
+    vids = np.asarray(vids, dtype=np.int64)
+    N = len(offsets) - 1
+    if N == 0:
+        return vids
+    sizes = np.diff(offsets)
+    face_of = np.repeat(np.arange(N), sizes)
+    pos = np.arange(len(vids))
+    nxt = pos + 1
+    nxt[offsets[1:] - 1] = offsets[:-1]
+    flip = _orientation_flips(face_of, vids, nxt, N)
+    if not flip.any():
+        return vids
+    # reverse flipped loops: position p in face f -> offsets[f] + (offsets[f+1] - 1 - p)
+    src = pos.copy()
+    fl = flip[face_of]
+    src[fl] = offsets[face_of[fl]] + offsets[face_of[fl] + 1] - 1 - pos[fl]
+    return vids[src]
+
+
+def vertex_bivectors(vertices: np.ndarray, offsets: np.ndarray, vids: np.ndarray) -> np.ndarray:
+    """Per-vertex sum of the area bivectors of its polygons (V, n(n-1)/2) float64.
+
+    Pass loops oriented by :func:`orient_polygons`; where orientation fails (a
+    non-orientable seam) each face's sign is also aligned with one reference
+    face at the vertex, so normals never cancel. Order of components: planes().
+    """
+    X = np.asarray(vertices, dtype=np.float64)
+    V, n = X.shape
+    pairs = planes(n)
+    m = len(pairs)
+    offsets = np.asarray(offsets, dtype=np.int64)
+    vids = np.asarray(vids, dtype=np.int64)
+    N = len(offsets) - 1
+    if N == 0 or m == 0:
+        return np.zeros((V, m))
+    sizes = np.diff(offsets)
+    face_of = np.repeat(np.arange(N), sizes)
+    pos = np.arange(len(vids))
+    nxt = pos + 1
+    nxt[offsets[1:] - 1] = offsets[:-1]
+    Xf = np.where(np.isfinite(X), X, 0.0)
+    csum = np.add.reduceat(Xf[vids], offsets[:-1], axis=0)
+    cent = csum / np.maximum(sizes, 1)[:, None]
+    a = Xf[vids] - cent[face_of]                      # (corners, n), column by column below
+    b = Xf[vids[nxt]] - cent[face_of]
+    aT = np.ascontiguousarray(a.T)
+    bT = np.ascontiguousarray(b.T)
+    del a, b
+    Bf = np.empty((N, m))                             # face bivectors, one plane at a time (little memory)
+    for c, (i, j) in enumerate(pairs):
+        w = aT[i] * bT[j]
+        w -= aT[j] * bT[i]
+        Bf[:, c] = 0.5 * np.add.reduceat(w, offsets[:-1])
+    del aT, bT
+    ref_face = np.full(V, -1, dtype=np.int64)
+    ref_face[vids[::-1]] = face_of[::-1]              # first incident face wins
+    BfT = np.ascontiguousarray(Bf.T)
+    ref = ref_face[vids]
+    dot = np.zeros(len(vids))                         # <face bivector, reference bivector> per corner
+    for c in range(m):
+        dot += BfT[c][face_of] * BfT[c][ref]
+    s = np.sign(dot)
+    s[s == 0] = 1.0
+    Bv = np.zeros((V, m))
+    for c in range(m):
+        Bv[:, c] = np.bincount(vids, weights=s * BfT[c][face_of], minlength=V)
+    return Bv
+
+
+def cross_table(P: np.ndarray) -> np.ndarray:
+    """(m, 3) rows ``P_i x P_j`` for the planes (i, j) of R^n; P is (3, n)."""
+    n = P.shape[1]
+    pairs = planes(n)
+    if not pairs:
+        return np.zeros((0, 3))
+    I = [p[0] for p in pairs]
+    J = [p[1] for p in pairs]
+    return np.cross(P[:, I].T, P[:, J].T)
+
+
+def tangent_pair(Bv: np.ndarray, n: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """Two tangent vectors (V, n) per vertex with ``t1 ^ t2`` = the bivector ``Bv`` when it is simple.
+
+    With M the antisymmetric matrix of B and any vector a: u = M a and w = M u
+    lie in B's plane and ``B = -(u ^ w) / |u|^2``. A surface's summed bivector
+    is nearly simple, so this is accurate; it lets normals be computed with two
+    (3, n) projections instead of n(n-1)/2 components. Rows of Bv that are 0
+    give zero tangents.
+    """
+    pairs = planes(n)
+    V = len(Bv)
+    BT = np.ascontiguousarray(Bv.T)
+
+    def apply(x):  # M x per vertex, M_ij = B_ij (i<j), M_ji = -B_ij; x and the result are (n, V)
+        y = np.zeros((n, V))
+        for c, (i, j) in enumerate(pairs):
+            y[i] += BT[c] * x[j]
+            y[j] -= BT[c] * x[i]
+        return y
+
+    best_u = np.zeros((n, V))
+    best_norm = np.zeros(V)
+    rng = np.random.default_rng(seed)
+    for _ in range(3):  # a few probe vectors: keep the one with the largest |M a|
+        a = rng.standard_normal(n)
+        u = np.zeros((n, V))
+        for c, (i, j) in enumerate(pairs):
+            u[i] += BT[c] * a[j]
+            u[j] -= BT[c] * a[i]
+        nu = np.einsum("iv,iv->v", u, u)
+        better = nu > best_norm
+        best_u[:, better] = u[:, better]
+        best_norm[better] = nu[better]
+    w = apply(best_u)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t2 = np.where(best_norm > 0, -w / best_norm, 0.0)
+    return best_u.T, t2.T
+
+
+class NormalField:
+    """Vertex normals of the projected surface for any projection P, fast.
+
+    n <= 5: exact, ``N = Bv @ cross_table(P)`` (m = n(n-1)/2 <= 10 columns).
+    n > 5: ``N = (P t1) x (P t2)`` with the tangent pair of :func:`tangent_pair`.
+    Arrays are stored transposed (components, V) float32 for wide matmuls.
+    """
+
+    def __init__(self, Bv: np.ndarray, n: int):
+        self.n = n
+        V = len(Bv)
+        if n <= 5:
+            self.mode = "bivector"
+            self.BT = np.ascontiguousarray(Bv.T, dtype=np.float32)
+        else:
+            self.mode = "tangents"
+            t1, t2 = tangent_pair(Bv, n)
+            self.T1 = np.ascontiguousarray(t1.T, dtype=np.float32)
+            self.T2 = np.ascontiguousarray(t2.T, dtype=np.float32)
+            self._a = np.empty((3, V), dtype=np.float32)
+            self._b = np.empty((3, V), dtype=np.float32)
+            self._t = np.empty(V, dtype=np.float32)
+
+    def write(self, P: np.ndarray, out: np.ndarray) -> None:
+        """Write (V, 3) normals for projection P (3, n) into ``out`` (C-contiguous float32)."""
+        oT = out.T
+        if self.mode == "bivector":
+            C = cross_table(np.asarray(P, dtype=np.float64)).astype(np.float32)
+            np.matmul(C.T, self.BT, out=oT)
+            return
+        P32 = np.asarray(P, dtype=np.float32)
+        a, b, t = self._a, self._b, self._t
+        np.matmul(P32, self.T1, out=a)
+        np.matmul(P32, self.T2, out=b)
+        for r, (i, j) in enumerate(((1, 2), (2, 0), (0, 1))):
+            np.multiply(a[i], b[j], out=oT[r])
+            np.multiply(a[j], b[i], out=t)
+            np.subtract(oT[r], t, out=oT[r])
+
+
+@dataclass
+class Geometry:
+    """Everything to draw ``cx`` under any projection (built once per result).
+
+    dim: the complex's dimension; kind: "lines" or "polygons";
+    cells: VTK legacy cell array (``[2, a, b, ...]`` or ``[m, v0..v(m-1), ...]``) int64;
+    projector: centred float32 vertices; normals: a NormalField for surfaces, else None.
+    """
+
+    dim: int
+    n: int
+    kind: str
+    cells: np.ndarray
+    projector: Projector
+    normals: "NormalField | None" = None
+
+    @classmethod
+    def build(cls, cx) -> "Geometry":
+        V = np.asarray(cx.vertices)
+        dim = int(cx.dim)
+        projector = Projector(V)
+        if dim <= 1:
+            edges = np.asarray(cx.edges, dtype=np.int64).reshape(-1, 2)
+            lines = np.empty((len(edges), 3), dtype=np.int64)
+            lines[:, 0] = 2
+            lines[:, 1:] = edges
+            return cls(dim, cx.n, "lines", lines.ravel(), projector)
+        offsets, vids = _proper_polygons(*cx.polygons())
+        normals = None
+        if dim == 2:
+            vids = orient_polygons(offsets, vids)
+            if len(vids):
+                normals = NormalField(vertex_bivectors(V, offsets, vids), cx.n)
+        return cls(dim, cx.n, "polygons", polygon_faces(offsets, vids), projector, normals)

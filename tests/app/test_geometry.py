@@ -1,0 +1,85 @@
+"""Drawing arrays of a complex (pure numpy, no Qt or X): polygons, orientation, normals."""
+
+import numpy as np
+import pytest
+
+from app.geometry import (Geometry, NormalField, cross_table, orient_polygons, polygon_faces,
+                          vertex_bivectors)
+from app.projection import ProjectionModel, generic_basis
+
+
+def _edges_directed(offsets, vids):
+    out = []
+    for f in range(len(offsets) - 1):
+        loop = vids[offsets[f]:offsets[f + 1]]
+        out += [(int(loop[i]), int(loop[(i + 1) % len(loop)])) for i in range(len(loop))]
+    return out
+
+
+def test_polygon_faces_layout():
+    off = np.array([0, 3, 7])
+    vids = np.array([0, 1, 2, 2, 3, 4, 5])
+    np.testing.assert_array_equal(polygon_faces(off, vids), [3, 0, 1, 2, 4, 2, 3, 4, 5])
+
+
+def test_sphere_polygons_are_coherently_oriented():
+    from gcmh_core import extract
+
+    cx = extract("x^2 + y^2 + z^2 - 1", (-1.5, 1.5), 8, variables="x,y,z")
+    off, vids = cx.polygons()
+    oriented = orient_polygons(off, vids)
+    directed = _edges_directed(off, oriented)
+    # a closed oriented surface: every edge is run once in each direction
+    assert len(set(directed)) == len(directed)
+    assert all((b, a) in set(directed) for a, b in directed)
+    # and the vertex normals then point the same way as the position (outward) or all inward
+    B = vertex_bivectors(cx.vertices, off, oriented)
+    N = B @ cross_table(np.eye(3))
+    s = np.sign(np.einsum("ij,ij->i", N, cx.vertices))
+    assert abs(s.sum()) == len(s)
+
+
+@pytest.mark.parametrize("n", [4, 6, 10])
+def test_normal_field_matches_the_projected_mesh(n):
+    from app.bench_view import torus_complex
+
+    cx = torus_complex(30, n)
+    geo = Geometry.build(cx)
+    assert geo.kind == "polygons" and geo.normals is not None
+    P = generic_basis(n, seed=n)
+    pts = geo.projector.project(P).astype(np.float64)
+    out = np.zeros((len(pts), 3), np.float32)
+    geo.normals.write(P, out)
+    # reference: area-weighted normals of the projected quads (their two triangles), summed per vertex
+    cells = geo.cells.reshape(-1, 5)[:, 1:]
+    ref = np.zeros_like(pts)
+    for a, b, c in ((0, 1, 2), (0, 2, 3)):
+        fn = 0.5 * np.cross(pts[cells[:, b]] - pts[cells[:, a]], pts[cells[:, c]] - pts[cells[:, a]])
+        for k in range(4):
+            np.add.at(ref, cells[:, k], fn * (k in (a, b, c)))
+    norm = np.linalg.norm(ref, axis=1)
+    cos = np.einsum("ij,ij->i", ref, out) / norm / np.linalg.norm(out, axis=1)
+    seen = norm > 0.05 * np.median(norm)   # where the projected surface is not edge-on
+    assert seen.mean() > 0.9
+    assert np.all(np.abs(cos[seen]) > 0.99)
+
+
+def test_cross_table_is_the_bilinear_form():
+    rng = np.random.default_rng(0)
+    n = 5
+    P = ProjectionModel(n=n, kind="generic").matrix()
+    a, b = rng.standard_normal(n), rng.standard_normal(n)
+    from app.geometry import _wedge
+    from app.projection import planes
+
+    w = _wedge(a[None], b[None], planes(n))[0]
+    np.testing.assert_allclose(w @ cross_table(P), np.cross(P @ a, P @ b), atol=1e-12)
+
+
+def test_curves_are_lines():
+    from gcmh_core import extract
+
+    cx = extract("x^2 + y^2 - 1", (-1.5, 1.5), 10, variables="x,y")
+    geo = Geometry.build(cx)
+    assert geo.kind == "lines" and geo.normals is None
+    assert len(geo.cells) == 3 * cx.count(1)
