@@ -21,7 +21,11 @@ from .complex import CellComplex
 from .errors import Cancelled, InputError
 from .grid import PERTURBATION, candidate_cubes, perturbed_axes, sign_codes
 
-METHODS = ("gcmh", "gcch")
+METHODS = ("gcmh", "gcch", "cms", "ccs")
+# continuation methods start from points and follow M; the others sweep the whole grid
+CONTINUATION_METHODS = ("gcch", "ccs")
+# the simplicial baselines (paper Section 4): marching simplices over the CFK triangulation
+SIMPLICIAL_METHODS = ("cms", "ccs")
 
 # Vertices evaluated per slab: bounds the memory of a run independently of div along axis 0.
 _SLAB_VERTICES = 1 << 22
@@ -181,6 +185,8 @@ def extract(
     start=None,
     progress: Callable[[str, float], None] | None = None,
     cancel: Callable[[], bool] | None = None,
+    scheduler=None,
+    block=None,
 ) -> CellComplex:
     """Approximate M = F^-1(0), F: R^n -> R^k, by a cell complex (GCMH).
 
@@ -202,6 +208,10 @@ def extract(
         "auto" projects a lattice of points and continues from each component found.
     progress : callable(phase, fraction), called between slabs.
     cancel : callable() -> bool, polled between slabs; True raises `Cancelled`.
+    scheduler : None (this process), "local" (a dask LocalCluster sized to the machine)
+        or a dask scheduler address "tcp://host:port": the grid is cut into blocks of
+        cubes processed by the cluster's workers; the result is the same, bit for bit.
+    block : cubes per block along each axis for `scheduler` (int or one per axis).
 
     Returns
     -------
@@ -223,13 +233,23 @@ def extract(
     n_, k_, bounds_, div_, system, sampled = _prepare(F, variables, n, k, bounds, div)
     amplitude = 0.0 if sampled is not None else PERTURBATION  # sampled data can't be moved: its positions are exact
     axes = perturbed_axes(bounds_, div_, seed, amplitude)
-    if method == "gcch":
+    continuation = method in CONTINUATION_METHODS
+    if continuation:
         starts = _as_starts("auto" if start is None else start, n_)
-        result = _run_gcch(n_, k_, axes, bounds_, system, sampled, starts, progress, cancel)
+    elif start is not None:
+        raise InputError(f"a start point is used by continuation only: pass method={' or '.join(map(repr, CONTINUATION_METHODS))}")
     else:
-        if start is not None:
-            raise InputError("a start point is used by continuation only: pass method='gcch'")
-        result = _run_gcmh(n_, k_, axes, system, sampled, progress, cancel)
+        starts = None
+    if block is not None and scheduler is None:
+        raise InputError("block is the block size of a distributed run: pass scheduler too")
+    if scheduler is not None:
+        from .distributed import run_distributed  # noqa: PLC0415  (dask is imported only when asked for)
+
+        result = run_distributed(method, n_, k_, axes, bounds_, system, sampled, starts, scheduler, block, progress, cancel)
+    elif continuation:
+        result = _run_gcch(n_, k_, axes, bounds_, system, sampled, starts, progress, cancel, grid=_Grid(n_, k_, axes, method))
+    else:
+        result = _run_gcmh(n_, k_, axes, system, sampled, progress, cancel, grid=_Grid(n_, k_, axes, method))
     result.meta.update(
         method=method,
         div=div_.tolist(),
@@ -243,10 +263,15 @@ def extract(
 
 
 class _Grid:
-    """The grid's shape and the per-run constants every method needs."""
+    """The grid's shape and the per-run constants every method needs, and the records
+    its kernel runs have produced so far (`parts`), merged by `assemble`.
 
-    def __init__(self, n, k, axes):
+    method: "gcmh"/"gcch" run the hypercube kernel, "cms"/"ccs" the simplicial one.
+    """
+
+    def __init__(self, n, k, axes, method="gcmh"):
         self.n, self.k, self.axes = n, k, axes
+        self.simplicial = method in SIMPLICIAL_METHODS
         self.tab = cube_tables(n, k)
         self.dims = np.array([len(a) for a in axes], np.int64)  # vertices per axis
         self.strides = np.ones(n, np.int64)
@@ -264,6 +289,7 @@ class _Grid:
         self.timings = dict(evaluate=0.0, candidates=0.0, kernel=0.0, assemble=0.0)
         self.stats = dict(candidate_cubes=0, cubes=int(np.prod(self.dims - 1)), nonfinite_vertices=0, degenerate=0)
         self.parts = dict(vk=[], vp=[], e=[], c=[], i=[])
+        self.corner_bits = np.array([[(c >> a) & 1 for a in range(n)] for c in range(1 << n)], np.int64)
 
     def run_kernel(self, values, cube_lin, origin, value_off) -> np.ndarray:
         """Process candidate cubes: count, allocate, write; keep the records.
@@ -305,6 +331,65 @@ class _Grid:
         self.timings["kernel"] += time.perf_counter() - t
         return counts[:, 4]
 
+    def process_block(self, values, lo, hi) -> None:
+        """The candidate cubes of the block of cubes lo..hi-1 (per axis, global indices).
+
+        values (hi-lo+1 ..., k): F at the block's vertices.  Blocks may be processed in
+        any order and on any machine: records carry global keys (see `_kernels`).
+        """
+        lo = np.asarray(lo, np.int64)
+        hi = np.asarray(hi, np.int64)
+        values = np.ascontiguousarray(values, np.float64)
+        t = time.perf_counter()
+        # a vertex is counted by the block below it, unless it is on the grid's last layer
+        owned = tuple(slice(None) if hi[a] == self.dims[a] - 1 else slice(None, -1) for a in range(self.n))
+        self.stats["nonfinite_vertices"] += int(np.count_nonzero(~np.isfinite(values[owned]).all(axis=-1)))
+        local = np.nonzero(candidate_cubes(values))
+        self.timings["candidates"] += time.perf_counter() - t
+        if len(local[0]) == 0:
+            return
+        block_dims = np.array(values.shape[:-1], np.int64)
+        block_strides = np.ones(self.n, np.int64)
+        for a in range(self.n - 2, -1, -1):
+            block_strides[a] = block_strides[a + 1] * block_dims[a + 1]
+        value_off = np.array(
+            [sum(int(block_strides[a]) for a in range(self.n) if c >> a & 1) for c in range(1 << self.n)], np.int64
+        )
+        origin = np.stack(local, axis=1).astype(np.int64)
+        cube_lin = origin @ block_strides
+        origin += lo
+        self.run_kernel(values.reshape(-1, self.k), cube_lin, origin, value_off)
+
+    def process_cubes(self, origins, system, sampled) -> tuple[np.ndarray, np.ndarray]:
+        """The given cubes (m, n) alone: F at their corners only (one vectorised batch).
+
+        Returns each cube's crossed-facet mask (0 where M_A misses it) and the
+        global ids of the corners where F is not finite.
+        """
+        n, k = self.n, self.k
+        t = time.perf_counter()
+        corners = (origins[:, None, :] + self.corner_bits[None]) @ self.strides  # (m, 2^n) global vertex ids
+        uniq, inverse = _unique_inverse(corners.reshape(-1))
+        if sampled is not None:
+            uvals = sampled.reshape(-1, k)[uniq]
+        else:
+            multi = np.stack(np.unravel_index(uniq, tuple(self.dims)), axis=1)
+            uvals = system.evaluate_points(np.stack([self.axes[a][multi[:, a]] for a in range(n)], axis=1))
+        nonfinite = uniq[~np.isfinite(uvals).all(axis=1)]
+        values = np.ascontiguousarray(uvals[inverse], np.float64)
+        self.timings["evaluate"] += time.perf_counter() - t
+        t = time.perf_counter()
+        code = np.bitwise_or.reduce(sign_codes(values).reshape(len(origins), 1 << n), axis=1)
+        full = code.dtype.type(sum(3 << (2 * j) for j in range(k)))
+        cand = (code & (full | code.dtype.type(1 << (2 * k)))) == full
+        self.timings["candidates"] += time.perf_counter() - t
+        idx = np.nonzero(cand)[0]
+        masks = np.zeros(len(origins), np.int64)
+        if len(idx):
+            value_off = np.arange(1 << n, dtype=np.int64)
+            masks[idx] = self.run_kernel(values, idx.astype(np.int64) << n, origins[idx], value_off)
+        return masks, nonfinite
+
     def assemble(self) -> CellComplex:
         t = time.perf_counter()
         n, k = self.n, self.k
@@ -320,43 +405,43 @@ class _Grid:
         return cx
 
 
-def _run_gcmh(n, k, axes, system, sampled, progress, cancel) -> CellComplex:
-    grid = _Grid(n, k, axes)
-    dims, strides = grid.dims, grid.strides
+def _run_gcmh(n, k, axes, system, sampled, progress, cancel, grid=None) -> CellComplex:
+    """Every cube of the grid, in slabs along axis 0 (F on one slab's vertices at a time)."""
+    grid = _Grid(n, k, axes) if grid is None else grid
+    dims = grid.dims
     layer = int(np.prod(dims[1:]))
     thickness = int(max(1, min(dims[0] - 1, _SLAB_VERTICES // max(layer * k, 1))))
     prev_layer = None
     n_slabs = -(-(int(dims[0]) - 1) // thickness)
+    lo = np.zeros(n, np.int64)
+    hi = dims - 1
     for si, i0 in enumerate(range(0, int(dims[0]) - 1, thickness)):
         if cancel is not None and cancel():
             raise Cancelled("extraction cancelled")
         if progress is not None:
             progress("extracting", si / n_slabs)
         i1 = min(i0 + thickness, int(dims[0]) - 1)  # cubes i0..i1-1, vertex layers i0..i1
+        lo[0], hi[0] = i0, i1
         t = time.perf_counter()
         if sampled is not None:
             values = sampled[i0 : i1 + 1]
-        else:
+        else:  # the slab's first layer is the previous slab's last: evaluate it once
             first = i0 if prev_layer is None else i0 + 1
             fresh = system.evaluate_grid([axes[0][first : i1 + 1]] + list(axes[1:]))
             values = fresh if prev_layer is None else np.concatenate([prev_layer, fresh])
             prev_layer = values[-1:].copy()
-        values = np.ascontiguousarray(values, np.float64)
-        counted = values if i1 == int(dims[0]) - 1 else values[:-1]
-        grid.stats["nonfinite_vertices"] += int(np.count_nonzero(~np.isfinite(counted).all(axis=-1)))
         grid.timings["evaluate"] += time.perf_counter() - t
-        t = time.perf_counter()
-        local = np.nonzero(candidate_cubes(values))
-        grid.timings["candidates"] += time.perf_counter() - t
-        if len(local[0]) == 0:
-            continue
-        origin = np.stack(local, axis=1).astype(np.int64)
-        cube_lin = origin @ strides
-        origin[:, 0] += i0
-        grid.run_kernel(values.reshape(-1, k), cube_lin, origin, grid.corner_off)
+        grid.process_block(values, lo, hi)
     if progress is not None:
         progress("assembling", 1.0)
     return grid.assemble()
+
+
+def block_values(axes, system, sampled, lo, hi) -> np.ndarray:
+    """F at the vertices of the block of cubes lo..hi-1 (per axis): (hi-lo+1 ..., k)."""
+    if sampled is not None:
+        return sampled[tuple(slice(int(a), int(b) + 1) for a, b in zip(lo, hi))]
+    return system.evaluate_grid([ax[int(a) : int(b) + 1] for ax, a, b in zip(axes, lo, hi)])
 
 
 # ----------------------------------------------------------------------------- continuation (GCCH)
@@ -443,12 +528,19 @@ def _start_cubes(n, axes, bounds, system, sampled, starts) -> np.ndarray:
     return np.unique(np.array(origins), axis=0)
 
 
-def _run_gcch(n, k, axes, bounds, system, sampled, starts, progress, cancel) -> CellComplex:
-    """Continuation: process only cubes reached from the start cubes across crossed facets."""
-    grid = _Grid(n, k, axes)
+def _run_gcch(n, k, axes, bounds, system, sampled, starts, progress, cancel, grid=None, process=None) -> CellComplex:
+    """Continuation: process only cubes reached from the start cubes across crossed facets.
+
+    Each wave (the cubes first reached in the same step) is one batch: F at its
+    corners in one vectorised call, then one kernel run.  `grid` (a `_Grid`) and
+    `process(grid, origins) -> (masks, nonfinite ids)` let another executor run
+    the waves (gcmh_core.distributed); by default `grid.process_cubes` runs them here.
+    """
+    grid = _Grid(n, k, axes) if grid is None else grid
+    if process is None:
+        def process(g, origins):
+            return g.process_cubes(origins, system, sampled)
     div = grid.dims - 1
-    bits = np.array([[(c >> a) & 1 for a in range(n)] for c in range(1 << n)], np.int64)
-    value_off = np.arange(1 << n, dtype=np.int64)
     steps = np.zeros((2 * n, n), np.int64)
     for a in range(n):
         steps[2 * a, a] = -1  # facet (a, side 0) leads to the cube below
@@ -457,7 +549,7 @@ def _run_gcch(n, k, axes, bounds, system, sampled, starts, progress, cancel) -> 
     for a in range(n - 2, -1, -1):
         cube_strides[a] = cube_strides[a + 1] * div[a + 1]
     visited: set[int] = set()
-    nonfinite: set[int] = set()
+    nonfinite = []
     wave = _start_cubes(n, axes, bounds, system, sampled, starts)
     expanded_start = False
     n_waves = 0
@@ -465,7 +557,7 @@ def _run_gcch(n, k, axes, bounds, system, sampled, starts, progress, cancel) -> 
         if cancel is not None and cancel():
             raise Cancelled("extraction cancelled")
         lin = wave @ cube_strides
-        fresh = np.array([c not in visited for c in lin.tolist()], bool)
+        fresh = np.fromiter((c not in visited for c in lin.tolist()), bool, len(lin))
         wave, lin = wave[fresh], lin[fresh]
         if not len(wave):
             break
@@ -473,27 +565,8 @@ def _run_gcch(n, k, axes, bounds, system, sampled, starts, progress, cancel) -> 
         n_waves += 1
         if progress is not None:
             progress(f"continuation: wave {n_waves}, {len(visited):,} cubes", min(0.99, 1 - 1 / (1 + 0.01 * n_waves)))
-        t = time.perf_counter()
-        corners = (wave[:, None, :] + bits[None]) @ grid.strides  # (m, 2^n) global vertex ids
-        uniq, inverse = np.unique(corners.reshape(-1), return_inverse=True)
-        if sampled is not None:
-            uvals = sampled.reshape(-1, k)[uniq]
-        else:
-            multi = np.stack(np.unravel_index(uniq, tuple(grid.dims)), axis=1)
-            points = np.stack([axes[a][multi[:, a]] for a in range(n)], axis=1)
-            uvals = system.evaluate_points(points)
-        bad = ~np.isfinite(uvals).all(axis=1)
-        if bad.any():
-            nonfinite.update(uniq[bad].tolist())
-        values = np.ascontiguousarray(uvals[inverse.reshape(-1)], np.float64)
-        grid.timings["evaluate"] += time.perf_counter() - t
-        t = time.perf_counter()
-        code = np.bitwise_or.reduce(sign_codes(values).reshape(len(wave), 1 << n), axis=1)
-        full = code.dtype.type(sum(3 << (2 * j) for j in range(k)))
-        cand = (code & (full | code.dtype.type(1 << (2 * k)))) == full
-        grid.timings["candidates"] += time.perf_counter() - t
-        idx = np.nonzero(cand)[0]
-        masks = grid.run_kernel(values, idx.astype(np.int64) << n, wave[idx], value_off) if len(idx) else np.zeros(0, np.int64)
+        masks, bad = process(grid, wave)
+        nonfinite.append(bad)
         if not masks.any() and not expanded_start:
             # the start cube held no piece of M_A (M grazes it): try its neighbourhood once
             expanded_start = True
@@ -506,20 +579,34 @@ def _run_gcch(n, k, axes, bounds, system, sampled, starts, progress, cancel) -> 
         for f in range(2 * n):
             sel = (masks >> f) & 1 == 1
             if sel.any():
-                nxt.append(wave[idx[sel]] + steps[f])
+                nxt.append(wave[sel] + steps[f])
         if not nxt:
             break
-        wave = np.unique(np.concatenate(nxt), axis=0)
+        wave = np.concatenate(nxt)
         wave = wave[np.all((wave >= 0) & (wave < div), axis=1)]
+        # one row per cube, in increasing linear order (the output does not depend on it)
+        wave = np.stack(np.unravel_index(_unique_inverse(wave @ cube_strides)[0], tuple(div)), axis=1).astype(np.int64)
     if progress is not None:
         progress("assembling", 1.0)
-    grid.stats["nonfinite_vertices"] = len(nonfinite)
+    grid.stats["nonfinite_vertices"] = int(len(_unique_inverse(np.concatenate(nonfinite))[0])) if nonfinite else 0
     grid.stats["visited_cubes"] = len(visited)
     grid.stats["waves"] = n_waves
     return grid.assemble()
 
 
 # ----------------------------------------------------------------------------- assembly
+def _unique_inverse(a: np.ndarray):
+    """Sorted unique values of a 1-D int64 array and, per entry, its index among them."""
+    order = np.argsort(a, kind="stable")
+    sa = a[order]
+    new = np.empty(len(sa), bool)
+    new[:1] = True
+    new[1:] = sa[1:] != sa[:-1]
+    inverse = np.empty(len(a), np.int64)
+    inverse[order] = np.cumsum(new) - 1
+    return sa[new], inverse
+
+
 def _unique_first(keys: np.ndarray):
     """Sorted unique keys and the index of each one's first occurrence (sort-based: fast on int64)."""
     order = np.argsort(keys, kind="stable")
