@@ -1,0 +1,310 @@
+"""Slicing a complex by a window of a linear functional in R^n (pure numpy: no Qt, no VTK).
+
+A slice keeps the part of the complex where ``h(x) = u . x`` lies in
+``[c - w, c + w]``; ``u`` is a coordinate axis or a direction the projection
+hides. Cells are *clipped* at the two window planes, not dropped: polygons by
+Sutherland-Hodgman against the half-spaces ``h >= c - w`` and ``h <= c + w``,
+segments by the same rule; a new vertex is interpolated linearly in R^n.
+
+Both clips run over all polygons at once (CSR loops, one numpy pass per plane).
+A new vertex is named by the original edge it lies on and the plane that cut
+it, and computed from that edge's two original vertices in a fixed order: two
+polygons sharing an edge get the very same new vertex (bit for bit), so the
+slice stays one connected mesh, and the winding of every loop is kept (the
+oriented loops of the full surface stay oriented).
+
+Examples
+--------
+>>> import numpy as np
+>>> X = np.array([[0., 0.], [2., 0.], [2., 2.], [0., 2.]])
+>>> s = clip_polygons(X, np.array([0, 4]), np.arange(4), np.array([1., 0.]), 1.0, 0.5)
+>>> sorted(set(np.round(s.vertices[:, 0], 6)))
+[0.5, 1.5]
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass
+class Slice:
+    """The clipped complex.
+
+    vertices: (V', n) float64, the used original vertices then the new ones;
+    source: (V',) int64, the original vertex id, or -1 for a new vertex;
+    offsets (F'+1,) int64 and vids: CSR loops (polygons) -- or for segments
+    ``edges`` (E', 2) int64 with offsets/vids None; cell_source: (F',) or (E',)
+    int64, the original cell each clipped cell comes from.
+    """
+
+    vertices: np.ndarray
+    source: np.ndarray
+    offsets: np.ndarray | None
+    vids: np.ndarray | None
+    cell_source: np.ndarray
+    edges: np.ndarray | None = None
+
+    @property
+    def n_cells(self) -> int:
+        return len(self.cell_source)
+
+    @property
+    def empty(self) -> bool:
+        return self.n_cells == 0
+
+
+def _check(X, u, c, w):
+    X = np.asarray(X, dtype=np.float64)
+    if X.ndim != 2:
+        raise ValueError(f"vertices must be (V, n), got shape {X.shape}")
+    u = np.asarray(u, dtype=np.float64).ravel()
+    if len(u) != X.shape[1]:
+        raise ValueError(f"the slicing direction has {len(u)} components, the vertices {X.shape[1]}")
+    if not np.isfinite(c) or not np.isfinite(w) or w < 0:
+        raise ValueError(f"the window needs a finite centre and a half-width >= 0, got c={c}, w={w}")
+    return X, u
+
+
+def _new_vertices(X, h, a, b, level):
+    """Points where edges (a, b) meet ``h = level``, from the edge in (min, max) order (shared bit for bit)."""
+    lo = np.minimum(a, b)
+    hi = np.maximum(a, b)
+    ha, hb = h[lo], h[hi]
+    den = hb - ha
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(den != 0, (level - ha) / den, 0.5)
+    t = np.clip(t, 0.0, 1.0)[:, None]
+    return X[lo] + t * (X[hi] - X[lo]), lo, hi
+
+
+def _clip_half(face, vk, hv, ea, eb, level, keep_above, key_offset=0):
+    """One Sutherland-Hodgman pass over all loops against ``h >= level`` (or ``<=``).
+
+    A corner is (face, vertex key, h value, the original edge (ea, eb) its
+    outgoing side runs along, or -1 when that side runs along a clip plane).
+    Vertex keys >= 0 are original vertices; a new vertex gets key
+    -1 - (key_offset + j) for row j of the returned (a, b) edge list. Returns the corners of the clipped
+    loops (same layout) and the new vertices' edges.
+    """
+    m = len(face)
+    if m == 0:
+        return face, vk, hv, ea, eb, np.empty(0, np.int64), np.empty(0, np.int64)
+    # next corner in the same loop
+    start = np.flatnonzero(np.r_[True, face[1:] != face[:-1]])
+    ends = np.r_[start[1:], m] - 1
+    nxt = np.arange(1, m + 1)
+    nxt[ends] = start
+    inside = hv >= level if keep_above else hv <= level
+    nin = inside[nxt]
+    cross = inside != nin
+    # each corner emits: itself if inside, then the crossing point of its outgoing side if it crosses
+    emit = inside.astype(np.int64) + cross
+    pos = np.cumsum(emit) - emit
+    total = int(emit.sum())
+    o_face = np.empty(total, np.int64)
+    o_vk = np.empty(total, np.int64)
+    o_h = np.empty(total)
+    o_ea = np.empty(total, np.int64)
+    o_eb = np.empty(total, np.int64)
+    k = pos[inside]
+    ii = np.flatnonzero(inside)
+    o_face[k] = face[ii]
+    o_vk[k] = vk[ii]
+    o_h[k] = hv[ii]
+    o_ea[k] = ea[ii]
+    o_eb[k] = eb[ii]
+    ci = np.flatnonzero(cross)
+    kc = pos[ci] + inside[ci]
+    na, nb = ea[ci], eb[ci]
+    if np.any(na < 0):  # a side along the other plane never crosses: the window is not empty
+        raise AssertionError("a clip-plane side crossed the other plane")
+    o_face[kc] = face[ci]
+    o_vk[kc] = -1 - (key_offset + np.arange(len(ci)))
+    o_h[kc] = level
+    leaving = inside[ci]
+    # entering: the outgoing side runs on along the original edge; leaving: along the plane
+    o_ea[kc] = np.where(leaving, -1, na)
+    o_eb[kc] = np.where(leaving, -1, nb)
+    return o_face, o_vk, o_h, o_ea, o_eb, na, nb
+
+
+def _close_loops(face, n_faces):
+    """Drop loops with fewer than 3 corners: (keep mask over corners, kept face ids)."""
+    cnt = np.bincount(face, minlength=n_faces)
+    good = cnt >= 3
+    return good[face], np.flatnonzero(good)
+
+
+def _finish(X, h, vk, new_lists):
+    """One vertex array for the corner keys: the used originals, then the distinct new points.
+
+    ``new_lists``: per clip plane, the (a, b) original edges of its new corners
+    and the plane's level, in key order. A new point is named by (edge, plane).
+    """
+    n = X.shape[1]
+    pts, keys = [], []
+    for p, (a, b, level) in enumerate(new_lists):
+        P, lo, hi = _new_vertices(X, h, a, b, level)
+        pts.append(P)
+        keys.append(np.stack([lo, hi, np.full(len(lo), p)], 1))
+    allkeys = np.concatenate(keys)
+    allpts = np.concatenate(pts) if pts else np.empty((0, n))
+    used_old = np.unique(vk[vk >= 0])
+    if len(allkeys):
+        _, first, inv = np.unique(allkeys, axis=0, return_index=True, return_inverse=True)
+        inv = inv.ravel()
+    else:
+        first, inv = np.empty(0, np.int64), np.empty(0, np.int64)
+    old_map = np.full(len(X), -1, np.int64)
+    old_map[used_old] = np.arange(len(used_old))
+    out_ids = np.empty(len(vk), np.int64)
+    isold = vk >= 0
+    out_ids[isold] = old_map[vk[isold]]
+    out_ids[~isold] = len(used_old) + inv[-1 - vk[~isold]]
+    verts = np.concatenate([X[used_old], allpts[first]])
+    source = np.concatenate([used_old, np.full(len(first), -1, np.int64)])
+    return verts, source, out_ids
+
+
+def clip_polygons(vertices, offsets, vids, direction, c: float, w: float) -> Slice:
+    """Clip CSR polygon loops to the slab ``c - w <= direction . x <= c + w``.
+
+    vertices (V, n) float64; offsets (F+1,) int64; vids (sum,) int64 loops;
+    direction (n,) (not normalised here: h is ``direction . x``). The loop
+    winding is kept. Returns a :class:`Slice` (empty when nothing is inside).
+    """
+    X, u = _check(vertices, direction, c, w)
+    offsets = np.asarray(offsets, dtype=np.int64)
+    vids = np.asarray(vids, dtype=np.int64)
+    h = X @ u
+    F = len(offsets) - 1
+    sizes = np.diff(offsets)
+    face = np.repeat(np.arange(F, dtype=np.int64), sizes)
+    # quick reject: whole loops below or above the window
+    hv = h[vids]
+    fmin = np.full(F, np.inf)
+    fmax = np.full(F, -np.inf)
+    if len(vids):
+        fmin = np.minimum.reduceat(hv, offsets[:-1]) if F else fmin
+        fmax = np.maximum.reduceat(hv, offsets[:-1]) if F else fmax
+    lo, hi = c - w, c + w
+    live = (fmax >= lo) & (fmin <= hi) & (sizes >= 3)
+    keep = live[face]
+    face, vk, hv = face[keep], vids[keep], hv[keep]
+    # outgoing original edge of each corner
+    m = len(face)
+    start = np.flatnonzero(np.r_[True, face[1:] != face[:-1]]) if m else np.empty(0, np.int64)
+    ends = np.r_[start[1:], m] - 1 if m else np.empty(0, np.int64)
+    nxt = np.arange(1, m + 1)
+    if m:
+        nxt[ends] = start
+    ea, eb = vk.copy(), vk[nxt]
+    f1, k1, h1, a1, b1, na1, nb1 = _clip_half(face, vk, hv, ea, eb, lo, True)
+    ok, _ = _close_loops(f1, F)
+    f1, k1, h1, a1, b1 = f1[ok], k1[ok], h1[ok], a1[ok], b1[ok]
+    f2, k2, h2, a2, b2, na2, nb2 = _clip_half(f1, k1, h1, a1, b1, hi, False, key_offset=len(na1))
+    ok, _ = _close_loops(f2, F)
+    f2, k2 = f2[ok], k2[ok]
+    if len(f2) == 0:
+        n = X.shape[1]
+        return Slice(np.empty((0, n)), np.empty(0, np.int64), np.zeros(1, np.int64), np.empty(0, np.int64),
+                     np.empty(0, np.int64))
+    verts, source, ids = _finish(X, h, k2, [(na1, nb1, lo), (na2, nb2, hi)])
+    faces_kept, counts = np.unique(f2, return_counts=True)
+    offs = np.zeros(len(faces_kept) + 1, np.int64)
+    np.cumsum(counts, out=offs[1:])
+    return Slice(verts, source, offs, ids, faces_kept.astype(np.int64))
+
+
+def clip_segments(vertices, edges, direction, c: float, w: float) -> Slice:
+    """Clip segments (E, 2) int64 to the slab ``c - w <= direction . x <= c + w`` (a curve's slice)."""
+    X, u = _check(vertices, direction, c, w)
+    E = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+    h = X @ u
+    lo, hi = c - w, c + w
+    a, b = E[:, 0], E[:, 1]
+    ha, hb = h[a], h[b]
+    live = (np.maximum(ha, hb) >= lo) & (np.minimum(ha, hb) <= hi)
+    idx = np.flatnonzero(live)
+    a, b, ha, hb = a[idx], b[idx], ha[idx], hb[idx]
+    # each end: the original vertex if inside, else the point on the plane it is beyond
+    keys = np.empty((len(idx), 2), np.int64)
+    rows_a, rows_b, levels = [], [], []
+    cnt = 0
+    for col, (v, hv) in enumerate(((a, ha), (b, hb))):
+        k = v.copy()
+        for level, beyond in ((lo, hv < lo), (hi, hv > hi)):
+            j = np.flatnonzero(beyond)
+            k[j] = -1 - (cnt + np.arange(len(j)))
+            rows_a.append(a[j])
+            rows_b.append(b[j])
+            levels.append(np.full(len(j), level))
+            cnt += len(j)
+        keys[:, col] = k
+    ra = np.concatenate(rows_a) if rows_a else np.empty(0, np.int64)
+    rb = np.concatenate(rows_b) if rows_b else np.empty(0, np.int64)
+    lv = np.concatenate(levels) if levels else np.empty(0)
+    n = X.shape[1]
+    if len(idx) == 0:
+        return Slice(np.empty((0, n)), np.empty(0, np.int64), None, None, np.empty(0, np.int64),
+                     edges=np.empty((0, 2), np.int64))
+    P, lo_i, hi_i = _new_vertices(X, h, ra, rb, lv)
+    plane = (lv == hi).astype(np.int64)
+    nk = np.stack([lo_i, hi_i, plane], 1)
+    used_old = np.unique(keys[keys >= 0])
+    if len(nk):
+        uk, first, inv = np.unique(nk, axis=0, return_index=True, return_inverse=True)
+        inv = inv.ravel()
+    else:
+        first, inv = np.empty(0, np.int64), np.empty(0, np.int64)
+    old_map = np.full(len(X), -1, np.int64)
+    old_map[used_old] = np.arange(len(used_old))
+    flat = keys.ravel()
+    out = np.empty(len(flat), np.int64)
+    isold = flat >= 0
+    out[isold] = old_map[flat[isold]]
+    out[~isold] = len(used_old) + inv[-1 - flat[~isold]]
+    verts = np.concatenate([X[used_old], P[first]]) if len(first) else X[used_old].copy()
+    source = np.concatenate([used_old, np.full(len(first), -1, np.int64)])
+    edges_out = out.reshape(-1, 2)
+    nondeg = edges_out[:, 0] != edges_out[:, 1]
+    return Slice(verts, source, None, None, idx[nondeg].astype(np.int64), edges=edges_out[nondeg])
+
+
+def hidden_directions(P: np.ndarray) -> np.ndarray:
+    """Orthonormal rows (n-3, n) spanning what the projection ``P`` (3, n) hides.
+
+    Built by Gram-Schmidt of the coordinate axes against P's rows, taking at each
+    step the axis with the largest remainder (ties: the lowest index), so for a
+    coordinate projection the hidden directions are the left-out coordinate axes
+    in order; each row's largest entry is positive.
+    """
+    P = np.asarray(P, dtype=np.float64)
+    n = P.shape[1]
+    basis = [r / np.linalg.norm(r) for r in P if np.linalg.norm(r) > 1e-12]
+    out = []
+    cand = np.eye(n)
+    while len(basis) < n:
+        Bm = np.array(basis)
+        R = cand - (cand @ Bm.T) @ Bm
+        norms = np.linalg.norm(R, axis=1)
+        i = int(np.argmax(norms > norms.max() - 1e-9))
+        v = R[i] / norms[i]
+        if v[np.argmax(np.abs(v))] < 0:
+            v = -v
+        basis.append(v)
+        out.append(v)
+    return np.array(out).reshape(-1, n)
+
+
+def window_range(vertices, direction) -> tuple[float, float]:
+    """(min, max) of ``direction . x`` over the finite vertices ((0, 0) when none)."""
+    X = np.asarray(vertices, dtype=np.float64)
+    X = X[np.all(np.isfinite(X), axis=1)]
+    if len(X) == 0:
+        return 0.0, 0.0
+    h = X @ np.asarray(direction, dtype=np.float64)
+    return float(h.min()), float(h.max())
