@@ -11,6 +11,27 @@ The view shows ``P(theta) @ (x - c)`` for every vertex ``x``, where
   principal axes of the vertices;
 * ``P(theta) = B @ R(theta)``, so its rows stay orthonormal.
 
+Beyond this linear (orthographic) view there are two nonlinear kinds, both
+defined on the frame coordinates ``Y = F(theta) (x - c)`` where the ``(n, n)``
+frame ``F = [B; H] @ R(theta)`` adds to the three screen rows of ``B`` the
+directions ``H`` it hides (:func:`hidden_directions`), rotated alike:
+
+* ``perspective`` (the 4D-viewer way, recursively): an eye at distance ``d``
+  on the last hidden axis projects R^n to R^(n-1), scaling every remaining
+  coordinate by ``d / (d - y_n)``; then an eye on the next hidden axis, and so
+  on down to R^3. A point's factor is the product of its factors, each taken
+  on the already scaled coordinate. ``d`` is ``distance`` times the largest
+  distance of a vertex from the centre, so the picture keeps its size.
+* ``stereographic`` (for manifolds on a sphere, e.g. the Clifford torus): with
+  ``r`` the median distance of the vertices from the centre, the sphere of
+  radius ``r`` is projected from its pole on the first hidden axis,
+  ``y_screen * r / (r - y_pole)`` (the equator stays put); further hidden
+  axes (n > 4) are dropped. The rotation acts before the projection, so a
+  slider turns the sphere and the picture moves by a Moebius map.
+
+Points at or behind an eye (or at the pole) are held at a finite distance: the
+denominator is clamped to ``EYE_CLAMP`` times ``d`` (or ``r``).
+
 This module knows nothing of Qt or VTK; :class:`ProjectionModel` is the state
 the projection panel edits and the viewer reads.
 
@@ -30,6 +51,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 KINDS = ("coordinates", "generic", "principal")
+MAPPINGS = ("orthographic", "perspective", "stereographic")
+MAPPING_LABELS = {
+    "orthographic": "Orthographic (linear)",
+    "perspective": "Perspective from the hidden axes",
+    "stereographic": "Stereographic (manifolds on a sphere)",
+}
+EYE_CLAMP = 0.05
 KIND_LABELS = {
     "coordinates": "Coordinate axes",
     "generic": "Generic (random orthonormal)",
@@ -169,6 +197,91 @@ def project(X: np.ndarray, P: np.ndarray, center=None, out: np.ndarray | None = 
     return out
 
 
+def hidden_directions(P: np.ndarray) -> np.ndarray:
+    """Orthonormal rows (n-3, n) spanning what the projection ``P`` (3, n) hides.
+
+    Gram-Schmidt of the coordinate axes against P's rows, taking at each step
+    the axis with the largest remainder (ties: the lowest index): for a
+    coordinate projection the hidden directions are the left-out axes in order.
+    Each row's largest entry is positive. Zero rows of P (n < 3) are skipped.
+    """
+    P = np.asarray(P, dtype=np.float64)
+    n = P.shape[1]
+    basis = [r / np.linalg.norm(r) for r in P if np.linalg.norm(r) > 1e-12]
+    out = []
+    eye = np.eye(n)
+    while len(basis) < n:
+        Bm = np.array(basis)
+        R = eye - (eye @ Bm.T) @ Bm
+        norms = np.linalg.norm(R, axis=1)
+        i = int(np.argmax(norms > norms.max() - 1e-9))
+        v = R[i] / norms[i]
+        if v[np.argmax(np.abs(v))] < 0:
+            v = -v
+        basis.append(v)
+        out.append(v)
+    return np.array(out).reshape(-1, n)
+
+
+def perspective(Y: np.ndarray, d: float, out: np.ndarray | None = None) -> np.ndarray:
+    """Recursive perspective of frame coordinates ``Y`` (n, V) to (3, V), eyes at distance ``d``.
+
+    From the last axis down to axis 3: ``s *= d / (d - s * y_j)`` with the
+    denominator clamped to ``EYE_CLAMP * d``; the result is ``s * Y[:3]``.
+    """
+    n, V = Y.shape
+    s = np.ones(V, dtype=Y.dtype)
+    den = np.empty(V, dtype=Y.dtype)
+    for j in range(n - 1, 2, -1):
+        np.multiply(Y[j], s, out=den)
+        np.subtract(d, den, out=den)
+        np.maximum(den, EYE_CLAMP * d, out=den)
+        s *= d / den
+    if out is None:
+        out = np.empty((3, V), dtype=Y.dtype)
+    np.multiply(Y[:3], s, out=out)
+    return out
+
+
+def stereographic(Y: np.ndarray, r: float, out: np.ndarray | None = None) -> np.ndarray:
+    """Stereographic projection of frame coordinates ``Y`` (n, V), n >= 4, from the pole ``r e_3``.
+
+    ``out = Y[:3] * r / (r - Y[3])`` (denominator clamped to ``EYE_CLAMP * r``):
+    the sphere of radius ``r`` goes to R^3 with its equator (``Y[3] = 0``) fixed.
+    """
+    if Y.shape[0] < 4:
+        raise ValueError("stereographic projection needs n >= 4 (a hidden axis for the pole)")
+    den = np.maximum(r - Y[3], EYE_CLAMP * r)
+    if out is None:
+        out = np.empty((3, Y.shape[1]), dtype=Y.dtype)
+    np.multiply(Y[:3], (r / den).astype(Y.dtype, copy=False), out=out)
+    return out
+
+
+@dataclass(frozen=True)
+class View:
+    """A whole view: the (n, n) frame (3 screen rows, then the hidden ones), the mapping, the eye distance.
+
+    ``P`` (its first 3 rows) is the linear projection; for ``orthographic`` it is all.
+    """
+
+    frame: np.ndarray
+    mapping: str = "orthographic"
+    distance: float = 3.0
+
+    @property
+    def P(self) -> np.ndarray:
+        return self.frame[:3]
+
+    @property
+    def linear(self) -> bool:
+        return self.mapping == "orthographic" or self.frame.shape[0] < 4
+
+    def hidden(self) -> np.ndarray:
+        """The hidden directions of this view (n-3, n) in data coordinates."""
+        return self.frame[3:]
+
+
 def bbox_center(vertices: np.ndarray) -> np.ndarray:
     """Middle of the bounding box of the finite vertices (zeros when there are none)."""
     X = np.asarray(vertices, dtype=np.float64)
@@ -217,11 +330,17 @@ class ProjectionModel:
     axes: tuple = (0, 1, 2)
     seed: int = 0
     angles: np.ndarray = field(default=None)
+    mapping: str = "orthographic"
+    distance: float = 3.0
     _principal: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self):
         if self.kind not in KINDS:
             raise ValueError(f"unknown projection kind {self.kind!r}; choose one of {KINDS}")
+        if self.mapping not in MAPPINGS:
+            raise ValueError(f"unknown projection mapping {self.mapping!r}; choose one of {MAPPINGS}")
+        if not (self.distance > 1.0):
+            raise ValueError(f"the eye distance must be > 1 (in radii of the object), got {self.distance}")
         if self.angles is None:
             self.angles = np.zeros(len(planes(self.n)))
         self.angles = np.asarray(self.angles, dtype=float).copy()
@@ -255,6 +374,20 @@ class ProjectionModel:
         """The current ``(3, n)`` projection ``P(theta)``."""
         return projection_matrix(self.base(), self.rotation())
 
+    def frame(self) -> np.ndarray:
+        """The rotated (n, n) frame: the rows of :meth:`matrix`, then the hidden directions."""
+        B = self.base()
+        n = self.n
+        if n <= 3:
+            return projection_matrix(B, self.rotation())
+        full = np.concatenate([B, hidden_directions(B)])
+        return full @ self.rotation()
+
+    def view(self) -> View:
+        """The whole current view (frame, mapping, eye distance)."""
+        mapping = self.mapping if self.n >= 4 else "orthographic"
+        return View(self.frame(), mapping, float(self.distance))
+
     def reset_angles(self) -> None:
         self.angles[:] = 0.0
 
@@ -265,7 +398,7 @@ class ProjectionModel:
 
     def to_dict(self, names=None) -> dict:
         d = {"kind": self.kind, "axes": [int(a) for a in self.axes], "seed": int(self.seed),
-             "angles": [float(a) for a in self.angles]}
+             "angles": [float(a) for a in self.angles], "mapping": self.mapping, "distance": float(self.distance)}
         if names is not None:
             d["axes_names"] = [names[a] if a >= 0 else None for a in self.axes]
             d["planes"] = [f"{names[i]}-{names[j]}" for i, j in self.planes]
@@ -274,7 +407,8 @@ class ProjectionModel:
     @classmethod
     def from_dict(cls, n: int, d: dict) -> "ProjectionModel":
         return cls(n=n, kind=d.get("kind", "coordinates"), axes=tuple(d.get("axes", default_axes(n))),
-                   seed=int(d.get("seed", 0)), angles=d.get("angles"))
+                   seed=int(d.get("seed", 0)), angles=d.get("angles"),
+                   mapping=d.get("mapping", "orthographic"), distance=float(d.get("distance", 3.0)))
 
 
 class Projector:
@@ -293,6 +427,45 @@ class Projector:
         Xc[~np.isfinite(Xc)] = 0.0
         self.XT = np.ascontiguousarray(Xc.T, dtype=dtype)
         self.dtype = np.dtype(dtype)
+        self._radii = None
+        self._Y = None
+
+    def radii(self) -> tuple[float, float]:
+        """(largest, median) distance of a vertex from the centre (eye and sphere scales)."""
+        if self._radii is None:
+            if self.XT.shape[1] == 0:
+                self._radii = (1.0, 1.0)
+            else:
+                r = np.sqrt(np.einsum("iv,iv->v", self.XT, self.XT, dtype=np.float64))
+                big, med = float(r.max()), float(np.median(r))
+                self._radii = (big if big > 0 else 1.0, med if med > 0 else 1.0)
+        return self._radii
+
+    def set_radii(self, radii) -> None:
+        """Use another complex's scales (a slice keeps the full complex's eye and sphere)."""
+        self._radii = (float(radii[0]), float(radii[1]))
+
+    def project_view(self, view: "View", out: np.ndarray | None = None) -> np.ndarray:
+        """Write the (V, 3) image of the vertices under ``view`` (any mapping) into ``out``."""
+        if view.linear:
+            return self.project(view.P, out)
+        F = np.asarray(view.frame, dtype=self.dtype)
+        V = self.XT.shape[1]
+        if self._Y is None or self._Y.shape != (F.shape[0], V):
+            self._Y = np.empty((F.shape[0], V), dtype=self.dtype)
+        np.matmul(F, self.XT, out=self._Y)
+        if out is None:
+            out = self.empty()
+        direct = out.flags.c_contiguous and out.dtype == self.dtype
+        target = out.T if direct else np.empty((3, V), self.dtype)
+        big, med = self.radii()
+        if view.mapping == "perspective":
+            perspective(self._Y, view.distance * big, out=target)
+        else:
+            stereographic(self._Y, med, out=target)
+        if not direct:
+            out[...] = target.T
+        return out
 
     @property
     def X(self) -> np.ndarray:

@@ -28,6 +28,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .projection import hidden_directions  # noqa: F401 - the slicing directions a view hides
+
 
 @dataclass
 class Slice:
@@ -272,32 +274,6 @@ def clip_segments(vertices, edges, direction, c: float, w: float) -> Slice:
     edges_out = out.reshape(-1, 2)
     nondeg = edges_out[:, 0] != edges_out[:, 1]
     return Slice(verts, source, None, None, idx[nondeg].astype(np.int64), edges=edges_out[nondeg])
-
-
-def hidden_directions(P: np.ndarray) -> np.ndarray:
-    """Orthonormal rows (n-3, n) spanning what the projection ``P`` (3, n) hides.
-
-    Built by Gram-Schmidt of the coordinate axes against P's rows, taking at each
-    step the axis with the largest remainder (ties: the lowest index), so for a
-    coordinate projection the hidden directions are the left-out coordinate axes
-    in order; each row's largest entry is positive.
-    """
-    P = np.asarray(P, dtype=np.float64)
-    n = P.shape[1]
-    basis = [r / np.linalg.norm(r) for r in P if np.linalg.norm(r) > 1e-12]
-    out = []
-    cand = np.eye(n)
-    while len(basis) < n:
-        Bm = np.array(basis)
-        R = cand - (cand @ Bm.T) @ Bm
-        norms = np.linalg.norm(R, axis=1)
-        i = int(np.argmax(norms > norms.max() - 1e-9))
-        v = R[i] / norms[i]
-        if v[np.argmax(np.abs(v))] < 0:
-            v = -v
-        basis.append(v)
-        out.append(v)
-    return np.array(out).reshape(-1, n)
 
 
 def window_range(vertices, direction) -> tuple[float, float]:

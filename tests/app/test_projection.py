@@ -124,3 +124,75 @@ def test_model_dict_roundtrip():
     d = m.to_dict(["a", "b", "c", "d", "e"])
     m2 = pj.ProjectionModel.from_dict(5, d)
     np.testing.assert_allclose(m2.matrix(), m.matrix())
+
+
+# --------------------------------------------------------------------------- nonlinear kinds
+def test_perspective_maps_known_points():
+    from app.projection import perspective
+
+    d = 4.0
+    # n = 4: one hidden axis; h = 2 is halfway to the eye -> factor d / (d - h) = 2
+    Y = np.array([[1.0, 1.0, 1.0], [2.0, 0.0, 0.0], [0.0, 3.0, 0.0], [2.0, 0.0, -4.0]])
+    out = perspective(Y, d)
+    assert np.allclose(out[:, 0], [2.0, 4.0, 0.0])
+    assert np.allclose(out[:, 1], [1.0, 0.0, 3.0])       # h = 0: unchanged
+    assert np.allclose(out[:, 2], [0.5, 0.0, 0.0])       # h = -4: factor 4 / 8
+    # n = 5, recursively: first y4 = 2 -> factor 2 (y3 becomes 2), then y3 = 2 -> factor 2: total 4
+    Y5 = np.array([[1.0], [0.0], [0.0], [1.0], [2.0]])
+    assert np.allclose(perspective(Y5, d)[:, 0], [4.0, 0.0, 0.0])
+    # no hidden axis (n = 3): the identity
+    assert np.allclose(perspective(Y[:3], d), Y[:3])
+
+
+def test_stereographic_maps_known_points():
+    from app.projection import stereographic
+
+    r = 2.0
+    Y = np.array([[2.0, 0.0, 0.0, 0.0],      # on the equator: fixed
+                  [0.0, 0.0, 0.0, -2.0]])    # the south pole: the origin
+    Y = np.concatenate([Y, [[np.sqrt(2.0), 0.0, 0.0, np.sqrt(2.0)]]]).T
+    out = stereographic(Y, r)
+    assert np.allclose(out[:, 0], [2, 0, 0])
+    assert np.allclose(out[:, 1], [0, 0, 0])
+    # 45 degrees above the equator: r * x / (r - h) = 2 * 1.414 / (2 - 1.414) = 2 (1 + sqrt 2)
+    assert np.allclose(out[:, 2], [2 * (1 + np.sqrt(2)), 0, 0])
+    # circles on the sphere go to circles: the Clifford torus' circle x1^2 + x2^2 = 1/2 at fixed x3, x4
+    t = np.linspace(0, 2 * np.pi, 9)
+    a = np.sqrt(0.5)
+    C = np.stack([a * np.cos(t), a * np.sin(t), 0 * t + a * np.cos(1.0), 0 * t + a * np.sin(1.0)])
+    img = stereographic(C, 1.0)
+    rad = np.hypot(img[0], img[1])
+    assert np.allclose(rad, rad[0]) and np.allclose(img[2], img[2][0])
+    with pytest.raises(ValueError, match="n >= 4"):
+        stereographic(Y[:3], r)
+
+
+def test_view_frame_and_projector_kinds():
+    from app.projection import Projector, ProjectionModel
+
+    m = ProjectionModel(n=4)
+    F = m.frame()
+    assert np.allclose(F @ F.T, np.eye(4)) and np.allclose(F[:3], m.matrix())
+    assert np.allclose(F[3], [0, 0, 0, 1])
+    X = np.array([[1.0, 0.0, 0.0, 0.0], [-1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0], [0.0, 0.0, 0.0, -1.0],
+                  [0.5, 0.0, 0.0, 0.5]])
+    pr = Projector(X, center=np.zeros(4), dtype=np.float64)
+    assert pr.radii() == (1.0, 1.0)
+    lin = pr.project_view(m.view())
+    assert np.allclose(lin, X[:, :3])
+    m.mapping = "stereographic"
+    st = pr.project_view(m.view())
+    assert np.allclose(st[0], [1, 0, 0]) and np.allclose(st[4], [1.0, 0, 0])   # 0.5 / (1 - 0.5)
+    m.mapping = "perspective"
+    m.distance = 2.0
+    pe = pr.project_view(m.view())
+    assert np.allclose(pe[4], [0.5 * 2 / 1.5, 0, 0])
+    # the rotation is kept when switching kinds, and the angle turns the hidden axis into view
+    m.angles[m.planes.index((0, 3))] = 90.0
+    m.mapping = "orthographic"
+    assert np.allclose(np.abs(pr.project_view(m.view())[2]), [1, 0, 0], atol=1e-12)
+    # the state round-trips
+    m2 = ProjectionModel.from_dict(4, m.to_dict())
+    assert m2.mapping == "orthographic" and m2.distance == 2.0 and np.allclose(m2.angles, m.angles)
+    with pytest.raises(ValueError, match="mapping"):
+        ProjectionModel(n=4, mapping="fisheye")
