@@ -5,6 +5,10 @@
     gcmh-app --session my.json                 # the window, restoring a saved session
     gcmh-app --example klein-bottle --screenshot klein.png --size 1600x1200 [--div 30]
                                                # no window: extract, render off screen, write the PNG
+    gcmh-app --example klein-bottle --animate rotate:s-t --frames 60 --gif klein.gif [--mp4 klein.mp4]
+    gcmh-app --example clifford-torus --mapping stereographic --animate tour --mp4 tour.mp4
+    gcmh-app --example klein-bottle --animate slice:s --slice-width 0.2 --gif sweep.gif
+                                               # no window: an animation as GIF and/or MP4
 """
 
 from __future__ import annotations
@@ -12,6 +16,8 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+
+from .projection import MAPPINGS
 
 
 def _size(text: str) -> tuple[int, int]:
@@ -54,6 +60,19 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--project", metavar="A,B,C", help="show these three variables as X, Y, Z")
     p.add_argument("--rotate", metavar="I-J=DEG", action="append", default=[],
                    help="rotate in the plane of variables I and J by DEG degrees (repeatable), e.g. s-x=30")
+    p.add_argument("--mapping", choices=MAPPINGS, default="orthographic",
+                   help="how R^n goes to 3D: orthographic (default), perspective or stereographic (n >= 4)")
+    p.add_argument("--distance", type=float, default=3.0,
+                   help="perspective eye distance, in radii of the object (> 1, default 3)")
+    p.add_argument("--slice", metavar="VAR=C", help="show only |VAR - C| <= --slice-width (screenshots)")
+    p.add_argument("--slice-width", type=float, default=None, metavar="W",
+                   help="half-width of the slicing window (default: 4%% of the variable's range)")
+    p.add_argument("--animate", metavar="SPEC",
+                   help="no window: render an animation, SPEC = rotate:I-J | tour | slice:VAR (needs --gif/--mp4)")
+    p.add_argument("--frames", type=int, default=60, help="animation frames (default 60)")
+    p.add_argument("--fps", type=float, default=20.0, help="animation frames per second (default 20)")
+    p.add_argument("--gif", metavar="FILE", help="write the animation as a GIF")
+    p.add_argument("--mp4", metavar="FILE", help="write the animation as an MP4 (H.264)")
     return p
 
 
@@ -65,66 +84,120 @@ def _prepare_env() -> None:
             os.environ["XDG_RUNTIME_DIR"] = d
 
 
-def headless_screenshot(args) -> int:
-    """Extract the example, render it off screen with the window's drawing code, write the PNG."""
-    import numpy as np
-    import pyvista as pv
+def _fail(msg: str, code: int = 2) -> int:
+    print(f"gcmh-app: {msg}", file=sys.stderr)
+    return code
 
+
+def _headless_prepare(args):
+    """Load the example, check every option against its variables, extract. Returns a dict or an exit code."""
     from gcmh_core.errors import InputError
     from gcmh_core.examples import load_example
 
+    from .animation import parse_spec
     from .projection import ProjectionModel
-    from .scene import Scene, Style, default_camera, describe
+    from .slicing import SliceWindow, window_range
     from .worker import Job, run_job
 
-    if args.session:
-        return _headless_session(args)
     name = args.example or "klein-bottle"
     try:
         ex = load_example(name)
     except InputError as e:
-        print(f"gcmh-app: {e}", file=sys.stderr)
-        return 2
-    job = Job(formulas=list(ex.formulas), variables=list(ex.variables), bounds=[tuple(b) for b in ex.bounds],
-              div=args.div if args.div is not None else ex.div, seed=args.seed, method=args.method,
-              start=(list(ex.start) if ex.start else "auto") if args.method == "gcch" else None)
+        return _fail(str(e))
     names = list(ex.variables)
     view = dict(ex.view or {})
     project = args.project.split(",") if args.project else view.get("project", names[:3])
     color = args.color or view.get("color")
+    spec = None
+    if args.animate:
+        try:
+            spec = parse_spec(args.animate, names)
+        except ValueError as e:
+            return _fail(f"bad --animate: {e}")
+        if not (args.gif or args.mp4):
+            return _fail("--animate needs --gif FILE and/or --mp4 FILE")
+        if args.frames < 1 or args.frames > 10000:
+            return _fail(f"--frames must be between 1 and 10000, got {args.frames}")
+        if not args.fps > 0:
+            return _fail("--fps must be > 0")
+        for f, ext in ((args.gif, ".gif"), (args.mp4, ".mp4")):
+            if f and not f.lower().endswith(ext):
+                return _fail(f"{f!r} must end in {ext}")
     try:
-        model = ProjectionModel(n=len(names), axes=tuple(names.index(a.strip()) for a in project))
-        for spec in args.rotate:
-            plane, deg = spec.split("=")
+        model = ProjectionModel(n=len(names), axes=tuple(names.index(a.strip()) for a in project),
+                                mapping=args.mapping, distance=args.distance)
+        for spec_r in args.rotate:
+            plane, deg = spec_r.split("=")
             a, b = (names.index(t.strip()) for t in plane.replace("\u2013", "-").split("-"))
             i, j = min(a, b), max(a, b)
             sgn = 1.0 if a < b else -1.0
             model.angles[model.planes.index((i, j))] = sgn * float(deg)
     except ValueError as e:
-        print(f"gcmh-app: bad --project/--rotate ({e}); variables are {', '.join(names)}", file=sys.stderr)
-        return 2
+        return _fail(f"bad --project/--rotate/--mapping ({e}); variables are {', '.join(names)}")
+    if args.mapping != "orthographic" and len(names) < 4:
+        return _fail(f"--mapping {args.mapping} needs n >= 4 (this example has n = {len(names)})")
     if color is not None and color not in names:
-        print(f"gcmh-app: --color must be one of {', '.join(names)}", file=sys.stderr)
-        return 2
+        return _fail(f"--color must be one of {', '.join(names)}")
+    window = None
+    slice_var = spec.var if spec is not None and spec.kind == "slice" else None
+    slice_c = None
+    if args.slice:
+        var, _, c = args.slice.partition("=")
+        try:
+            slice_var, slice_c = names.index(var.strip()), float(c)
+        except ValueError:
+            return _fail(f"bad --slice {args.slice!r}: use VAR=C with VAR one of {', '.join(names)}")
+    if args.slice_width is not None and not args.slice_width > 0:
+        return _fail("--slice-width must be > 0")
+    job = Job(formulas=list(ex.formulas), variables=list(ex.variables), bounds=[tuple(b) for b in ex.bounds],
+              div=args.div if args.div is not None else ex.div, seed=args.seed, method=args.method,
+              start=(list(ex.start) if ex.start else "auto") if args.method == "gcch" else None)
     try:
         cx = run_job(job)
     except InputError as e:
-        print(f"gcmh-app: {e}", file=sys.stderr)
-        return 2
+        return _fail(str(e))
     if cx.count(0) == 0:
-        print("gcmh-app: the result is empty (no sign change of F on this grid): nothing to draw", file=sys.stderr)
-        return 1
+        return _fail("the result is empty (no sign change of F on this grid): nothing to draw", 1)
     model.set_vertices(cx.vertices)
+    if slice_var is not None:
+        window = SliceWindow(slice_var)
+        lo, hi = window_range(cx.vertices, window.direction(model.frame()))
+        window.w = args.slice_width if args.slice_width is not None else max(0.04 * (hi - lo), 1e-9)
+        window.c = slice_c if slice_c is not None else 0.5 * (lo + hi)
+        window.range = (lo, hi)
+    return dict(ex=ex, names=names, model=model, color=color, cx=cx, spec=spec, window=window)
+
+
+def headless_screenshot(args) -> int:
+    """Extract the example, render it off screen with the window's drawing code, write the PNG or the animation."""
+    import numpy as np
+    import pyvista as pv
+
+    from .scene import Scene, Style, animation_images, default_camera, describe
+
+    if args.session:
+        return _headless_session(args)
+    prep = _headless_prepare(args)
+    if isinstance(prep, int):
+        return prep
+    ex, names, model, color, cx = prep["ex"], prep["names"], prep["model"], prep["color"], prep["cx"]
+    window, spec = prep["window"], prep["spec"]
     w, h = args.size
     pl = pv.Plotter(off_screen=True, window_size=[w, h])
     try:
         scene = Scene(pl)
         dim = cx.dim
-        scene.set_complex(cx, names, model.matrix(), Style(color_by=color, title=ex.title,
-                                                             subtitle=describe(cx, names, color)))
-        default_camera(pl)
+        sub = describe(cx, names, color)
+        if args.mapping != "orthographic":
+            sub += f" \u00b7 {args.mapping}"
+        scene.set_complex(cx, names, model.view(), Style(color_by=color, title=ex.title, subtitle=sub))
+        default_camera(pl)   # fitted to the whole complex: a slice or a tour stays in the picture
+        if window is not None:
+            scene.set_slice(window.direction(model.frame()), window.c, window.w, render=False)
         if args.transparent:
             pl.renderer.GradientBackgroundOff()
+        if spec is not None:
+            return _headless_animation(args, scene, model, window, spec, cx)
         pl.render()
         img = pl.screenshot(args.screenshot, transparent_background=args.transparent, return_img=True)
     finally:
@@ -133,6 +206,24 @@ def headless_screenshot(args) -> int:
     print(f"{args.screenshot}: {img.shape[1]}x{img.shape[0]}, {ex.title}, dim {dim}, cells by dimension {counts}, "
           f"chi = {cx.euler_characteristic()}, {cx.meta.get('seconds', float('nan')):.2f} s")
     return 0 if np.asarray(img).size else 1
+
+
+def _headless_animation(args, scene, model, window, spec, cx) -> int:
+    from .animation import frames_for, write_animation
+    from .scene import animation_images
+
+    rng = getattr(window, "range", (0.0, 1.0))
+    frames = frames_for(spec, model.angles.copy(), args.frames, slice_range=rng)
+    outs = [p for p in (args.gif, args.mp4) if p]
+    if len(outs) == 1:
+        n = write_animation(outs[0], animation_images(scene, model, frames, window), fps=args.fps)
+    else:   # render once, write both
+        imgs = list(animation_images(scene, model, frames, window))
+        for p in outs:
+            n = write_animation(p, imgs, fps=args.fps)
+    for p in outs:
+        print(f"{p}: {n} frames, {args.size[0]}x{args.size[1]}, {spec.describe(scene.names)}")
+    return 0
 
 
 def _headless_session(args) -> int:
@@ -174,8 +265,10 @@ def main(argv=None) -> int:
         for ex in list_examples():
             print(f"{ex.name:18s} {ex.title}  (n={ex.n}, k={ex.k})")
         return 0
-    if args.screenshot:
+    if args.screenshot or args.animate:
         return headless_screenshot(args)
+    if args.gif or args.mp4:
+        return _fail("--gif/--mp4 need --animate SPEC (rotate:I-J, tour or slice:VAR)")
 
     from qtpy.QtWidgets import QApplication
 

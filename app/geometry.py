@@ -12,6 +12,11 @@ keeps the sum of its faces' bivectors in R^n (computed once, from polygons
 oriented coherently by a BFS; where a surface is not orientable the signs are
 also aligned with one neighbour), and a slider step gets every vertex normal
 with one more small matmul.
+
+That identity needs a linear projection. Under a nonlinear one (perspective,
+stereographic) :class:`MeshNormals` computes the normals from the projected
+points instead: Newell normals of the polygons summed at their vertices, with
+the same sign alignment, all in numpy over the corners at once.
 """
 
 from __future__ import annotations
@@ -147,6 +152,27 @@ def orient_polygons(offsets: np.ndarray, vids: np.ndarray) -> np.ndarray:
     fl = flip[face_of]
     src[fl] = offsets[face_of[fl]] + offsets[face_of[fl] + 1] - 1 - pos[fl]
     return vids[src]
+
+
+def oriented_loops(cx, offsets, vids, cell_ids) -> np.ndarray:
+    """The 2-cells' loops (``offsets``, ``vids`` for cells ``cell_ids``) coherently oriented.
+
+    Uses ``gcmh_core.analysis.orient_2cells`` (one orientation for the whole
+    project) when the library has it, else the BFS of :func:`orient_polygons`.
+    """
+    try:
+        from gcmh_core.analysis import orient_2cells
+    except ImportError:
+        return orient_polygons(offsets, vids)
+    o = orient_2cells(cx)
+    oo, ov = np.asarray(o.offsets, dtype=np.int64), np.asarray(o.vertices, dtype=np.int64)
+    sizes = np.diff(oo)
+    if len(sizes) <= (cell_ids.max() if len(cell_ids) else -1) or not np.array_equal(sizes[cell_ids], np.diff(offsets)):
+        return orient_polygons(offsets, vids)   # not the loops we draw: keep ours
+    sz = sizes[cell_ids]
+    first = np.cumsum(sz) - sz
+    take = np.repeat(oo[cell_ids] - first, sz) + np.arange(int(sz.sum()))
+    return ov[take]
 
 
 def vertex_bivectors(vertices: np.ndarray, offsets: np.ndarray, vids: np.ndarray) -> np.ndarray:
@@ -289,13 +315,53 @@ class NormalField:
             np.subtract(oT[r], t, out=oT[r])
 
 
+class MeshNormals:
+    """Vertex normals computed from projected points (for nonlinear views), vectorised.
+
+    The corner arrays (next corner, face of each corner, a reference face per
+    vertex) are built once; :meth:`write` then costs a few passes over the corners.
+    """
+
+    def __init__(self, offsets: np.ndarray, vids: np.ndarray, n_vertices: int):
+        offsets = np.asarray(offsets, dtype=np.int64)
+        self.vids = np.asarray(vids, dtype=np.int64)
+        self.V = int(n_vertices)
+        N = len(offsets) - 1
+        sizes = np.diff(offsets)
+        self.starts = offsets[:-1]
+        self.face_of = np.repeat(np.arange(N), sizes)
+        nxt = np.arange(1, len(self.vids) + 1)
+        if N:
+            nxt[offsets[1:] - 1] = offsets[:-1]
+        self.vnext = self.vids[nxt]
+        ref = np.full(self.V, -1, dtype=np.int64)
+        ref[self.vids[::-1]] = self.face_of[::-1]
+        self.ref = ref[self.vids]                 # per corner: the reference face of its vertex
+
+    def write(self, pts: np.ndarray, out: np.ndarray) -> None:
+        """(V, 3) normals of the mesh with points ``pts`` (V, 3) into ``out`` (V, 3)."""
+        if len(self.vids) == 0:
+            out[...] = 0
+            return
+        a = pts[self.vids]
+        b = pts[self.vnext]
+        # Newell: the face normal is half the sum of p_i x p_(i+1) over its corners
+        Nf = np.add.reduceat(np.cross(a, b), self.starts, axis=0)
+        s = np.einsum("ij,ij->i", Nf[self.face_of], Nf[self.ref])
+        w = np.where(s < 0, -1.0, 1.0)
+        for c in range(3):
+            out[:, c] = np.bincount(self.vids, weights=w * Nf[self.face_of, c], minlength=self.V)
+
+
 @dataclass
 class Geometry:
     """Everything to draw ``cx`` under any projection (built once per result).
 
     dim: the complex's dimension; kind: "lines" or "polygons";
     cells: VTK legacy cell array (``[2, a, b, ...]`` or ``[m, v0..v(m-1), ...]``) int64;
-    projector: centred float32 vertices; normals: a NormalField for surfaces, else None.
+    projector: centred float32 vertices; normals: a NormalField for surfaces, else None;
+    offsets, vids: the drawn polygons as oriented CSR loops (None for lines), edges (E, 2) for lines;
+    cell_ids: per drawn cell, its index among the complex's 2-cells (or edges).
     """
 
     dim: int
@@ -304,6 +370,39 @@ class Geometry:
     cells: np.ndarray
     projector: Projector
     normals: "NormalField | None" = None
+    offsets: np.ndarray | None = None
+    vids: np.ndarray | None = None
+    edges: np.ndarray | None = None
+    cell_ids: np.ndarray | None = None
+    _mesh_normals: "MeshNormals | None" = None
+
+    def mesh_normals(self) -> "MeshNormals | None":
+        """Normals from projected points (for nonlinear views); None for lines."""
+        if self.kind != "polygons" or self.normals is None:
+            return None
+        if self._mesh_normals is None:
+            self._mesh_normals = MeshNormals(self.offsets, self.vids, self.projector.XT.shape[1])
+        return self._mesh_normals
+
+    @classmethod
+    def from_slice(cls, sl, dim: int, n: int, center, radii, cell_ids=None) -> "Geometry":
+        """Drawing arrays of an :class:`app.slicing.Slice` of a geometry (its loops stay oriented).
+
+        ``center`` and ``radii`` are the full complex's, so the slice does not move.
+        """
+        projector = Projector(sl.vertices, center=center)
+        projector.set_radii(radii)
+        ids = sl.cell_source if cell_ids is None else np.asarray(cell_ids)[sl.cell_source]
+        if sl.edges is not None:
+            lines = np.empty((len(sl.edges), 3), dtype=np.int64)
+            lines[:, 0] = 2
+            lines[:, 1:] = sl.edges
+            return cls(dim, n, "lines", lines.ravel(), projector, edges=sl.edges, cell_ids=ids)
+        normals = None
+        if dim == 2 and len(sl.vids):
+            normals = NormalField(vertex_bivectors(sl.vertices, sl.offsets, sl.vids), n)
+        return cls(dim, n, "polygons", polygon_faces(sl.offsets, sl.vids), projector, normals,
+                   offsets=sl.offsets, vids=sl.vids, cell_ids=ids)
 
     @classmethod
     def build(cls, cx) -> "Geometry":
@@ -315,11 +414,15 @@ class Geometry:
             lines = np.empty((len(edges), 3), dtype=np.int64)
             lines[:, 0] = 2
             lines[:, 1:] = edges
-            return cls(dim, cx.n, "lines", lines.ravel(), projector)
-        offsets, vids = _proper_polygons(*cx.polygons())
+            return cls(dim, cx.n, "lines", lines.ravel(), projector, edges=edges,
+                       cell_ids=np.arange(len(edges), dtype=np.int64))
+        offsets0, vids0 = cx.polygons()
+        cell_ids = np.flatnonzero(np.diff(np.asarray(offsets0)) >= 3)
+        offsets, vids = _proper_polygons(offsets0, vids0)
         normals = None
         if dim == 2:
-            vids = orient_polygons(offsets, vids)
+            vids = oriented_loops(cx, offsets, vids, cell_ids)
             if len(vids):
                 normals = NormalField(vertex_bivectors(V, offsets, vids), cx.n)
-        return cls(dim, cx.n, "polygons", polygon_faces(offsets, vids), projector, normals)
+        return cls(dim, cx.n, "polygons", polygon_faces(offsets, vids), projector, normals,
+                   offsets=offsets, vids=vids, cell_ids=cell_ids)

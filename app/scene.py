@@ -7,8 +7,18 @@ slider calls :meth:`Scene.set_projection`, which writes the projected points
 (and, for surfaces, the vertex normals of the projected mesh) in place into the
 mesh's VTK arrays and re-renders: no new mesh, no new actor, same topology.
 
+A slice (:meth:`Scene.set_slice`) clips the oriented loops of the full result
+to a window of a linear functional (:mod:`app.slicing`) and draws that instead:
+new topology, so a new mesh, but the same centre and scales, so nothing jumps.
+Overlays (boundary facets, the grid cubes, a picked cell) are small line meshes
+projected with the same view and clipped by the same slice.
+
+A view is a :class:`app.projection.View` (or a plain (3, n) matrix: linear).
+Nonlinear views get their normals from the projected mesh
+(:class:`app.geometry.MeshNormals`), linear ones from the bivectors.
+
 The same class renders into the Qt window (a ``pyvistaqt.QtInteractor``) and
-into an off-screen ``pyvista.Plotter`` for headless screenshots.
+into an off-screen ``pyvista.Plotter`` for headless screenshots and animations.
 """
 
 from __future__ import annotations
@@ -19,12 +29,17 @@ import numpy as np
 import pyvista as pv
 
 from .geometry import Geometry
-from .projection import Projector
+from .projection import Projector, View
+from .slicing import clip_polygons, clip_segments
 
 BACKGROUND = "#1f2430"
 BACKGROUND_TOP = "#4a5468"
 SURFACE_COLOR = "#d9a441"
 LINE_COLOR = "#f0c05a"
+BACK_COLOR = "#3f7fd0"       # back faces when two-sided colouring is on
+BOUNDARY_COLOR = "#ff4d6d"
+GRID_COLOR = "#9fb3d9"
+PICK_COLOR = "#40ff90"
 CMAP = "viridis"
 
 
@@ -41,6 +56,9 @@ class Style:
     subtitle: str = ""
     scalar_bar: bool = True
     axes: bool = True
+    two_sided: bool = False          # front faces SURFACE_COLOR, back faces BACK_COLOR (no colour map)
+    show_boundary: bool = False
+    show_grid: bool = False
     extra: dict = field(default_factory=dict)
 
     def resolved_opacity(self, dim: int) -> float:
@@ -79,6 +97,13 @@ class Scene:
         self._subtitle_actor = None
         self._legend_actor = None
         self._bar_title = None
+        self.geometry: Geometry | None = None      # of the whole result
+        self.draw_geo: Geometry | None = None      # what is drawn (the slice, or the whole)
+        self.view: View | None = None
+        self.slice: tuple | None = None            # (direction (n,), c, w) or None
+        self._mesh_normals = None
+        self.overlays: dict = {}                   # name -> [Geometry-like (projector, cells, kind), mesh, actor, color]
+        self._overlay_src: dict = {}               # name -> (vertices (m, n), edges (E, 2)) before slicing
         plotter.set_background(BACKGROUND, top=BACKGROUND_TOP)
         try:
             plotter.enable_anti_aliasing("ssaa")
@@ -99,10 +124,16 @@ class Scene:
         self.complex = None
         self.projector = None
         self._pts = self._normals = self._normal_field = None
+        self.geometry = self.draw_geo = None
+        self.slice = None
+        self._mesh_normals = None
+        for name in list(self.overlays):
+            self.remove_overlay(name, render=False)
+        self._overlay_src.clear()
 
-    def set_complex(self, cx, names, P: np.ndarray, style: Style | None = None,
+    def set_complex(self, cx, names, P, style: Style | None = None,
                     geometry: Geometry | None = None) -> None:
-        """Build the mesh of ``cx`` (a CellComplex) projected by ``P`` (3, n) and show it.
+        """Build the mesh of ``cx`` (a CellComplex) under view ``P`` (a View or a (3, n) matrix) and show it.
 
         ``geometry``: :meth:`Geometry.build` of ``cx`` if already made (the worker makes it
         off the GUI thread); otherwise it is built here.
@@ -116,27 +147,51 @@ class Scene:
         geo = geometry if geometry is not None else Geometry.build(cx)
         self.complex = cx
         self.names = list(names)
-        V = cx.vertices
-        self.projector = geo.projector
-        pts = self.projector.project(P)
-        if geo.kind == "lines":
-            mesh = pv.PolyData(pts, lines=geo.cells) if len(geo.cells) else pv.PolyData(pts)
+        self.geometry = geo
+        self._set_view(P)
+        self._show_geometry(geo, np.asarray(cx.vertices))
+        self._update_axes_labels()
+        self.plotter.reset_camera(render=False)
+
+    def _set_view(self, P) -> None:
+        if isinstance(P, View):
+            self.view = P
         else:
-            mesh = pv.PolyData(pts, faces=geo.cells) if len(geo.cells) else pv.PolyData(pts)
+            P = np.asarray(P, dtype=float)
+            self.view = View(np.asarray(P, dtype=float), "orthographic")
+        self._P = np.asarray(self.view.P, dtype=float)
+
+    def _show_geometry(self, geo: Geometry, V: np.ndarray) -> None:
+        """Make the mesh for ``geo`` (vertices ``V`` (V, n) for the colour data) and its actor."""
+        self.draw_geo = geo
+        self.projector = geo.projector
+        self._mesh_normals = None
+        if geo.projector.XT.shape[1] == 0 or len(geo.cells) == 0:   # an empty slice: draw nothing
+            if self.actor is not None:
+                self.plotter.remove_actor(self.actor, render=False)
+            self._remove_bar()
+            self.actor = None
+            self.mesh = None
+            self._pts = self._normals = self._normal_field = None
+            return
+        pts = self.projector.project_view(self.view)
+        if geo.kind == "lines":
+            mesh = pv.PolyData(pts, lines=geo.cells)
+        else:
+            mesh = pv.PolyData(pts, faces=geo.cells)
         self._normal_field = geo.normals
         if self._normal_field is not None:
             mesh.point_data["Normals"] = np.zeros((len(V), 3), dtype=np.float32)
             mesh.point_data.active_normals_name = "Normals"
         for i, name in enumerate(self.names):
             mesh.point_data[name] = np.ascontiguousarray(V[:, i])
+        mesh.cell_data["cell_id"] = np.asarray(geo.cell_ids if geo.cell_ids is not None
+                                                else np.arange(mesh.n_cells), dtype=np.int64)
         self.mesh = mesh
         self._pts = mesh.points  # a view of the VTK buffer: written in place
         self._normals = mesh.point_data["Normals"] if self._normal_field is not None else None
-        self._P = np.asarray(P, dtype=float)
         self._write_normals()
         self._add_actor()
-        self._update_axes_labels()
-        self.plotter.reset_camera(render=False)
 
     def adopt(self, other: "Scene", style: Style | None = None) -> None:
         """Show the mesh of another scene (shared, not copied) with its projection."""
@@ -146,8 +201,11 @@ class Scene:
         self.projector = other.projector
         self._pts, self._normals, self._normal_field = other._pts, other._normals, other._normal_field
         self._P = other._P
+        self.view, self.geometry, self.draw_geo, self.slice = other.view, other.geometry, other.draw_geo, other.slice
         self.style = style if style is not None else other.style
         self._add_actor()
+        for name, (geo, mesh, _actor, color, width) in other.overlays.items():
+            self.overlays[name] = [geo, mesh, self._add_overlay_actor(name, mesh, color, width), color, width]
         self._update_axes_labels()
 
     def _add_actor(self) -> None:
@@ -160,6 +218,9 @@ class Scene:
         st = self.style
         dim = self.dim
         color_by = st.color_by if st.color_by in self.names else None
+        two_sided = st.two_sided and dim >= 2
+        if two_sided:
+            color_by = None   # a colour map would paint both sides alike
         kw = dict(
             opacity=st.resolved_opacity(dim),
             show_edges=st.resolved_edges(dim) and dim >= 2,
@@ -178,6 +239,11 @@ class Scene:
             kw["render_lines_as_tubes"] = True
             kw["ambient"] = 0.35
         if color_by is not None:
+            # the whole result's range: a slice or a sweep keeps its colours
+            col = np.asarray(self.complex.vertices)[:, self.names.index(color_by)]
+            col = col[np.isfinite(col)]
+            if len(col):
+                kw["clim"] = [float(col.min()), float(col.max()) if col.max() > col.min() else float(col.min()) + 1.0]
             kw.update(scalars=color_by, cmap=st.cmap, show_scalar_bar=st.scalar_bar,
                       scalar_bar_args=dict(title=color_by, vertical=True, title_font_size=self._font(36),
                                            label_font_size=self._font(26), n_labels=5, fmt="%.2f",
@@ -188,6 +254,8 @@ class Scene:
         else:
             kw["color"] = SURFACE_COLOR if dim >= 2 else LINE_COLOR
             kw["show_scalar_bar"] = False
+        if two_sided:
+            kw["backface_params"] = dict(color=BACK_COLOR)
         self.actor = self.plotter.add_mesh(self.mesh, **kw)
         if self._bar_title is not None:
             try:
@@ -223,15 +291,23 @@ class Scene:
                                                          font_size=self._font(11), color="#c8cfdc", name="gcmh-subtitle")
 
     # ----------------------------------------------------------- fast update
-    def set_projection(self, P: np.ndarray, render: bool = True) -> None:
-        """Write the points (and normals) for projection ``P`` (3, n) in place."""
-        self._P = np.asarray(P, dtype=float)
-        if self.mesh is None:
-            return
-        self.projector.project(self._P, out=self._pts)
-        self.mesh.GetPoints().Modified()
-        self._write_normals()
-        self.mesh.Modified()
+    def set_projection(self, P, render: bool = True) -> None:
+        """Write the points (and normals) for view ``P`` (a View or a (3, n) matrix) in place.
+
+        A slice along a direction that depends on the view is the caller's to redo
+        (:meth:`set_slice`); overlays follow here.
+        """
+        self._set_view(P)
+        if self.mesh is not None:
+            self.projector.project_view(self.view, out=self._pts)
+            self.mesh.GetPoints().Modified()
+            self._write_normals()
+            self.mesh.Modified()
+        for geo, mesh, *_ in self.overlays.values():
+            if mesh is not None:
+                geo.projector.project_view(self.view, out=mesh.points)
+                mesh.GetPoints().Modified()
+                mesh.Modified()
         self._update_axes_labels()
         if render:
             self.plotter.renderer.ResetCameraClippingRange()
@@ -240,8 +316,124 @@ class Scene:
     def _write_normals(self) -> None:
         if self._normals is None or self._normal_field is None:
             return
-        self._normal_field.write(self._P, self._normals)
+        if self.view is not None and not self.view.linear:
+            # the bivector identity needs a linear map: take the normals of the projected mesh
+            if self._mesh_normals is None:
+                self._mesh_normals = self.draw_geo.mesh_normals()
+            self._mesh_normals.write(self._pts, self._normals)
+        else:
+            self._normal_field.write(self._P, self._normals)
         self.mesh.GetPointData().GetNormals().Modified()
+
+    # ------------------------------------------------------------------ slicing
+    def set_slice(self, direction=None, c: float = 0.0, w: float = 0.0, render: bool = True) -> int:
+        """Show only the part with ``c - w <= direction . x <= c + w`` (None: everything).
+
+        Cells are clipped at the window's planes (:mod:`app.slicing`). Returns the
+        number of cells drawn.
+        """
+        geo = self.geometry
+        if geo is None:
+            return 0
+        V = np.asarray(self.complex.vertices)
+        if direction is None:
+            self.slice = None
+            self._show_geometry(geo, V)
+        else:
+            u = np.asarray(direction, dtype=float)
+            self.slice = (u, float(c), float(w))
+            if geo.kind == "lines":
+                sl = clip_segments(V, geo.edges, u, c, w)
+            else:
+                sl = clip_polygons(V, geo.offsets, geo.vids, u, c, w)
+            sgeo = Geometry.from_slice(sl, geo.dim, geo.n, geo.projector.center, geo.projector.radii(),
+                                       cell_ids=geo.cell_ids)
+            self._show_geometry(sgeo, sl.vertices)
+        for name in list(self._overlay_src):
+            self._build_overlay(name)
+        if render:
+            self.plotter.render()
+        return 0 if self.mesh is None else int(self.mesh.n_cells)
+
+    # ------------------------------------------------------------------ overlays
+    def set_overlay(self, name: str, vertices, edges, color: str, width: float = 2.0,
+                    opacity: float = 1.0, render: bool = True) -> None:
+        """Line segments in R^n (vertices (m, n), edges (E, 2)) drawn with the view and clipped by the slice."""
+        self._overlay_src[name] = (np.asarray(vertices, dtype=np.float64), np.asarray(edges, dtype=np.int64),
+                                   color, float(width), float(opacity))
+        self._build_overlay(name)
+        if render:
+            self.plotter.render()
+
+    def remove_overlay(self, name: str, render: bool = True) -> None:
+        self._overlay_src.pop(name, None)
+        ov = self.overlays.pop(name, None)
+        if ov is not None and ov[2] is not None:
+            self.plotter.remove_actor(ov[2], render=False)
+        if render:
+            self.plotter.render()
+
+    def _build_overlay(self, name: str) -> None:
+        X, E, color, width, opacity = self._overlay_src[name]
+        old = self.overlays.pop(name, None)
+        if old is not None and old[2] is not None:
+            self.plotter.remove_actor(old[2], render=False)
+        if self.geometry is None or len(E) == 0:
+            return
+        if self.slice is not None:
+            u, c, w = self.slice
+            sl = clip_segments(X, E, u, c, w)
+            X, E = sl.vertices, sl.edges
+            if len(E) == 0:
+                return
+        pr = Projector(X, center=self.geometry.projector.center)
+        pr.set_radii(self.geometry.projector.radii())
+        lines = np.empty((len(E), 3), dtype=np.int64)
+        lines[:, 0] = 2
+        lines[:, 1:] = E
+        mesh = pv.PolyData(pr.project_view(self.view), lines=lines.ravel())
+        geo = Geometry(1, X.shape[1], "lines", lines.ravel(), pr)
+        self.overlays[name] = [geo, mesh, None, color, (width, opacity)]
+        self.overlays[name][2] = self._add_overlay_actor(name, mesh, color, (width, opacity))
+
+    def _add_overlay_actor(self, name, mesh, color, width):
+        width, opacity = width
+        return self.plotter.add_mesh(mesh, color=color, line_width=width, opacity=opacity, render=False,
+                                     reset_camera=False, name=f"gcmh-overlay-{name}", pickable=False,
+                                     render_lines_as_tubes=opacity >= 1.0, lighting=False)
+
+    # ------------------------------------------------------------------ picking
+    def cell_at(self, display_xy) -> int | None:
+        """The complex's cell (2-cell, or edge of a curve) drawn at pixel ``display_xy`` (x, y from bottom left)."""
+        if self.mesh is None or self.actor is None:
+            return None
+        import vtk
+
+        picker = vtk.vtkCellPicker()
+        picker.SetTolerance(0.002)
+        picker.PickFromListOn()
+        picker.AddPickList(self.actor)
+        if not picker.Pick(float(display_xy[0]), float(display_xy[1]), 0.0, self.plotter.renderer):
+            return None
+        cid = picker.GetCellId()
+        if cid < 0:
+            return None
+        return int(self.mesh.cell_data["cell_id"][cid])
+
+    def display_position(self, cell_id: int) -> tuple[float, float] | None:
+        """Pixel (x, y from bottom left) of the middle of a drawn cell of the complex, or None."""
+        if self.mesh is None:
+            return None
+        rows = np.flatnonzero(self.mesh.cell_data["cell_id"] == int(cell_id))
+        if len(rows) == 0:
+            return None
+        cell = self.mesh.get_cell(int(rows[0]))
+        p = np.asarray(cell.points, dtype=float).mean(axis=0)
+        ren = self.plotter.renderer
+        ren.SetWorldPoint(p[0], p[1], p[2], 1.0)
+        ren.WorldToDisplay()
+        x, y, _ = ren.GetDisplayPoint()
+        return float(x), float(y)
 
     # ---------------------------------------------------------------- style
     def set_style(self, style: Style, render: bool = True) -> None:
@@ -399,6 +591,30 @@ def copy_camera(src, dst) -> None:
     dst.view_angle = float(src.view_angle)
     dst.parallel_projection = bool(src.parallel_projection)
     dst.parallel_scale = float(src.parallel_scale)
+
+
+def animation_images(scene: Scene, model, frames, window=None, progress=None):
+    """Draw each :class:`app.animation.Frame` on ``scene`` (an off-screen plotter's) and yield its image.
+
+    ``model``: the ProjectionModel whose angles the frames set (changed in place);
+    ``window``: an :class:`app.slicing.SliceWindow` to slice with (its centre is
+    what a slice frame sets), or None. The camera stays where it is.
+    """
+    for k, fr in enumerate(frames):
+        if fr.angles is not None:
+            model.angles[:] = fr.angles
+        view = model.view()
+        scene.set_projection(view, render=False)
+        if window is not None:
+            if fr.slice_center is not None:
+                window.c = fr.slice_center
+            scene.set_slice(window.direction(view.frame), window.c, window.w, render=False)
+        scene.plotter.renderer.ResetCameraClippingRange()
+        scene.plotter.render()
+        img = scene.plotter.screenshot(None, return_img=True)
+        if progress is not None:
+            progress(k)
+        yield img
 
 
 def render_image(scene: Scene, path=None, size=(1600, 1200), transparent: bool = False, camera=None):

@@ -143,15 +143,16 @@ def _close_loops(face, n_faces):
 def _finish(X, h, vk, new_lists):
     """One vertex array for the corner keys: the used originals, then the distinct new points.
 
-    ``new_lists``: per clip plane, the (a, b) original edges of its new corners
-    and the plane's level, in key order. A new point is named by (edge, plane).
+    ``new_lists``: chunks of new corners in key order, each (a, b) original
+    edges, the plane's level and the plane's id (0: low, 1: high). A new point
+    is named by (edge, plane id).
     """
     n = X.shape[1]
     pts, keys = [], []
-    for p, (a, b, level) in enumerate(new_lists):
+    for a, b, level, plane in new_lists:
         P, lo, hi = _new_vertices(X, h, a, b, level)
         pts.append(P)
-        keys.append(np.stack([lo, hi, np.full(len(lo), p)], 1))
+        keys.append(np.stack([lo, hi, np.full(len(lo), plane)], 1))
     allkeys = np.concatenate(keys)
     allpts = np.concatenate(pts) if pts else np.empty((0, n))
     used_old = np.unique(vk[vk >= 0])
@@ -214,7 +215,7 @@ def clip_polygons(vertices, offsets, vids, direction, c: float, w: float) -> Sli
         n = X.shape[1]
         return Slice(np.empty((0, n)), np.empty(0, np.int64), np.zeros(1, np.int64), np.empty(0, np.int64),
                      np.empty(0, np.int64))
-    verts, source, ids = _finish(X, h, k2, [(na1, nb1, lo), (na2, nb2, hi)])
+    verts, source, ids = _finish(X, h, k2, [(na1, nb1, lo, 0), (na2, nb2, hi, 1)])
     faces_kept, counts = np.unique(f2, return_counts=True)
     offs = np.zeros(len(faces_kept) + 1, np.int64)
     np.cumsum(counts, out=offs[1:])
@@ -232,45 +233,23 @@ def clip_segments(vertices, edges, direction, c: float, w: float) -> Slice:
     live = (np.maximum(ha, hb) >= lo) & (np.minimum(ha, hb) <= hi)
     idx = np.flatnonzero(live)
     a, b, ha, hb = a[idx], b[idx], ha[idx], hb[idx]
-    # each end: the original vertex if inside, else the point on the plane it is beyond
-    keys = np.empty((len(idx), 2), np.int64)
-    rows_a, rows_b, levels = [], [], []
-    cnt = 0
-    for col, (v, hv) in enumerate(((a, ha), (b, hb))):
-        k = v.copy()
-        for level, beyond in ((lo, hv < lo), (hi, hv > hi)):
-            j = np.flatnonzero(beyond)
-            k[j] = -1 - (cnt + np.arange(len(j)))
-            rows_a.append(a[j])
-            rows_b.append(b[j])
-            levels.append(np.full(len(j), level))
-            cnt += len(j)
-        keys[:, col] = k
-    ra = np.concatenate(rows_a) if rows_a else np.empty(0, np.int64)
-    rb = np.concatenate(rows_b) if rows_b else np.empty(0, np.int64)
-    lv = np.concatenate(levels) if levels else np.empty(0)
     n = X.shape[1]
     if len(idx) == 0:
         return Slice(np.empty((0, n)), np.empty(0, np.int64), None, None, np.empty(0, np.int64),
                      edges=np.empty((0, 2), np.int64))
-    P, lo_i, hi_i = _new_vertices(X, h, ra, rb, lv)
-    plane = (lv == hi).astype(np.int64)
-    nk = np.stack([lo_i, hi_i, plane], 1)
-    used_old = np.unique(keys[keys >= 0])
-    if len(nk):
-        uk, first, inv = np.unique(nk, axis=0, return_index=True, return_inverse=True)
-        inv = inv.ravel()
-    else:
-        first, inv = np.empty(0, np.int64), np.empty(0, np.int64)
-    old_map = np.full(len(X), -1, np.int64)
-    old_map[used_old] = np.arange(len(used_old))
-    flat = keys.ravel()
-    out = np.empty(len(flat), np.int64)
-    isold = flat >= 0
-    out[isold] = old_map[flat[isold]]
-    out[~isold] = len(used_old) + inv[-1 - flat[~isold]]
-    verts = np.concatenate([X[used_old], P[first]]) if len(first) else X[used_old].copy()
-    source = np.concatenate([used_old, np.full(len(first), -1, np.int64)])
+    # each end: the original vertex if inside, else the point on the plane it is beyond
+    keys = np.empty((len(idx), 2), np.int64)
+    chunks = []
+    cnt = 0
+    for col, (v, hv) in enumerate(((a, ha), (b, hb))):
+        k = v.copy()
+        for plane, (level, beyond) in enumerate(((lo, hv < lo), (hi, hv > hi))):
+            j = np.flatnonzero(beyond)
+            k[j] = -1 - (cnt + np.arange(len(j)))
+            chunks.append((a[j], b[j], level, plane))
+            cnt += len(j)
+        keys[:, col] = k
+    verts, source, out = _finish(X, h, keys.ravel(), chunks)
     edges_out = out.reshape(-1, 2)
     nondeg = edges_out[:, 0] != edges_out[:, 1]
     return Slice(verts, source, None, None, idx[nondeg].astype(np.int64), edges=edges_out[nondeg])
@@ -284,3 +263,32 @@ def window_range(vertices, direction) -> tuple[float, float]:
         return 0.0, 0.0
     h = X @ np.asarray(direction, dtype=np.float64)
     return float(h.min()), float(h.max())
+
+
+@dataclass
+class SliceWindow:
+    """What the user slices by: coordinate ``index`` or, with ``hidden``, the view's hidden direction ``index``.
+
+    ``c`` and ``w``: the window ``[c - w, c + w]`` of ``u . x``.
+    """
+
+    index: int
+    hidden: bool = False
+    c: float = 0.0
+    w: float = 0.1
+
+    def direction(self, view_frame: np.ndarray) -> np.ndarray:
+        """The unit vector u (n,) for a view with frame (n, n) (rows: 3 screen, then hidden)."""
+        F = np.asarray(view_frame, dtype=np.float64)
+        n = F.shape[1]
+        if self.hidden:
+            H = F[3:]
+            if not (0 <= self.index < len(H)):
+                raise ValueError(f"hidden direction {self.index + 1} does not exist (n = {n} hides {len(H)})")
+            return H[self.index].copy()
+        if not (0 <= self.index < n):
+            raise ValueError(f"coordinate {self.index} does not exist in R^{n}")
+        return np.eye(n)[self.index]
+
+    def label(self, names) -> str:
+        return f"hidden direction {self.index + 1}" if self.hidden else str(names[self.index])

@@ -1,0 +1,192 @@
+"""Frame sequences for animations, and writing them as GIF / MP4 (numpy + imageio; no Qt, no VTK).
+
+Three kinds, all as lists of :class:`Frame` (what to change before drawing a frame):
+
+* ``rotate``: one plane's angle goes once around (360 degrees) from its current value;
+* ``tour``: a smooth closed path through projections. Every plane angle follows
+  ``a_p(t) = a_p(0) + A sin(2 pi f_p t + phi_p) - A sin(phi_p)``, t in [0, 1),
+  with small integer frequencies ``f_p`` and random phases (seeded). The path
+  is smooth, starts at the current view and closes up (a GIF loops without a
+  jump), and because it moves the very angles the sliders show, the sliders
+  follow it. (A geodesic tour between random frames would leave the slider
+  coordinates; this one never does.)
+* ``slice``: the centre of the slicing window sweeps from one end of the
+  complex to the other and back.
+
+Spec text (the ``--animate`` option): ``rotate:I-J`` (variable names, e.g.
+``rotate:s-t``), ``tour``, ``slice:VAR``. :func:`parse_spec` checks it against
+the variable names with a one-line message.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+TOUR_AMPLITUDE = 75.0      # degrees: far enough to see everything, slow enough to follow
+KINDS = ("rotate", "tour", "slice")
+
+
+@dataclass
+class Frame:
+    """What to show in one frame: all plane angles (degrees) and/or a slice centre (None: unchanged)."""
+
+    angles: np.ndarray | None = None
+    slice_center: float | None = None
+
+
+@dataclass(frozen=True)
+class Spec:
+    """A parsed animation: kind, the plane (i, j) and its sense for ``rotate``, the variable for ``slice``."""
+
+    kind: str
+    plane: tuple[int, int] | None = None
+    sign: float = 1.0
+    var: int | None = None
+
+    def describe(self, names) -> str:
+        if self.kind == "rotate":
+            i, j = self.plane
+            a, b = (names[i], names[j]) if self.sign > 0 else (names[j], names[i])
+            return f"rotate:{a}-{b}"
+        if self.kind == "slice":
+            return f"slice:{names[self.var]}"
+        return "tour"
+
+
+def parse_spec(text: str, names) -> Spec:
+    """``rotate:I-J`` | ``tour`` | ``slice:VAR`` -> :class:`Spec`; ValueError with a one-line message."""
+    names = list(names)
+    t = (text or "").strip()
+    kind, _, arg = t.partition(":")
+    kind = kind.strip().lower()
+    arg = arg.strip()
+    if kind == "tour":
+        if arg:
+            raise ValueError(f"'tour' takes no argument, got {text!r}")
+        return Spec("tour")
+    if kind == "rotate":
+        parts = [p.strip() for p in arg.replace("\u2013", "-").split("-")] if arg else []
+        if len(parts) != 2 or not all(parts):
+            raise ValueError(f"rotate needs a plane of two variables, e.g. rotate:{'-'.join(names[-2:])}; got {text!r}")
+        for p in parts:
+            if p not in names:
+                raise ValueError(f"unknown variable {p!r} in {text!r}; variables are {', '.join(names)}")
+        a, b = names.index(parts[0]), names.index(parts[1])
+        if a == b:
+            raise ValueError(f"rotate needs two different variables, got {text!r}")
+        return Spec("rotate", plane=(min(a, b), max(a, b)), sign=1.0 if a < b else -1.0)
+    if kind == "slice":
+        if arg not in names:
+            raise ValueError(f"slice needs one of the variables {', '.join(names)}, e.g. slice:{names[-1]}; got {text!r}")
+        return Spec("slice", var=names.index(arg))
+    raise ValueError(f"unknown animation {text!r}: use rotate:I-J, tour or slice:VAR")
+
+
+def plane_index(n: int, plane: tuple[int, int]) -> int:
+    from .projection import planes
+
+    return planes(n).index(tuple(plane))
+
+
+def rotation_frames(angles0, row: int, frames: int, sign: float = 1.0, degrees: float = 360.0) -> list[Frame]:
+    """``frames`` frames turning plane ``row`` once around from ``angles0`` (the last frame is not the first)."""
+    _check_frames(frames)
+    a0 = np.asarray(angles0, dtype=float)
+    out = []
+    for k in range(frames):
+        a = a0.copy()
+        a[row] = _wrap(a0[row] + sign * degrees * k / frames)
+        out.append(Frame(angles=a))
+    return out
+
+
+def tour_angles(angles0, t, seed: int = 0, amplitude: float = TOUR_AMPLITUDE) -> np.ndarray:
+    """The tour's angles (degrees) at times ``t`` (scalar or (T,)); period 1, equal to ``angles0`` at t = 0."""
+    a0 = np.asarray(angles0, dtype=float)
+    m = len(a0)
+    rng = np.random.default_rng(seed)
+    f = rng.integers(1, 3, size=m).astype(float)             # 1 or 2 turns per period
+    phi = rng.uniform(0, 2 * np.pi, size=m)
+    amp = amplitude * rng.uniform(0.6, 1.0, size=m)
+    tt = np.atleast_1d(np.asarray(t, dtype=float))[:, None]
+    a = a0 + amp * (np.sin(2 * np.pi * f * tt + phi) - np.sin(phi))
+    a = _wrap(a)
+    return a[0] if np.ndim(t) == 0 else a
+
+
+def tour_frames(angles0, frames: int, seed: int = 0) -> list[Frame]:
+    _check_frames(frames)
+    A = tour_angles(angles0, np.arange(frames) / frames, seed)
+    return [Frame(angles=A[k]) for k in range(frames)]
+
+
+def slice_frames(lo: float, hi: float, frames: int) -> list[Frame]:
+    """Centres sweeping ``lo -> hi -> lo`` with a cosine ease (slow at the ends)."""
+    _check_frames(frames)
+    t = np.arange(frames) / frames
+    c = lo + (hi - lo) * 0.5 * (1 - np.cos(2 * np.pi * t))
+    return [Frame(slice_center=float(x)) for x in c]
+
+
+def frames_for(spec: Spec, angles0, frames: int, slice_range=(0.0, 1.0), seed: int = 0) -> list[Frame]:
+    """The frames of ``spec`` starting from the current angles (and the slice range for ``slice``)."""
+    n_planes = len(angles0)
+    if spec.kind == "rotate":
+        n = int(round((1 + np.sqrt(1 + 8 * n_planes)) / 2))
+        return rotation_frames(angles0, plane_index(n, spec.plane), frames, spec.sign)
+    if spec.kind == "tour":
+        return tour_frames(angles0, frames, seed)
+    return slice_frames(float(slice_range[0]), float(slice_range[1]), frames)
+
+
+def write_animation(path, images, fps: float = 20.0, progress=None, cancel=None) -> int:
+    """Write the (h, w, 3) uint8 images (any iterable) to ``path`` (.gif or .mp4); returns the frame count.
+
+    ``progress(k)`` is called after frame k; ``cancel()`` true stops and removes the file
+    (returns the frames written so far, the file is gone).
+    """
+    import os
+
+    import imageio.v2 as imageio
+
+    path = str(path)
+    ext = os.path.splitext(path)[1].lower()
+    if ext == ".gif":
+        writer = imageio.get_writer(path, mode="I", duration=1000.0 / fps, loop=0)
+    elif ext == ".mp4":
+        # yuv420p needs even sides; macro_block_size=2 pads to them instead of 16
+        writer = imageio.get_writer(path, fps=fps, codec="libx264", quality=7, macro_block_size=2,
+                                    pixelformat="yuv420p", ffmpeg_log_level="error")
+    else:
+        raise ValueError(f"unknown animation format {ext!r}: use .gif or .mp4")
+    k = 0
+    stopped = False
+    try:
+        for img in images:
+            if cancel is not None and cancel():
+                stopped = True
+                break
+            writer.append_data(np.ascontiguousarray(np.asarray(img)[..., :3]))
+            k += 1
+            if progress is not None:
+                progress(k)
+    finally:
+        writer.close()
+        if stopped:
+            try:
+                os.remove(path)
+            except OSError:
+                pass
+    return k
+
+
+def _check_frames(frames: int) -> None:
+    if int(frames) < 1:
+        raise ValueError(f"frames must be at least 1, got {frames}")
+
+
+def _wrap(a):
+    """Angles to [-180, 180)."""
+    return (np.asarray(a, dtype=float) + 180.0) % 360.0 - 180.0

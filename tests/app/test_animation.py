@@ -1,0 +1,140 @@
+"""Animations: frame sequences (pure), GIF/MP4 export, and the headless --animate command."""
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from app.animation import (
+    frames_for, parse_spec, rotation_frames, slice_frames, tour_angles, tour_frames, write_animation,
+)
+
+NAMES = ["x", "y", "z", "s", "t"]
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def test_parse_spec_accepts_the_three_kinds():
+    r = parse_spec("rotate:s-t", NAMES)
+    assert r.kind == "rotate" and r.plane == (3, 4) and r.sign == 1.0
+    assert parse_spec("rotate:t-s", NAMES).sign == -1.0
+    assert parse_spec("tour", NAMES).kind == "tour"
+    s = parse_spec("slice:s", NAMES)
+    assert s.kind == "slice" and s.var == 3
+    assert s.describe(NAMES) == "slice:s" and r.describe(NAMES) == "rotate:s-t"
+
+
+@pytest.mark.parametrize("bad, msg", [("spin:s-t", "unknown animation"), ("rotate:s", "two variables"),
+                                      ("rotate:s-s", "different"), ("rotate:q-t", "unknown variable"),
+                                      ("slice:q", "slice needs"), ("tour:x", "no argument"), ("", "unknown")])
+def test_parse_spec_rejects_bad_text(bad, msg):
+    with pytest.raises(ValueError, match=msg):
+        parse_spec(bad, NAMES)
+
+
+def test_rotation_goes_once_around_in_its_plane_only():
+    a0 = np.zeros(10)
+    a0[2] = 30.0
+    fr = rotation_frames(a0, 9, 12)
+    assert len(fr) == 12
+    A = np.array([f.angles for f in fr])
+    assert np.allclose(A[:, :9], a0[:9])
+    steps = np.diff(np.unwrap(np.radians(A[:, 9])))
+    assert np.allclose(np.degrees(steps), 30.0)
+
+
+def test_tour_is_smooth_starts_here_and_closes():
+    a0 = np.linspace(-40, 40, 10)
+    assert np.allclose(tour_angles(a0, 0.0), a0)
+    assert np.allclose(tour_angles(a0, 1.0), a0)
+    T = np.linspace(0, 1, 401)
+    A = np.unwrap(np.radians(tour_angles(a0, T)), axis=0)
+    step = np.degrees(np.abs(np.diff(A, axis=0))).max()
+    assert step < 3.0                                # about 2 pi * 2 * 75 / 400 = 2.4 degrees at most
+    fr = tour_frames(a0, 30, seed=3)
+    assert len(fr) == 30 and not np.allclose(fr[10].angles, a0)
+    assert not np.allclose(tour_angles(a0, 0.3, seed=1), tour_angles(a0, 0.3, seed=2))
+
+
+def test_slice_sweep_goes_there_and_back():
+    c = np.array([f.slice_center for f in slice_frames(-1.0, 3.0, 20)])
+    assert c[0] == pytest.approx(-1.0) and c.max() == pytest.approx(3.0) and np.all(c >= -1.0)
+    assert len(frames_for(parse_spec("slice:s", NAMES), np.zeros(10), 7, (0, 1))) == 7
+    assert len(frames_for(parse_spec("rotate:x-t", NAMES), np.zeros(10), 5)) == 5
+
+
+@pytest.mark.parametrize("ext", [".gif", ".mp4"])
+def test_export_writes_the_requested_frames(tmp_path, ext):
+    import imageio.v3 as iio
+
+    imgs = [np.full((48, 64, 3), 10 * k, np.uint8) for k in range(9)]
+    p = tmp_path / f"a{ext}"
+    seen = []
+    assert write_animation(p, imgs, fps=10, progress=seen.append) == 9
+    assert seen == list(range(1, 10))
+    frames = iio.imread(p, index=None) if ext == ".gif" else _ffmpeg_frames(p)
+    assert len(frames) == 9
+    assert frames.shape[1:3] == (48, 64)
+
+
+def _ffmpeg_frames(p):
+    import imageio.v2 as imageio
+
+    r = imageio.get_reader(str(p), format="ffmpeg")
+    try:
+        return np.stack([f for f in r])
+    finally:
+        r.close()
+
+
+def test_export_cancel_removes_the_file(tmp_path):
+    p = tmp_path / "c.gif"
+    imgs = (np.zeros((16, 16, 3), np.uint8) for _ in range(10))
+    k = write_animation(p, imgs, cancel=lambda: True)
+    assert k == 0 and not p.exists()
+    with pytest.raises(ValueError, match="format"):
+        write_animation(tmp_path / "x.avi", [])
+
+
+def _run_app(*args, timeout=300):
+    env = dict(os.environ, PYTHONPATH=REPO, VTK_DEFAULT_OPENGL_WINDOW="vtkEGLRenderWindow")
+    return subprocess.run([sys.executable, "-m", "app", *args], capture_output=True, text=True, env=env,
+                          timeout=timeout, cwd=REPO)
+
+
+def test_headless_animate_tour_writes_gif_and_mp4(tmp_path):
+    gif, mp4 = tmp_path / "t.gif", tmp_path / "t.mp4"
+    r = _run_app("--example", "clifford-torus", "--div", "10", "--animate", "tour", "--frames", "6",
+                 "--mapping", "stereographic", "--gif", str(gif), "--mp4", str(mp4), "--size", "160x120")
+    assert r.returncode == 0, r.stderr
+    import imageio.v3 as iio
+
+    g = iio.imread(gif, index=None)
+    assert g.shape[0] == 6 and g.shape[1:3] == (120, 160)
+    assert len(_ffmpeg_frames(mp4)) == 6
+    # the frames differ: the view moves
+    assert np.abs(g[0].astype(int) - g[3].astype(int)).mean() > 0.5
+
+
+def test_headless_animate_slice_sweep(tmp_path):
+    gif = tmp_path / "s.gif"
+    r = _run_app("--example", "klein-bottle", "--div", "10,10,6,12,12", "--animate", "slice:s", "--frames", "4",
+                 "--gif", str(gif), "--size", "160x120")
+    assert r.returncode == 0, r.stderr
+    import imageio.v3 as iio
+
+    g = iio.imread(gif, index=None)
+    assert g.shape[0] == 4
+    assert np.abs(g[0].astype(int) - g[2].astype(int)).mean() > 0.2
+
+
+@pytest.mark.parametrize("args", [["--animate", "spin:s-t", "--gif", "x.gif"],
+                                  ["--animate", "rotate:s-q", "--gif", "x.gif"],
+                                  ["--animate", "tour"],
+                                  ["--gif", "x.gif"]])
+def test_headless_animate_bad_spec_exits_2_with_one_line(args):
+    r = _run_app("--example", "klein-bottle", *args, timeout=60)
+    assert r.returncode == 2
+    lines = [ln for ln in r.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1 and lines[0].startswith("gcmh-app:"), r.stderr
