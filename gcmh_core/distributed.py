@@ -1,0 +1,473 @@
+"""The same extraction over blocks of the grid on a Dask cluster (`extract(..., scheduler=...)`).
+
+Every cube is processed independently and every vertex, edge and cell carries a
+global key computed from grid indices alone (see `_kernels`), and `_assemble`
+sorts by key: blocks processed on different machines merge without a second pass.
+
+Whole-grid methods ("gcmh", "cms"): the grid of cubes is cut into n-D blocks, one
+task per block.  The worker evaluates F on its block (it rebuilds F from the
+formula *text*, parsed once per worker process), runs `_Grid.process_block` and
+returns the block's records; the client concatenates them in block order into
+one `_Grid` and assembles.  The result is the single-process result, bit for bit.
+
+Continuation ("gcch", "ccs"): `extract._run_gcch` runs the waves on the client;
+each wave of at least `LOCAL_WAVE` cubes is split into chunks, one task per chunk
+(`_Grid.process_cubes` on the worker).  Smaller waves run in the client process:
+shipping them costs more than processing them.
+
+Sampled data (an array of F's values): with scheduler="local" the array is saved
+once to a temporary .npy that workers open with mmap (they read only their
+block); with a remote scheduler the workers may not share the client's disk, so
+each block's slice is scattered to the cluster (continuation scatters the whole
+array once to every worker, since a wave can touch any part of it).
+
+Memory per block of b_1 x ... x b_n cubes, V = (b_1+1)...(b_n+1) vertices:
+F's values 8k V bytes, the candidate pass about 3 V bytes, plus F's full-size
+temporaries (8 V bytes each, one or two for usual formulas) and the records of
+the block's part of M (small next to the values unless M fills the block).
+The default block keeps V <= BLOCK_VERTICES (2^21: ~70 MB at k = 2, ~90 MB at
+k = 3) and gives at least BLOCKS_PER_WORKER blocks per worker thread.
+
+dask is imported here only, and only when a scheduler is asked for.
+"""
+
+from __future__ import annotations
+
+import copy
+import functools
+import logging
+import os
+import re
+import shutil
+import socket
+import tempfile
+import threading
+import time
+import uuid
+from numbers import Integral
+
+import numpy as np
+
+from .errors import Cancelled, InputError
+from .extract import CONTINUATION_METHODS, _Grid, _run_gcch, block_values
+
+# Default block: at most this many vertices (bounds a worker's memory, see the module doc) ...
+BLOCK_VERTICES = 1 << 21
+# ... and at least this many blocks per worker thread (load balance as blocks finish unevenly).
+BLOCKS_PER_WORKER = 4
+# Continuation waves with fewer cubes than this run in the client process.
+LOCAL_WAVE = 4096
+# Smallest chunk of a continuation wave sent to a worker.
+MIN_CHUNK = 1024
+# Seconds to reach a scheduler, and to wait for its first worker.
+CONNECT_TIMEOUT = 5.0
+# Seconds between two polls of `cancel` while tasks run.
+POLL = 0.05
+
+_ADDRESS = re.compile(r"^tcp://(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):(\d{1,5})$")
+
+
+# ----------------------------------------------------------------------------- public
+def run_distributed(method, n, k, axes, bounds, system, sampled, starts, scheduler, block, progress, cancel):
+    """Run `method` on a Dask cluster; returns the same CellComplex as a single-process run.
+
+    method : "gcmh"/"cms" (blocks of the whole grid) or "gcch"/"ccs" (continuation waves).
+    n, k : dimensions; axes : n arrays of grid lines (div_a + 1,) float64 (already perturbed);
+    bounds (n, 2) float64; system : formula.System or None; sampled : (d1+1, ..., dn+1, k)
+    float64 or None; starts : continuation start points (or "auto") or None.
+    scheduler : "local" (a LocalCluster sized to this machine, closed at the end) or
+        "tcp://host:port" (a running `dask scheduler`).
+    block : None (default size, see the module doc), an int, or n ints: cubes per block per axis.
+    progress(phase, fraction), cancel() -> bool : as in `extract`.
+    """
+    address = _check_scheduler(scheduler)
+    div = np.array([len(a) - 1 for a in axes], np.int64)
+    block_ = _check_block(block, n)
+    if block_ is not None and method in CONTINUATION_METHODS:
+        raise InputError(f"block applies to whole-grid methods; {method!r} sends waves of cubes, not blocks")
+    try:
+        import distributed  # noqa: F401, PLC0415
+    except ImportError:
+        raise InputError("scheduler needs dask.distributed, which is not installed: pip install gcmh[cluster]") from None
+    grid = _Grid(n, k, axes, method)  # validates the grid's size before any cluster starts
+    with _Session(address, sampled) as session:
+        if method in CONTINUATION_METHODS:
+            process = functools.partial(_process_wave, session, method, system, sampled, cancel)
+            cx = _run_gcch(n, k, axes, bounds, system, sampled, starts, progress, cancel, grid=grid, process=process)
+        else:
+            cx = _run_blocks(session, grid, method, div, block_, system, sampled, progress, cancel)
+        cx.meta["scheduler"] = scheduler
+        cx.meta["workers"] = session.workers if session.started else 0
+        cx.meta["tasks"] = session.tasks
+    return cx
+
+
+def default_block(div, workers: int) -> np.ndarray:
+    """Cubes per block per axis (n,) int64 for a grid of `div` (n,) cubes and `workers` threads.
+
+    Halves the longest side of the block (the first such axis on ties) until a block
+    has at most BLOCK_VERTICES vertices and there are BLOCKS_PER_WORKER blocks per
+    worker.  Near-cubic blocks keep the vertices two blocks share (evaluated by
+    both) few: a block of b_a cubes per axis evaluates prod((b_a+1)/b_a) times
+    the vertices it owns.
+    """
+    div = np.asarray(div, np.int64)
+    block = div.copy()
+    want = BLOCKS_PER_WORKER * max(int(workers), 1)
+
+    def too_big():
+        return np.prod((block + 1).astype(np.float64)) > BLOCK_VERTICES
+
+    def too_few():
+        return np.prod((-(-div // block)).astype(np.float64)) < want
+
+    while (too_big() or too_few()) and block.max() > 1:
+        a = int(np.argmax(block))
+        block[a] = -(-block[a] // 2)
+    return block
+
+
+# ----------------------------------------------------------------------------- validation
+def _check_scheduler(scheduler) -> str:
+    if not isinstance(scheduler, str):
+        raise InputError(f"scheduler must be 'local' or an address 'tcp://host:port', got {scheduler!r}")
+    text = scheduler.strip()
+    if text.lower() == "local":
+        return "local"
+    m = _ADDRESS.match(text)
+    if not m:
+        raise InputError(f"scheduler must be 'local' or an address 'tcp://host:port', got {scheduler!r}")
+    if not 1 <= int(m.group(2)) <= 65535:
+        raise InputError(f"scheduler {scheduler!r}: port {m.group(2)} is not in 1..65535")
+    return text
+
+
+def _check_block(block, n: int) -> np.ndarray | None:
+    if block is None:
+        return None
+    if isinstance(block, (Integral, np.integer)) and not isinstance(block, bool):
+        block = [int(block)] * n
+    if isinstance(block, (str, bytes)) or not hasattr(block, "__len__"):
+        raise InputError(f"block must be a positive integer or one per axis, got {block!r}")
+    values = list(block)
+    if any(isinstance(b, bool) or not isinstance(b, (Integral, np.integer)) for b in values):
+        raise InputError(f"block must be a positive integer or one per axis, got {block!r}")
+    if len(values) != n:
+        raise InputError(f"block has {len(values)} entries but there are n = {n} axes")
+    for a, b in enumerate(values):
+        if b < 1:
+            raise InputError(f"block must be at least 1 cube on every axis (axis {a + 1} has {b})")
+    return np.array(values, np.int64)
+
+
+# ----------------------------------------------------------------------------- the cluster
+class _Session:
+    """A Dask client for one run.  "local" starts a LocalCluster on first use (a run
+    whose continuation waves all stay small never starts one); an address is
+    connected at once, so a bad one fails before any work."""
+
+    def __init__(self, address: str, sampled):
+        self.address, self.sampled = address, sampled
+        self.cluster = self._client = None
+        self.tmpdir = None
+        self.sampled_ref = None  # how tasks reach the sampled array: ("npy", path) or a future
+        self.workers = 0
+        self.tasks = 0
+        self.run = uuid.uuid4().hex[:12]
+
+    def __enter__(self):
+        if self.address != "local":
+            self.client  # noqa: B018  (connect now)
+        return self
+
+    def __exit__(self, *exc):
+        if self._client is not None:
+            self._client.close()
+        if self.cluster is not None:
+            self.cluster.close()
+        if self.tmpdir is not None:
+            shutil.rmtree(self.tmpdir, ignore_errors=True)
+
+    @property
+    def started(self) -> bool:
+        return self._client is not None
+
+    @property
+    def client(self):
+        if self._client is None:
+            self._client = self._connect()
+            self.workers = sum(self._client.nthreads().values())
+        return self._client
+
+    def _connect(self):
+        from distributed import Client, LocalCluster  # noqa: PLC0415
+
+        if self.address == "local":
+            cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+            # one single-threaded process per core: numpy evaluation holds the GIL, and the
+            # kernels then get the core to themselves (kernel_threads below)
+            self.cluster = LocalCluster(
+                n_workers=cores, threads_per_worker=1, processes=True,
+                # no dashboard, and its HTTP server on a free port (8787 may be another cluster's)
+                dashboard_address=":0", scheduler_kwargs={"dashboard": False}, silence_logs=logging.ERROR,
+            )
+            return Client(self.cluster, set_as_default=False)
+        _probe(self.address)
+        try:
+            client = Client(self.address, timeout=CONNECT_TIMEOUT, set_as_default=False)
+        except Exception as err:  # noqa: BLE001  (anything here means: not a usable scheduler)
+            raise InputError(f"cannot connect to the dask scheduler at {self.address}: {_first_line(err)}") from None
+        try:
+            client.wait_for_workers(1, timeout=2 * CONNECT_TIMEOUT)
+        except Exception:  # noqa: BLE001
+            client.close()
+            raise InputError(
+                f"the dask scheduler at {self.address} has no workers (waited {2 * CONNECT_TIMEOUT:g} s): "
+                f"start some with `dask worker {self.address}`"
+            ) from None
+        return client
+
+    def sampled_for_tasks(self, whole: bool):
+        """What a task needs to read the sampled array: ("npy", path), a future of the
+        whole array (remote continuation), or None (remote blocks get their own slices)."""
+        if self.sampled is None:
+            return None
+        if self.sampled_ref is None:
+            client = self.client
+            if self.cluster is not None:  # workers share this disk
+                self.tmpdir = tempfile.mkdtemp(prefix="gcmh-dask-")
+                path = os.path.join(self.tmpdir, "sampled.npy")
+                np.save(path, self.sampled)
+                self.sampled_ref = ("npy", path)
+            elif whole:
+                self.sampled_ref = client.scatter(self.sampled, broadcast=True, hash=False)
+            else:
+                return None
+        return self.sampled_ref
+
+    def kernel_threads(self) -> int | None:
+        """Numba threads per task: the cores a LocalCluster worker has to itself; None
+        (numba's default) on a remote cluster, whose machines we cannot see."""
+        if self.cluster is None:
+            return None
+        cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+        return max(1, cores // max(self.workers, 1))
+
+    def key(self, what: str) -> str:
+        """A key unique to this run and task (dask would reuse the result of a repeated key)."""
+        self.tasks += 1
+        return f"gcmh-{what}-{self.run}-{self.tasks}"
+
+
+def _probe(address: str) -> None:
+    """A plain TCP connect first: fails in well under a second for a closed port or an
+    unknown host (a failed dask Client waits out its timeout, then again when collected)."""
+    m = _ADDRESS.match(address)
+    host, port = m.group(1).strip("[]"), int(m.group(2))
+    try:
+        socket.create_connection((host, port), timeout=CONNECT_TIMEOUT).close()
+    except OSError as err:
+        reason = err.strerror or str(err) or type(err).__name__
+        raise InputError(f"cannot reach the dask scheduler at {address}: {reason}") from None
+
+
+def _first_line(err) -> str:
+    text = str(err).strip().splitlines()
+    return text[0] if text else type(err).__name__
+
+
+def _gather(session, futures, cancel, on_done=None) -> list:
+    """Results of `futures` in submission order, polling `cancel` while they run.
+
+    on_done(done, total) after each completion.  On cancel or on a task's error the
+    other futures are cancelled.
+    """
+    from distributed import as_completed  # noqa: PLC0415
+
+    index = {f.key: i for i, f in enumerate(futures)}
+    results = [None] * len(futures)
+    done = 0
+    ac = as_completed(futures, loop=session.client.loop)  # no default client: ours is set_as_default=False
+    try:
+        while done < len(futures):
+            if cancel is not None and cancel():
+                raise Cancelled("extraction cancelled")
+            if not ac.has_ready():
+                time.sleep(POLL)
+                continue
+            for f in ac.next_batch(block=False):
+                results[index[f.key]] = f.result()  # re-raises a task's error here
+                f.release()
+                done += 1
+                if on_done is not None:
+                    on_done(done, len(futures))
+    except BaseException:
+        session.client.cancel(futures)
+        raise
+    return results
+
+
+def _merge(grid, result) -> None:
+    """Add one task's records, stats and timings to the client's grid, in order."""
+    for key, arr in result["parts"].items():
+        if arr is not None:
+            grid.parts[key].append(arr)
+    for key, value in result["stats"].items():
+        if key != "cubes":  # the grid's total, not a per-block count
+            grid.stats[key] = grid.stats.get(key, 0) + value
+    for key, value in result["timings"].items():
+        grid.timings[key] = grid.timings.get(key, 0.0) + value
+
+
+# ----------------------------------------------------------------------------- whole grid
+def _blocks(div, block):
+    """(lo, hi) cube ranges (n,) int64 of every block, in C order of the block grid."""
+    counts = -(-div // block)
+    for index in np.ndindex(*counts.tolist()):
+        lo = np.array(index, np.int64) * block
+        yield lo, np.minimum(lo + block, div)
+
+
+def _run_blocks(session, grid, method, div, block, system, sampled, progress, cancel):
+    client = session.client
+    if block is None:
+        block = default_block(div, session.workers)
+    block = np.minimum(block, div)
+    formula = None if system is None else (tuple(system.texts), tuple(system.variables))
+    shared = session.sampled_for_tasks(whole=False)
+    threads = session.kernel_threads()
+    futures = []
+    for lo, hi in _blocks(div, block):
+        if sampled is not None and shared is None:  # remote: ship the block's own slice
+            data = client.scatter(block_values(grid.axes, None, sampled, lo, hi), hash=False)
+        else:
+            data = shared
+        futures.append(client.submit(
+            _block_task, grid.n, grid.k, method, grid.axes, formula, data, lo, hi, threads,
+            key=session.key("block"), pure=False,
+        ))
+    if progress is not None:
+        progress(f"extracting: 0/{len(futures)} blocks", 0.0)
+
+    def on_done(done, total):
+        if progress is not None:
+            progress(f"extracting: {done}/{total} blocks", done / total)
+
+    for result in _gather(session, futures, cancel, on_done):
+        _merge(grid, result)
+    if progress is not None:
+        progress("assembling", 1.0)
+    cx = grid.assemble()
+    cx.meta["blocks"] = len(futures)
+    cx.meta["block"] = block.tolist()
+    return cx
+
+
+# ----------------------------------------------------------------------------- continuation
+def _process_wave(session, method, system, sampled, cancel, grid, origins):
+    """`process` hook of `_run_gcch`: one wave's cubes (m, n) -> (masks (m,), nonfinite ids)."""
+    m = len(origins)
+    if m < LOCAL_WAVE:
+        return grid.process_cubes(origins, system, sampled)
+    client = session.client
+    nchunks = max(1, min(2 * session.workers, m // MIN_CHUNK))
+    formula = None if system is None else (tuple(system.texts), tuple(system.variables))
+    data = session.sampled_for_tasks(whole=True)
+    threads = session.kernel_threads()
+    futures = [
+        client.submit(_cubes_task, grid.n, grid.k, method, grid.axes, formula, data, chunk, threads,
+                      key=session.key("wave"), pure=False)
+        for chunk in np.array_split(origins, nchunks)
+    ]
+    masks, nonfinite = [], []
+    for result in _gather(session, futures, cancel):
+        _merge(grid, result)
+        masks.append(result["masks"])
+        nonfinite.append(result["nonfinite"])
+    return np.concatenate(masks), np.concatenate(nonfinite)
+
+
+# ----------------------------------------------------------------------------- on the workers
+# A worker process may run several tasks at once (dask worker --nthreads > 1); numba's
+# default threading layer must not be entered by two threads at once, so kernel work
+# holds this lock (uncontended with one thread per worker, the recommended setup).
+_KERNEL_LOCK = threading.Lock()
+
+
+@functools.lru_cache(maxsize=8)
+def _worker_system(texts, variables):
+    from .formula import parse_system  # noqa: PLC0415
+
+    return parse_system(list(texts), list(variables))
+
+
+@functools.lru_cache(maxsize=4)
+def _worker_sampled(path):
+    return np.load(path, mmap_mode="r")
+
+
+_GRIDS: dict = {}
+
+
+def _worker_grid(n, k, method, axes):
+    """A fresh `_Grid` (empty parts, zero stats) copied from a per-process template."""
+    key = (n, k, method, tuple(a.tobytes() for a in axes))
+    template = _GRIDS.get(key)
+    if template is None:
+        if len(_GRIDS) >= 4:
+            _GRIDS.clear()
+        template = _GRIDS[key] = _Grid(n, k, axes, method)
+    grid = copy.copy(template)
+    grid.parts = {key_: [] for key_ in template.parts}
+    grid.stats = dict(template.stats)
+    grid.timings = dict.fromkeys(template.timings, 0.0)
+    return grid
+
+
+def _packed(grid) -> dict:
+    """The grid's records as one array per kind (fewer, larger messages), stats, timings."""
+    parts = {key: (np.concatenate(arrs) if len(arrs) > 1 else arrs[0]) if arrs else None
+             for key, arrs in grid.parts.items()}
+    return dict(parts=parts, stats=dict(grid.stats), timings=dict(grid.timings))
+
+
+def _sampled_array(data):
+    if isinstance(data, tuple) and data and data[0] == "npy":
+        return _worker_sampled(data[1])
+    return data
+
+
+def _set_threads(threads):
+    if threads is not None:
+        import numba  # noqa: PLC0415
+
+        numba.set_num_threads(min(int(threads), numba.config.NUMBA_NUM_THREADS))  # this thread only
+
+
+def _block_task(n, k, method, axes, formula, data, lo, hi, threads) -> dict:
+    """One block of cubes lo..hi-1 on a worker: F's values, candidates, kernel."""
+    _set_threads(threads)
+    grid = _worker_grid(n, k, method, axes)
+    t = time.perf_counter()
+    system = None if formula is None else _worker_system(*formula)
+    sampled = _sampled_array(data)
+    if sampled is not None and not isinstance(data, tuple):  # a remote block's own slice
+        values = sampled
+    else:
+        values = block_values(axes, system, sampled, lo, hi)
+    grid.timings["evaluate"] += time.perf_counter() - t
+    with _KERNEL_LOCK:
+        grid.process_block(values, lo, hi)
+    return _packed(grid)
+
+
+def _cubes_task(n, k, method, axes, formula, data, origins, threads) -> dict:
+    """One chunk of a continuation wave on a worker."""
+    _set_threads(threads)
+    grid = _worker_grid(n, k, method, axes)
+    system = None if formula is None else _worker_system(*formula)
+    with _KERNEL_LOCK:
+        masks, nonfinite = grid.process_cubes(origins, system, _sampled_array(data))
+    out = _packed(grid)
+    out.update(masks=masks, nonfinite=nonfinite)
+    return out

@@ -1,0 +1,177 @@
+"""Extraction on a Dask cluster (gcmh_core.distributed) gives the single-process complex, bit for bit."""
+
+import os
+import time
+
+import numpy as np
+import pytest
+
+from gcmh_core import Cancelled, InputError, extract
+from gcmh_core.examples import load_example
+
+distributed = pytest.importorskip("distributed")
+
+from gcmh_core import distributed as gd  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    """Two single-threaded worker processes, shared by the module (starting one costs ~1 s)."""
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as lc:
+        with distributed.Client(lc, set_as_default=False) as client:
+            client.wait_for_workers(2, timeout=60)
+            yield lc, client
+
+
+def _assert_identical(a, b):
+    """Every array of the two complexes, byte for byte (dtype and shape included)."""
+    assert (a.n, a.k) == (b.n, b.k)
+    for x, y in [(a.vertices, b.vertices), (a.edges, b.edges)]:
+        assert x.dtype == y.dtype and x.shape == y.shape and x.tobytes() == y.tobytes()
+    assert sorted(a.cells) == sorted(b.cells)
+    for r in a.cells:
+        for x, y in zip(a.cells[r], b.cells[r]):
+            assert x.dtype == y.dtype and x.shape == y.shape and x.tobytes() == y.tobytes()
+    for key in ("cubes", "candidate_cubes", "nonfinite_vertices", "degenerate"):
+        assert a.meta[key] == b.meta[key], key
+
+
+def _run(name, div, **kw):
+    ex = load_example(name)
+    return extract(ex.formulas, ex.bounds, div, variables=ex.variables, **kw)
+
+
+@pytest.mark.parametrize("name, div, blocks", [
+    ("sphere", 12, [None, 5, [1, 12, 12], [12, 2, 7]]),
+    ("complex-cosine", 10, [None, 4, [10, 1, 10, 3]]),
+    ("three-torus", 4, [None, 3, [4, 4, 1, 4, 2, 4]]),
+])
+def test_blocks_give_the_single_process_bytes(cluster, name, div, blocks):
+    address = cluster[0].scheduler_address
+    single = _run(name, div)
+    assert single.counts()[0] > 0
+    for block in blocks:
+        cx = _run(name, div, scheduler=address, block=block)
+        _assert_identical(single, cx)
+        assert cx.meta["blocks"] > 1 and cx.meta["scheduler"] == address
+
+
+def test_default_block_size():
+    assert gd.default_block([20, 20, 20], 2).tolist() == [10, 10, 10]  # 8 blocks for 2 workers
+    block = gd.default_block([160] * 4, 2)  # a block's vertices stay under the memory budget
+    assert np.prod(block + 1) <= gd.BLOCK_VERTICES and np.prod(-(-160 // block)) >= 8
+    assert gd.default_block([3, 1, 2], 100).tolist() == [1, 1, 1]  # never below one cube
+
+
+def test_sampled_data_through_the_cluster(cluster):
+    axes = [np.linspace(-1.5, 1.5, 15)] * 3
+    x, y, z = np.meshgrid(*axes, indexing="ij")
+    values = (x**2 + y**2 + z**2 - 1)[..., None]
+    values[0, 0, 0] = np.nan  # counted once, by the block that owns it
+    single = extract(values, bounds=(-1.5, 1.5))
+    cx = extract(values, bounds=(-1.5, 1.5), scheduler=cluster[0].scheduler_address, block=[5, 14, 3])
+    _assert_identical(single, cx)
+    assert cx.meta["nonfinite_vertices"] == 1
+
+
+def test_continuation_through_the_cluster(cluster, monkeypatch):
+    monkeypatch.setattr(gd, "LOCAL_WAVE", 24)  # send most waves of these small runs (<= 51 cubes) to the workers
+    monkeypatch.setattr(gd, "MIN_CHUNK", 8)
+    address = cluster[0].scheduler_address
+    for name, div in [("complex-cosine", 12), ("sphere", 16)]:
+        ex = load_example(name)
+        single = _run(name, div, method="gcch", start=ex.start)
+        cx = _run(name, div, method="gcch", start=ex.start, scheduler=address)
+        _assert_identical(single, cx)
+        assert cx.meta["tasks"] > 2 and cx.meta["visited_cubes"] == single.meta["visited_cubes"]
+
+
+class _KillOnce(distributed.WorkerPlugin):
+    """Kills the worker process that starts the first gcmh block task (once: the marker file)."""
+
+    def __init__(self, marker):
+        self.marker = marker
+
+    def transition(self, key, start, finish, **kwargs):
+        if finish == "executing" and str(key).startswith("gcmh-block-"):
+            try:
+                os.close(os.open(self.marker, os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+            except FileExistsError:
+                return
+            os._exit(1)
+
+
+def test_a_killed_worker_is_replaced_and_the_result_is_identical(cluster, tmp_path):
+    lc, client = cluster
+    marker = str(tmp_path / "killed")
+    single = _run("complex-cosine", 10)
+    client.register_plugin(_KillOnce(marker), name="kill-once")
+    try:
+        cx = _run("complex-cosine", 10, scheduler=lc.scheduler_address, block=5)
+    finally:
+        client.unregister_worker_plugin("kill-once")
+    assert os.path.exists(marker)  # a worker did die mid-run
+    _assert_identical(single, cx)
+    client.wait_for_workers(2, timeout=60)  # the nanny restarted it
+
+
+@pytest.mark.parametrize("address", ["tcp://127.0.0.1:1", "tcp://no-such-host.invalid:8786"])
+def test_unreachable_scheduler_is_a_clear_error_within_seconds(address):
+    t = time.perf_counter()
+    with pytest.raises(InputError, match="cannot reach the dask scheduler"):
+        extract("x^2 + y^2 + z^2 - 1", (-1.5, 1.5), 6, variables="x,y,z", scheduler=address)
+    assert time.perf_counter() - t < gd.CONNECT_TIMEOUT + 1
+
+
+@pytest.mark.parametrize("scheduler, block, message", [
+    ("somewhere", None, "scheduler must be 'local' or an address"),
+    ("tcp://host", None, "scheduler must be 'local' or an address"),
+    ("tcp://host:99999", None, "port 99999"),
+    (8786, None, "scheduler must be"),
+    ("local", 0, "at least 1 cube"),
+    ("local", [2, 2], "block has 2 entries"),
+    ("local", 2.5, "block must be a positive integer"),
+    ("local", True, "block must be a positive integer"),
+    (None, 4, "pass scheduler too"),
+])
+def test_bad_scheduler_or_block(scheduler, block, message):
+    with pytest.raises(InputError, match=message):
+        extract("x^2 + y^2 + z^2 - 1", (-1.5, 1.5), 6, variables="x,y,z", scheduler=scheduler, block=block)
+
+
+def test_cancel_stops_the_run_and_its_tasks(cluster):
+    lc, client = cluster
+    seen = []
+
+    def progress(phase, fraction):
+        seen.append((phase, fraction))
+
+    def cancel():  # once a block is done
+        return any("blocks" in phase and fraction > 0 for phase, fraction in seen)
+
+    with pytest.raises(Cancelled):
+        _run("complex-cosine", 12, scheduler=lc.scheduler_address, block=2, progress=progress, cancel=cancel)
+    assert seen[0] == ("extracting: 0/1296 blocks", 0.0)
+
+    def pending(dask_scheduler):
+        return [k for k in dask_scheduler.tasks if str(k).startswith("gcmh-")]
+
+    deadline = time.time() + 10
+    while client.run_on_scheduler(pending) and time.time() < deadline:
+        time.sleep(0.1)
+    assert client.run_on_scheduler(pending) == []  # cancelled, not left running
+
+
+def test_progress_counts_blocks(cluster):
+    seen = []
+    _run("sphere", 8, scheduler=cluster[0].scheduler_address, block=4, progress=lambda p, f: seen.append((p, f)))
+    blocks = [p for p, _ in seen if "blocks" in p]
+    assert blocks[0] == "extracting: 0/8 blocks" and blocks[-1] == "extracting: 8/8 blocks"
+    assert seen[-1] == ("assembling", 1.0)
+
+
+def test_local_scheduler_starts_and_closes_its_own_cluster():
+    single = _run("sphere", 10)
+    cx = _run("sphere", 10, scheduler="local")
+    _assert_identical(single, cx)
+    assert cx.meta["workers"] >= 1 and cx.meta["scheduler"] == "local"
