@@ -495,3 +495,150 @@ def cubes_kernel(
             write, counts, offsets, vk_out, vp_out, e_out, c_out, i_out,
         )
     return degenerate.sum()
+
+
+# ----------------------------------------------------------------------------- simplicial baselines (CMS, CCS)
+# Marching simplices over the CFK triangulation (paper Section 4): every simplex of
+# dimension d = r + k of the cube's triangulation that M_A crosses is one r-cell (the
+# zero set of a linear map on a simplex is one convex polytope).  A vertex is a
+# crossed k-simplex; an edge joins the two crossed k-facets of a (k+1)-simplex; an
+# r-cell's faces are its crossed facets.  Keys are the simplices' own keys (see
+# `_tables.SimplexTables`), so records merge with the same `_assemble` as GCMH's.
+
+
+@nb.njit(**INLINE_JIT)
+def _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, s):
+    return (g_lin + corner_off[s_c0[s]]) * key_base + s_code[s]
+
+
+@nb.njit(**JIT)
+def _process_cube_simplicial(
+    vals, o, g_lin, origin, axes, value_off, corner_off, n, k,
+    s_start, s_corners, s_c0, s_code, s_facets, s_cube_facets, key_base,
+    alive, pos_mask, mat, rhs, lam,
+    write, vk_out, vp_out, e_out, c_out, i_out, offs, counts,
+):
+    """One cube: count (write=False) or write (write=True) the simplices M_A crosses.
+
+    alive (NS,) scratch: 1 where the simplex holds a cell of M_A.  Returns the number
+    of degenerate simplices met (crossed facets that can't bound a convex polytope).
+    """
+    full = (np.int64(1) << k) - 1
+    for c in range(1 << n):
+        p = np.int64(0)
+        r0 = o + value_off[c]
+        for j in range(k):
+            if vals[r0, j] >= 0.0:
+                p |= np.int64(1) << j
+        pos_mask[c] = p
+    degenerate = 0
+    nv = 0
+    facets = np.int64(0)
+    for s in range(s_start[k], s_start[k + 1]):
+        alive[s] = 0
+        if simplex_crosses(vals, o, value_off, s_corners[s, : k + 1], k, pos_mask, full, mat, rhs, lam):
+            alive[s] = 1
+            facets |= s_cube_facets[s]
+            if write:
+                row = offs[0] + nv
+                vk_out[row] = _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, s)
+                for a in range(n):
+                    x = 0.0
+                    for i in range(k + 1):
+                        x += lam[i] * axes[a, origin[a] + ((s_corners[s, i] >> a) & 1)]
+                    vp_out[row, a] = x
+            nv += 1
+    counts[0] = nv
+    counts[4] = facets
+    ne = 0
+    ncell = 0
+    ninc = 0
+    for d in range(k + 1, n + 1):
+        r = d - k
+        for s in range(s_start[d], s_start[d + 1]):
+            alive[s] = 0
+            if nv == 0:
+                continue
+            nf = 0
+            for j in range(d + 1):
+                nf += alive[s_facets[s, j]]
+            if nf == 0:
+                continue
+            # a segment has 2 ends; an r-polytope (r >= 2) at least r + 1 facets
+            if (r == 1 and nf != 2) or nf < r + 1:
+                degenerate += 1
+                continue
+            alive[s] = 1
+            if r == 1:
+                if write:
+                    row = offs[1] + ne
+                    e_out[row, 0] = _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, s)
+                    q = 1
+                    for j in range(d + 1):
+                        f = s_facets[s, j]
+                        if alive[f]:
+                            e_out[row, q] = _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, f)
+                            q += 1
+                ne += 1
+                continue
+            key = _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, s)
+            if write:
+                c_out[offs[2] + ncell, 0] = r
+                c_out[offs[2] + ncell, 1] = key
+            ncell += 1
+            for j in range(d + 1):
+                f = s_facets[s, j]
+                if alive[f]:
+                    if write:
+                        row = offs[3] + ninc
+                        i_out[row, 0] = r
+                        i_out[row, 1] = key
+                        i_out[row, 2] = _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, f)
+                    ninc += 1
+    counts[1] = ne
+    counts[2] = ncell
+    counts[3] = ninc
+    return degenerate
+
+
+@nb.njit(**JIT)
+def _simplicial_chunk(
+    lo, hi, vals, cube_lin, cube_origin, cube_key, axes, value_off, corner_off, n, k,
+    s_start, s_corners, s_c0, s_code, s_facets, s_cube_facets, key_base,
+    write, counts, offsets, vk_out, vp_out, e_out, c_out, i_out,
+):
+    alive = np.empty(s_start[n + 1], np.int64)
+    pos_mask = np.empty(1 << n, np.int64)
+    mat = np.empty((k, k), np.float64)
+    rhs = np.empty(k, np.float64)
+    lam = np.empty(k + 1, np.float64)
+    dg = 0
+    for ci in range(lo, hi):
+        dg += _process_cube_simplicial(
+            vals, cube_lin[ci], cube_key[ci], cube_origin[ci], axes, value_off, corner_off, n, k,
+            s_start, s_corners, s_c0, s_code, s_facets, s_cube_facets, key_base,
+            alive, pos_mask, mat, rhs, lam,
+            write, vk_out, vp_out, e_out, c_out, i_out, offsets[ci], counts[ci],
+        )
+    return dg
+
+
+@nb.njit(**PARALLEL_JIT)
+def simplices_kernel(
+    vals, cube_lin, cube_origin, cube_key, axes, value_off, corner_off, n, k,
+    s_start, s_corners, s_c0, s_code, s_facets, s_cube_facets, key_base,
+    write, counts, offsets, vk_out, vp_out, e_out, c_out, i_out, nchunks,
+):
+    """`cubes_kernel`'s twin for the simplicial baselines: same inputs, same records."""
+    m = cube_lin.shape[0]
+    if m == 0:
+        return 0
+    nchunks = min(m, nchunks)
+    degenerate = np.zeros(nchunks, np.int64)
+    for ch in prange(nchunks):
+        degenerate[ch] = _simplicial_chunk(
+            ch * m // nchunks, (ch + 1) * m // nchunks, vals, cube_lin, cube_origin, cube_key, axes, value_off,
+            corner_off, n, k, s_start, s_corners, s_c0, s_code, s_facets, s_cube_facets, key_base,
+            write, counts, offsets, vk_out, vp_out, e_out, c_out, i_out,
+        )
+    return degenerate.sum()

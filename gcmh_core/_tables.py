@@ -172,3 +172,77 @@ def cube_tables(n: int, k: int) -> CubeTables:
         walk_corner_map=cmap,
         walk_boundary_simplex=bsimp,
     )
+
+
+# ----------------------------------------------------------------------------- simplicial baselines (CMS, CCS)
+@dataclass(frozen=True)
+class SimplexTables:
+    """The simplices of dimension k..n of the cube's CFK (Freudenthal) triangulation.
+
+    A simplex is a strict chain of corners c0 < c1 < ... < cd (each a subset of the
+    next).  Its key inside the grid is (global vertex of c0) * (n+1)^n + code, where
+    code = sum_a step_a (n+1)^a and step_a is the link j of the chain at which axis a
+    is switched on (0: never).  Two cubes sharing the simplex compute the same key.
+    Simplices are concatenated by dimension: dim d is rows start[d]:start[d+1].
+    """
+
+    n: int
+    k: int
+    start: np.ndarray  # (n + 2,) int64
+    corners: np.ndarray  # (NS, n + 1) int64 chain, padded with -1
+    c0: np.ndarray  # (NS,) int64 first corner
+    code: np.ndarray  # (NS,) int64
+    facets: np.ndarray  # (NS, n + 1) int64 row of the facet "drop c_j" (dims > k), -1 padded
+    cube_facets: np.ndarray  # (NS,) int64 mask of cube facets (bit 2a + side) holding the simplex
+    key_base: int  # (n + 1)^n
+
+
+@lru_cache(maxsize=32)
+def simplex_tables(n: int, k: int) -> SimplexTables:
+    if not (1 <= k < n):
+        raise InputError(f"need 1 <= k < n, got n={n}, k={k}")
+    if n > 7:
+        raise InputError(f"the simplicial baselines split an n-cube into n! simplices: n = {n} is too many (at most 7)")
+    by_dim: dict[int, list[tuple[int, ...]]] = {d: [] for d in range(k, n + 1)}
+
+    def chains(prefix):
+        d = len(prefix) - 1
+        if d >= k:
+            by_dim[d].append(tuple(prefix))
+        top = prefix[-1]
+        rest = [a for a in range(n) if not top >> a & 1]
+        for size in range(1, len(rest) + 1):
+            for add in combinations(rest, size):
+                chains(prefix + [top | sum(1 << a for a in add)])
+
+    for c0 in range(1 << n):
+        chains([c0])
+    start = np.zeros(n + 2, np.int64)
+    rows: list[tuple[int, ...]] = []
+    for d in range(n + 1):
+        start[d] = len(rows)
+        if d >= k:
+            rows.extend(sorted(by_dim[d]))
+    start[n + 1] = len(rows)
+    row_of = {c: i for i, c in enumerate(rows)}
+    ns = len(rows)
+    corners = -np.ones((ns, n + 1), np.int64)
+    facets = -np.ones((ns, n + 1), np.int64)
+    c0 = np.zeros(ns, np.int64)
+    code = np.zeros(ns, np.int64)
+    cube_facets = np.zeros(ns, np.int64)
+    for i, chain in enumerate(rows):
+        d = len(chain) - 1
+        corners[i, : d + 1] = chain
+        c0[i] = chain[0]
+        for j in range(1, d + 1):
+            for a in range(n):
+                if (chain[j] ^ chain[j - 1]) >> a & 1:
+                    code[i] += j * (n + 1) ** a
+        for a in range(n):
+            if not (chain[0] ^ chain[-1]) >> a & 1:
+                cube_facets[i] |= 1 << (2 * a + (chain[0] >> a & 1))
+        if d > k:
+            for j in range(d + 1):
+                facets[i, j] = row_of[chain[:j] + chain[j + 1 :]]
+    return SimplexTables(n, k, start, corners, c0, code, facets, cube_facets, (n + 1) ** n)

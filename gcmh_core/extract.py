@@ -16,7 +16,7 @@ import numba
 import numpy as np
 
 from . import _kernels
-from ._tables import cube_tables
+from ._tables import cube_tables, simplex_tables
 from .complex import CellComplex
 from .errors import Cancelled, InputError
 from .grid import PERTURBATION, candidate_cubes, perturbed_axes, sign_codes
@@ -202,8 +202,11 @@ def extract(
     variables : names of the n variables (default x1..xn).
     seed : the grid perturbation's seed; same seed, same output bit for bit.
     method : "gcmh" (every cube of the grid) or "gcch" (continuation: only the cubes
-        M passes through, reached from the start cubes; paper Section 5).
-    start : for "gcch": a point (n,), several points (m, n), or "auto" (default):
+        M passes through, reached from the start cubes; paper Section 5); "cms" and
+        "ccs", the simplicial baselines the paper compares with (Section 4): marching
+        simplices over the CFK triangulation of the grid (n! simplices per cube), over
+        the whole grid or by continuation.  Same CellComplex, with many more cells.
+    start : for "gcch" and "ccs": a point (n,), several points (m, n), or "auto" (default):
         each point is projected onto M by Gauss-Newton with F's exact Jacobian;
         "auto" projects a lattice of points and continues from each component found.
     progress : callable(phase, fraction), called between slabs.
@@ -281,7 +284,12 @@ class _Grid:
             [sum(int(self.strides[a]) for a in range(n) if c >> a & 1) for c in range(1 << n)], np.int64
         )
         total = int(np.prod([int(d) for d in self.dims]))
-        if max(total * int(self.tab.n_subsets[d]) * int(self.tab.n_codes[d]) for d in range(k, n + 1)) >= 2**63:
+        if self.simplicial:
+            self.stab = simplex_tables(n, k)
+            key_room = total * self.stab.key_base
+        else:
+            key_room = max(total * int(self.tab.n_subsets[d]) * int(self.tab.n_codes[d]) for d in range(k, n + 1))
+        if key_room >= 2**63:
             raise InputError(f"the grid is too large to index ({total:,} vertices in R^{n}): use a smaller div")
         self.axes_arr = np.zeros((n, int(self.dims.max())))
         for a in range(n):
@@ -303,18 +311,22 @@ class _Grid:
         cube_key = origin @ self.strides
         counts = np.zeros((m, 5), np.int64)
         offsets = np.zeros((m, 5), np.int64)
-        args = (
-            values, cube_lin, origin, cube_key, self.axes_arr, value_off, self.corner_off, n, k,
-            tab.face_start, tab.face_free, tab.face_fixed, tab.face_rank, tab.n_subsets,
-            tab.ksimp_corners, tab.ksimp_face, tab.ksimp_perm, factorial(k), tab.binom, tab.n_codes,
-            tab.tmpl_corners, tab.tmpl_facets, tab.tmpl_interior, tab.n_boundary_nodes,
-            tab.walk_corner_map, tab.walk_boundary_simplex,
-        )
+        common = (values, cube_lin, origin, cube_key, self.axes_arr, value_off, self.corner_off, n, k)
+        if self.simplicial:
+            st = self.stab
+            kernel = _kernels.simplices_kernel
+            args = common + (st.start, st.corners, st.c0, st.code, st.facets, st.cube_facets, st.key_base)
+        else:
+            kernel = _kernels.cubes_kernel
+            args = common + (
+                tab.face_start, tab.face_free, tab.face_fixed, tab.face_rank, tab.n_subsets,
+                tab.ksimp_corners, tab.ksimp_face, tab.ksimp_perm, factorial(k), tab.binom, tab.n_codes,
+                tab.tmpl_corners, tab.tmpl_facets, tab.tmpl_interior, tab.n_boundary_nodes,
+                tab.walk_corner_map, tab.walk_boundary_simplex,
+            )
         empty_i = np.zeros((0, 1), np.int64)
         nchunks = 64 * numba.get_num_threads()
-        _kernels.cubes_kernel(
-            *args, False, counts, offsets, np.zeros(0, np.int64), np.zeros((0, n)), empty_i, empty_i, empty_i, nchunks
-        )
+        kernel(*args, False, counts, offsets, np.zeros(0, np.int64), np.zeros((0, n)), empty_i, empty_i, empty_i, nchunks)
         totals = counts[:, :4].sum(axis=0)
         offsets[1:, :4] = np.cumsum(counts[:, :4], axis=0)[:-1]
         out = dict(
@@ -324,7 +336,7 @@ class _Grid:
             c=np.empty((totals[2], _kernels.CELL_COLS), np.int64),
             i=np.empty((totals[3], _kernels.INC_COLS), np.int64),
         )
-        self.stats["degenerate"] += int(_kernels.cubes_kernel(*args, True, counts, offsets, *out.values(), nchunks))
+        self.stats["degenerate"] += int(kernel(*args, True, counts, offsets, *out.values(), nchunks))
         for key, arr in out.items():
             self.parts[key].append(arr)
         self.stats["candidate_cubes"] += m

@@ -433,3 +433,57 @@ def euler_characteristic(result):
     for r, lst in result["cells"].items():
         chi += (-1) ** r * len(lst)
     return chi
+
+
+# --------------------------------------------------------------------------
+# the simplicial baseline (CMS, paper Section 4), the slow way
+# --------------------------------------------------------------------------
+
+def naive_cms(values, axes):
+    """Marching simplices over the Kuhn (CFK) triangulation of every candidate cube.
+
+    Each cube is split into its n! Kuhn n-simplices (one per permutation of the
+    axes); their faces of dimension k..n are the simplices of the triangulation,
+    identified globally by the frozenset of their grid vertices.  A crossed
+    k-simplex holds a vertex; a (k+1)-simplex with exactly two crossed facets is
+    an edge; an (r+k)-simplex (r >= 2) with at least r + 1 facets that are
+    (r-1)-cells is an r-cell.  Same output dict as ``naive_extract``.
+    """
+    values = np.asarray(values, dtype=np.float64)
+    n = values.ndim - 1
+    k = values.shape[-1]
+    simplices = {d: set() for d in range(k, n + 1)}
+    for origin in naive_candidates(values):
+        for perm in itertools.permutations(range(n)):
+            path = kuhn_path(origin, perm)
+            for d in range(k, n + 1):
+                for pts in itertools.combinations(path, d + 1):
+                    simplices[d].add(frozenset(pts))
+    vertex_of = {}
+    vertices = []
+    for s in sorted(simplices[k], key=lambda s: sorted(s)):
+        chain = sorted(s, key=sum)  # a chain: each point is the previous plus unit steps
+        lam = simplex_lambdas([values[p] for p in chain])
+        if lam is None:
+            continue
+        vertex_of[s] = len(vertices)
+        vertices.append(sum(l * np.array([axes[a][p[a]] for a in range(n)]) for l, p in zip(lam, chain)))
+    cells = {}
+    alive = {s: ("v", vertex_of[s]) for s in vertex_of}
+    for d in range(k + 1, n + 1):
+        r = d - k
+        cells[r] = []
+        index = {}
+        for s in sorted(simplices[d], key=lambda s: sorted(s)):
+            faces = [alive[s - {p}] for p in s if (s - {p}) in alive]
+            if (r == 1 and len(faces) != 2) or len(faces) < r + 1:
+                continue
+            ids = frozenset(f[1] for f in faces)
+            if r == 1:
+                vs = ids
+            else:
+                vs = frozenset().union(*(cells[r - 1][i][0] for i in ids))
+            index[s] = len(cells[r])
+            cells[r].append((vs, ids))
+        alive = {s: ("c", i) for s, i in index.items()}
+    return {"vertices": np.array(vertices).reshape(-1, n), "cells": cells}
