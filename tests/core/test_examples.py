@@ -188,3 +188,75 @@ def test_example_topology(name):
     assert cx.connected_components() == components
     assert (len(cx.boundary_facets()) == 0) == closed
     assert cx.meta.get("nonfinite_vertices", 0) == 0
+
+
+# Teaching examples (issue 5): each extracts cleanly and fast at its default div, with
+# the Euler characteristic its description promises.
+TEACHING = {
+    # name: (Euler characteristic, connected components, boundary components, orientable)
+    "moebius-strip": (1, 1, 1, True),  # the strip cut open along one segment: a disc in R^5
+    "three-sphere-slices": (0, 1, 0, None),
+    "hopf-tori": (0, 3, 0, True),
+    "riemann-sqrt": (1, 1, 1, True),
+    "ambiguity-manifold": (8, 8, 8, None),  # eight solid balls
+}
+
+
+@pytest.mark.parametrize("name", sorted(TEACHING))
+def test_teaching_example_topology(name):
+    import time
+
+    from gcmh_core import extract
+    from gcmh_core.analysis import topology_report
+    from gcmh_core.formula import parse_system
+
+    ex = load_example(name)
+    t0 = time.perf_counter()
+    cx = extract(ex.formulas, ex.bounds, ex.div, variables=ex.variables)
+    assert time.perf_counter() - t0 < 2.0 * 3  # < 2 s on an idle machine; slack for shared cores
+    rep = topology_report(cx, parse_system(ex.formulas, ex.variables))
+    chi, components, boundary, orientable = TEACHING[name]
+    assert rep["euler_characteristic"] == chi
+    assert rep["connected_components"] == components
+    assert rep["boundary_components"] == boundary
+    assert cx.meta.get("nonfinite_vertices", 0) == 0 and cx.meta.get("degenerate", 0) == 0
+    assert rep["max_abs_F"] < 0.05
+    if orientable is not None:
+        assert rep["orientation"]["consistent"] is orientable
+    assert f"{chi}" in ex.description  # the description tells the class the number
+
+
+def test_whitney_umbrella_at_and_near_its_critical_value():
+    from gcmh_core import extract
+
+    ex = load_example("whitney-umbrella")
+    # at the critical value the computed topology depends on the grid perturbation
+    found = {extract(ex.formulas, ex.bounds, ex.div, variables=ex.variables, seed=s).euler_characteristic()
+             for s in range(2)}
+    assert found == {1, 2}
+    # nearby regular values: stable answers, the ones the description gives
+    for constant, chi, pieces in (("+ 0.01", 2, 2), ("- 0.01", 0, 1)):
+        assert f"x^2 - y^2*z {constant}" in ex.description
+        for seed in range(2):
+            cx = extract([f"{ex.formulas[0]} {constant}"], ex.bounds, ex.div, variables=ex.variables, seed=seed)
+            assert (cx.euler_characteristic(), cx.connected_components()) == (chi, pieces)
+
+
+def test_ambiguity_manifold_merges_at_the_authors_div():
+    from gcmh_core import extract
+
+    ex = load_example("ambiguity-manifold")
+    assert "div 5" in ex.description
+    assert extract(ex.formulas, ex.bounds, 5, variables=ex.variables).connected_components() == 1
+    assert extract(ex.formulas, ex.bounds, 6, variables=ex.variables).connected_components() == 8
+
+
+def test_every_example_has_a_gallery_thumbnail():
+    from pathlib import Path
+
+    gallery = Path(__file__).resolve().parents[2] / "assets" / "gallery"
+    for name in NAMES:
+        png = gallery / f"{name}.png"
+        assert png.is_file(), f"run python -m app.make_gallery to draw {png.name}"
+        data = png.read_bytes()
+        assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) < 100_000

@@ -1,0 +1,101 @@
+"""Draw the gallery thumbnails: ``python -m app.make_gallery [NAME ...]``.
+
+For every example (or the ones named) this runs the headless screenshot code
+of ``gcmh-app --example NAME --screenshot`` at twice the thumbnail size and
+scales the picture down (the overlay text then fits and the edges are
+smooth), writing ``assets/gallery/<name>.png``.  A thumbnail that would be
+over ``MAX_BYTES`` is stored with a 256-colour palette instead.
+
+    python -m app.make_gallery                      # all examples
+    python -m app.make_gallery sphere torus         # just these
+    python -m app.make_gallery --size 320x240 --out /tmp/gallery
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+SIZE = (320, 240)
+SUPERSAMPLE = 2
+MAX_BYTES = 100_000
+
+
+def gallery_dir() -> Path:
+    """``<repo>/assets/gallery`` (next to ``assets/examples``)."""
+    from gcmh_core.examples import examples_dir
+
+    return examples_dir().parent / "gallery"
+
+
+def thumbnail_path(name: str, folder: Path | None = None) -> Path:
+    """Where the thumbnail of example ``name`` lives."""
+    return (folder or gallery_dir()) / f"{name}.png"
+
+
+def _shrink(src: str, dst: Path, size: tuple[int, int]) -> int:
+    """Scale the PNG at src to size, write it to dst; returns the file size in bytes."""
+    from PIL import Image
+
+    with Image.open(src) as im:
+        small = im.convert("RGB").resize(size, Image.LANCZOS)
+    small.save(dst, optimize=True)
+    if dst.stat().st_size > MAX_BYTES:  # photographic shading compresses badly: use a palette
+        small.quantize(colors=256, method=Image.MEDIANCUT, dither=Image.NONE).save(dst, optimize=True)
+    return dst.stat().st_size
+
+
+def make_thumbnail(name: str, out: Path, size: tuple[int, int] = SIZE) -> int:
+    """Render example ``name`` off screen and write its thumbnail; returns the byte size.
+
+    Raises RuntimeError if the screenshot command fails.
+    """
+    from . import __main__ as cli
+
+    w, h = size
+    with tempfile.TemporaryDirectory() as tmp:
+        big = os.path.join(tmp, f"{name}.png")
+        args = cli.build_parser().parse_args(
+            ["--example", name, "--screenshot", big, "--size", f"{SUPERSAMPLE * w}x{SUPERSAMPLE * h}"])
+        status = cli.headless_screenshot(args)
+        if status != 0 or not os.path.isfile(big):
+            raise RuntimeError(f"screenshot of {name!r} failed (status {status})")
+        return _shrink(big, out, size)
+
+
+def main(argv=None) -> int:
+    from gcmh_core.examples import example_names
+
+    from .__main__ import _prepare_env, _size
+
+    p = argparse.ArgumentParser(prog="python -m app.make_gallery", description=__doc__.splitlines()[0])
+    p.add_argument("names", nargs="*", metavar="NAME", help="examples to draw (default: all)")
+    p.add_argument("--out", type=Path, default=None, help="output folder (default: assets/gallery)")
+    p.add_argument("--size", type=_size, default=SIZE, metavar="WxH", help="thumbnail size (default 320x240)")
+    args = p.parse_args(argv)
+    _prepare_env()
+    known = example_names()
+    names = args.names or known
+    unknown = [n for n in names if n not in known]
+    if unknown:
+        print(f"make_gallery: unknown example(s) {', '.join(unknown)}; known: {', '.join(known)}", file=sys.stderr)
+        return 2
+    out = args.out or gallery_dir()
+    out.mkdir(parents=True, exist_ok=True)
+    failed = []
+    for name in names:
+        try:
+            nbytes = make_thumbnail(name, thumbnail_path(name, out), args.size)
+        except RuntimeError as err:
+            print(f"make_gallery: {err}", file=sys.stderr)
+            failed.append(name)
+            continue
+        print(f"{thumbnail_path(name, out)}: {nbytes // 1024} KB")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
