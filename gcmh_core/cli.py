@@ -7,6 +7,8 @@ Examples::
     gcmh extract --example klein-bottle --div 16 -o klein.npz --vtu klein.vtu
     gcmh extract --f "x**2 + y**2 + z**2 - 1" --vars x,y,z --bounds -1.5:1.5 --div 24
     gcmh extract --f "x1**2 + x2**2 - 1/2" --f "x3**2 + x4**2 - 1/2" --bounds -1:1,-1:1,-1:1,-1:1
+    gcmh extract --example complex-cosine --div 160 --scheduler local
+    gcmh extract --example three-torus --div 12 --scheduler tcp://10.0.0.5:8786 --block 6
 
 Exit status: 0 on success, 2 for bad input (one line on stderr, nothing
 written), 1 when an output file cannot be written, 130 when interrupted.
@@ -104,6 +106,12 @@ def _build_parser() -> _Parser:
     grid.add_argument("--seed", metavar="S", default="0", help="seed of the grid perturbation (default 0)")
     grid.add_argument("--method", default="gcmh", help="extraction method (default gcmh)")
     grid.add_argument("--start", metavar="X1,...,XN|auto", help="start point on M (continuation methods), or auto")
+    dist = p.add_argument_group("on a dask cluster (pip install gcmh[cluster])")
+    dist.add_argument(
+        "--scheduler", metavar="local|tcp://HOST:PORT",
+        help="run on dask: 'local' starts a cluster on this machine; an address uses a running `dask scheduler`",
+    )
+    dist.add_argument("--block", metavar="B|B1,...,BN", help="cubes per block along each axis (default: sized to the workers)")
     out = p.add_argument_group("output")
     out.add_argument("-o", "--output", metavar="OUT.npz", help="save the cell complex (.npz, gcmh-complex/1)")
     out.add_argument("--vtu", metavar="OUT.vtu", help="save the cell complex as a VTK unstructured grid")
@@ -146,6 +154,25 @@ def _parse_div(text: str, n: int | None) -> int | list[int]:
     if n is not None and len(divs) != n:
         raise InputError(f"--div: got {len(divs)} values for n = {n} variables")
     return divs
+
+
+def _parse_block(text: str, n: int) -> int | list[int]:
+    parts = str(text).split(",")
+    if any(not s.strip() for s in parts):
+        raise InputError(f"--block: expected B or B1,...,Bn, got {text!r}")
+    blocks = [_parse_int(s, "--block", minimum=1) for s in parts]
+    if len(blocks) == 1:
+        return blocks[0]
+    if len(blocks) != n:
+        raise InputError(f"--block: got {len(blocks)} values for n = {n} variables (give 1 or {n})")
+    return blocks
+
+
+def _parse_scheduler(text: str) -> str:
+    text = str(text).strip()
+    if text.lower() == "local" or text.startswith("tcp://"):
+        return text  # the address itself is checked by gcmh_core.distributed
+    raise InputError(f"--scheduler: expected local or tcp://HOST:PORT, got {text!r}")
 
 
 def _parse_bounds(text: str) -> list[tuple[float, float]]:
@@ -279,6 +306,10 @@ def _job_from_args(args) -> dict:
         start = _parse_start(args.start, n)
     seed = _parse_int(args.seed, "--seed", minimum=0)
     method = args.method.strip().lower()
+    scheduler = _parse_scheduler(args.scheduler) if args.scheduler is not None else None
+    block = _parse_block(args.block, n) if args.block is not None else None
+    if block is not None and scheduler is None:
+        raise InputError("--block is the block size of a cluster run: give --scheduler too")
 
     return dict(
         name=name,
@@ -291,6 +322,8 @@ def _job_from_args(args) -> dict:
         seed=seed,
         method=method,
         start=start,
+        scheduler=scheduler,
+        block=block,
     )
 
 
@@ -361,6 +394,8 @@ def _cmd_extract(args) -> int:
             method=job["method"],
             start=job["start"],
             progress=progress,
+            scheduler=job["scheduler"],
+            block=job["block"],
         )
     finally:
         progress.close()
@@ -443,6 +478,8 @@ def _summary(cx, job, outputs) -> dict:
         "boundary_facets": int(len(cx.boundary_facets())),
         "nonfinite_vertices": int(meta.get("nonfinite_vertices", 0) or 0),
         "example": job["name"],
+        "scheduler": meta.get("scheduler"),
+        "blocks": meta.get("blocks"),
         "files": {kind: str(path) for kind, path in outputs},
     }
 

@@ -173,6 +173,7 @@ class _Session:
         self.sampled_ref = None  # how tasks reach the sampled array: ("npy", path) or a future
         self.workers = 0
         self.tasks = 0
+        self._per_host = None
         self.run = uuid.uuid4().hex[:12]
 
     def __enter__(self):
@@ -204,8 +205,8 @@ class _Session:
 
         if self.address == "local":
             cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
-            # one single-threaded process per core: numpy evaluation holds the GIL, and the
-            # kernels then get the core to themselves (kernel_threads below)
+            # one single-threaded process per core: numpy evaluation holds the GIL, and each
+            # task's kernels then get one core to themselves (see kernel_threads)
             self.cluster = LocalCluster(
                 n_workers=cores, threads_per_worker=1, processes=True,
                 # no dashboard, and its HTTP server on a free port (8787 may be another cluster's)
@@ -245,13 +246,20 @@ class _Session:
                 return None
         return self.sampled_ref
 
-    def kernel_threads(self) -> int | None:
-        """Numba threads per task: the cores a LocalCluster worker has to itself; None
-        (numba's default) on a remote cluster, whose machines we cannot see."""
-        if self.cluster is None:
-            return None
-        cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
-        return max(1, cores // max(self.workers, 1))
+    def kernel_threads(self) -> dict:
+        """Task threads per worker host {host: threads}, as the run starts: a task gives
+        the numba kernels the host's cores divided by this (they would otherwise start
+        one thread per core in every worker process, and the processes would fight)."""
+        if self._per_host is not None:
+            return self._per_host
+        from distributed.comm import get_address_host  # noqa: PLC0415
+
+        per_host: dict = {}
+        for address, info in self.client.scheduler_info(n_workers=-1)["workers"].items():
+            host = get_address_host(address)
+            per_host[host] = per_host.get(host, 0) + int(info.get("nthreads", 1))
+        self._per_host = per_host
+        return per_host
 
     def key(self, what: str) -> str:
         """A key unique to this run and task (dask would reuse the result of a repeated key)."""
@@ -437,11 +445,16 @@ def _sampled_array(data):
     return data
 
 
-def _set_threads(threads):
-    if threads is not None:
-        import numba  # noqa: PLC0415
+def _set_threads(per_host) -> None:
+    """Numba threads for this task: this host's cores / the task threads its workers run."""
+    import numba  # noqa: PLC0415
+    from distributed import get_worker  # noqa: PLC0415
+    from distributed.comm import get_address_host  # noqa: PLC0415
 
-        numba.set_num_threads(min(int(threads), numba.config.NUMBA_NUM_THREADS))  # this thread only
+    worker = get_worker()
+    busy = per_host.get(get_address_host(worker.address), worker.state.nthreads)
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+    numba.set_num_threads(max(1, min(cores // max(busy, 1), numba.config.NUMBA_NUM_THREADS)))  # this thread only
 
 
 def _block_task(n, k, method, axes, formula, data, lo, hi, threads) -> dict:

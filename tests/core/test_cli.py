@@ -6,6 +6,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import gcmh_core
@@ -244,3 +245,47 @@ def test_python_m_extract_json():
     assert proc.returncode == 0, proc.stderr
     assert proc.stderr == ""  # no progress bar when stderr is not a terminal
     assert JSON_KEYS <= set(json.loads(proc.stdout))
+
+
+# ---------------------------------------------------------------- on a dask cluster
+
+DIST_BAD = {
+    "scheduler not an address": ["extract", "--example", "sphere", "--div", "4", "--scheduler", "somewhere"],
+    "scheduler without port": ["extract", "--example", "sphere", "--div", "4", "--scheduler", "tcp://localhost"],
+    "unreachable scheduler": ["extract", "--example", "sphere", "--div", "4", "--scheduler", "tcp://127.0.0.1:1"],
+    "block 0": ["extract", "--example", "sphere", "--div", "4", "--scheduler", "local", "--block", "0"],
+    "block not a number": ["extract", "--example", "sphere", "--div", "4", "--scheduler", "local", "--block", "big"],
+    "block count": ["extract", "--example", "sphere", "--div", "4", "--scheduler", "local", "--block", "2,2"],
+    "block empty entry": ["extract", "--example", "sphere", "--div", "4", "--scheduler", "local", "--block", "2,,2"],
+    "block without scheduler": ["extract", "--example", "sphere", "--div", "4", "--block", "2"],
+}
+
+
+@pytest.mark.parametrize("case", sorted(DIST_BAD))
+def test_bad_cluster_options_one_line_exit_2_no_file(case, capsys, tmp_path):
+    pytest.importorskip("distributed")
+    out_file = tmp_path / "out.npz"
+    code, out, err = run(capsys, *DIST_BAD[case], "-o", str(out_file))
+    assert_one_line_error(code, out, err)
+    assert ("--block" in err or "block" in err) if "block" in case else ("scheduler" in err)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_python_m_extract_on_a_local_cluster(tmp_path):
+    pytest.importorskip("distributed")
+    common = ["-m", "gcmh_core.cli", "extract", "--example", "complex-cosine", "--div", "8", "--json"]
+    single = subprocess.run([sys.executable, *common, "-o", str(tmp_path / "one.npz")],
+                            capture_output=True, text=True, cwd=REPO, env=_module_env(), timeout=600)
+    dist = subprocess.run([sys.executable, *common, "--scheduler", "local", "--block", "4,8,2,8",
+                           "-o", str(tmp_path / "dask.npz")],
+                          capture_output=True, text=True, cwd=REPO, env=_module_env(), timeout=600)
+    assert single.returncode == 0 and dist.returncode == 0, dist.stderr
+    assert dist.stderr == ""  # no dask log lines, no progress bar off a terminal
+    a, b = json.loads(single.stdout), json.loads(dist.stdout)
+    assert (b["scheduler"], b["blocks"]) == ("local", 2 * 1 * 4 * 1)
+    assert {k: a[k] for k in JSON_KEYS - {"seconds"}} == {k: b[k] for k in JSON_KEYS - {"seconds"}}
+    with np.load(tmp_path / "one.npz") as x, np.load(tmp_path / "dask.npz") as y:
+        arrays = [key for key in x.files if key == "vertices" or key.startswith("cells_")]
+        assert "vertices" in arrays and "cells_1" in arrays
+        for key in arrays:
+            assert x[key].tobytes() == y[key].tobytes(), key

@@ -1,7 +1,10 @@
 """Extraction on a Dask cluster (gcmh_core.distributed) gives the single-process complex, bit for bit."""
 
 import os
+import subprocess
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -171,7 +174,37 @@ def test_progress_counts_blocks(cluster):
 
 
 def test_local_scheduler_starts_and_closes_its_own_cluster():
-    single = _run("sphere", 10)
-    cx = _run("sphere", 10, scheduler="local")
+    # sampled data reaches a LocalCluster's workers through a temporary .npy they memory-map
+    axes = [np.linspace(-1.5, 1.5, 11)] * 3
+    x, y, z = np.meshgrid(*axes, indexing="ij")
+    values = (x**2 + y**2 + z**2 - 1)[..., None]
+    single = extract(values, bounds=(-1.5, 1.5))
+    cx = extract(values, bounds=(-1.5, 1.5), scheduler="local", block=4)
     _assert_identical(single, cx)
-    assert cx.meta["workers"] >= 1 and cx.meta["scheduler"] == "local"
+    assert cx.meta["workers"] >= 1 and cx.meta["scheduler"] == "local" and cx.meta["blocks"] == 27
+
+
+def test_sampled_continuation_through_the_cluster(cluster, monkeypatch):
+    monkeypatch.setattr(gd, "LOCAL_WAVE", 16)  # the whole array is scattered to every worker once
+    monkeypatch.setattr(gd, "MIN_CHUNK", 8)
+    axes = [np.linspace(-1.5, 1.5, 17)] * 3
+    x, y, z = np.meshgrid(*axes, indexing="ij")
+    values = (x**2 + y**2 + z**2 - 1)[..., None]
+    single = extract(values, bounds=(-1.5, 1.5), method="gcch", start=(0.0, 0.0, 1.0))
+    cx = extract(values, bounds=(-1.5, 1.5), method="gcch", start=(0.0, 0.0, 1.0), scheduler=cluster[0].scheduler_address)
+    _assert_identical(single, cx)
+    assert cx.meta["tasks"] > 2
+
+
+def test_missing_dask_says_what_to_install(monkeypatch):
+    monkeypatch.setitem(sys.modules, "distributed", None)  # import distributed -> ImportError
+    with pytest.raises(InputError, match=r"pip install gcmh\[cluster\]"):
+        extract("x^2 + y^2 + z^2 - 1", (-1.5, 1.5), 6, variables="x,y,z", scheduler="local")
+
+
+def test_importing_gcmh_core_does_not_import_dask():
+    code = ("import sys, gcmh_core, gcmh_core.distributed; "
+            "assert not any(m == 'dask' or m.startswith(('dask.', 'distributed')) for m in sys.modules), 'dask imported'")
+    env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[2]))
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=300)
+    assert proc.returncode == 0, proc.stderr
