@@ -1,0 +1,225 @@
+"""QtTopologyPanel: what the extracted complex is, in numbers, and a few view toggles.
+
+The panel shows :func:`gcmh_core.analysis.topology_report` of the current
+result (cells by dimension, Euler characteristic, components, boundary,
+orientation of a surface, max |F| at a vertex, the time of each phase), a
+"Refine onto M" button and three checkboxes.  It never touches the scene: the
+window connects to its signals.
+
+    panel = QtTopologyPanel()
+    panel.set_result(cx, system)              # or panel.set_report(report) from a worker
+    panel.refineRequested.connect(...)        # run refine_vertices, then:
+    panel.show_refinement(before, after)
+    panel.highlightBoundaryToggled.connect(...)   # bool
+    panel.showPathToggled.connect(...)            # bool: overlay of the processed cubes
+    panel.twoSidedToggled.connect(...)            # bool: colour the two sides apart
+"""
+
+from __future__ import annotations
+
+from qtpy.QtCore import Qt, Signal
+from qtpy.QtWidgets import (
+    QCheckBox, QFormLayout, QGroupBox, QLabel, QPushButton, QVBoxLayout, QWidget,
+)
+
+DIM_NAMES = {0: "points", 1: "curve", 2: "surface"}
+CELL_LETTERS = ("V", "E", "F")
+BAD_STYLE = "color: #c22;"
+GOOD_STYLE = "color: #1a7f37;"
+
+
+def _seconds(t) -> str:
+    if t is None:
+        return "—"
+    return f"{t * 1000:.0f} ms" if t < 1 else f"{t:.2f} s"
+
+
+def _describe_dim(rep) -> str:
+    dim = rep["dim"]
+    what = DIM_NAMES.get(dim, f"{dim}-manifold")
+    return f"{what} in R^{rep['n']}, k = {rep['k']}"
+
+
+def _describe_counts(rep) -> str:
+    parts = []
+    for r, c in enumerate(rep["counts"]):
+        letter = CELL_LETTERS[r] if r < len(CELL_LETTERS) and rep["dim"] <= 2 else f"{r}-cells"
+        parts.append(f"{letter} {c:,}")
+    return " · ".join(parts)
+
+
+def _describe_boundary(rep) -> str:
+    if rep["boundary_facets"] == 0:
+        return "none (closed)" if rep["counts"][0] else "—"
+    comps = rep["boundary_components"]
+    return (f"{comps} component{'s' if comps != 1 else ''}\n"
+            f"({rep['boundary_facets']:,} facets)")
+
+
+def _describe_orientation(rep) -> tuple[str, bool | None]:
+    o = rep.get("orientation")
+    if o is None:
+        return ("— (only for surfaces)", None)
+    if o["consistent"]:
+        return (f"consistent (orientable)\n{o['n_flipped']:,} loops reversed", True)
+    bad = o["n_components"] - o["orientable_components"]
+    text = f"not orientable\n{o['conflict_edges']:,} edges conflict"
+    if o["n_components"] > 1:
+        text += f" ({bad} of {o['n_components']} pieces)"
+    if o["nonmanifold_edges"]:
+        text += f"\n{o['nonmanifold_edges']:,} edges on 3+ polygons"
+    return text, False
+
+
+class QtTopologyPanel(QWidget):
+    """Side panel with the topology report of the current result.
+
+    Signals
+    -------
+    refineRequested()
+        The user pressed "Refine onto M" (only enabled when F is known).
+    highlightBoundaryToggled(bool), showPathToggled(bool), twoSidedToggled(bool)
+        The three view checkboxes.
+    """
+
+    refineRequested = Signal()
+    highlightBoundaryToggled = Signal(bool)
+    showPathToggled = Signal(bool)
+    twoSidedToggled = Signal(bool)
+
+    ROWS = (
+        ("shape", "Object"),
+        ("counts", "Cells"),
+        ("euler", "Euler characteristic"),
+        ("components", "Connected components"),
+        ("boundary", "Boundary"),
+        ("orientation", "Orientation"),
+        ("residual", "Max |F| at a vertex"),
+        ("timings", "Phases"),
+        ("seconds", "Total time"),
+    )
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self._report = None
+        self._has_system = False
+        layout = QVBoxLayout(self)
+
+        box = QGroupBox("Topology")
+        self.form = QFormLayout(box)
+        self.form.setFieldGrowthPolicy(QFormLayout.AllNonFixedFieldsGrow)
+        self.values: dict[str, QLabel] = {}
+        for key, label in self.ROWS:
+            value = QLabel("—")
+            # explicit line breaks, no word wrap: wrapped labels in a form get clipped
+            value.setTextInteractionFlags(Qt.TextSelectableByMouse)
+            value.setObjectName(f"topology_{key}")
+            self.values[key] = value
+            self.form.addRow(label + ":", value)
+        layout.addWidget(box)
+
+        refine_box = QGroupBox("Refinement")
+        rl = QVBoxLayout(refine_box)
+        self.refine_button = QPushButton("Refine onto M")
+        self.refine_button.setToolTip(
+            "Move every vertex onto M by a few Gauss-Newton steps with the exact Jacobian; the cells stay the same")
+        self.refine_button.setEnabled(False)
+        self.refine_button.clicked.connect(self.refineRequested)
+        self.refine_label = QLabel("")
+        self.refine_label.setWordWrap(True)
+        self.refine_label.setObjectName("topology_refinement")
+        rl.addWidget(self.refine_button)
+        rl.addWidget(self.refine_label)
+        layout.addWidget(refine_box)
+
+        view_box = QGroupBox("Show")
+        vl = QVBoxLayout(view_box)
+        self.boundary_check = QCheckBox("Highlight the boundary")
+        self.path_check = QCheckBox("Processed cubes (the algorithm's path)")
+        self.two_sided_check = QCheckBox("Two sides in two colours")
+        self.two_sided_check.setToolTip("Colour the front and the back of an oriented surface differently")
+        self.boundary_check.toggled.connect(self.highlightBoundaryToggled)
+        self.path_check.toggled.connect(self.showPathToggled)
+        self.two_sided_check.toggled.connect(self.twoSidedToggled)
+        for check in (self.boundary_check, self.path_check, self.two_sided_check):
+            vl.addWidget(check)
+        layout.addWidget(view_box)
+        layout.addStretch(1)
+        self._update_enabled()
+
+    # ------------------------------------------------------------------ content
+
+    def report(self) -> dict | None:
+        """The report on show (a dict from topology_report), or None."""
+        return self._report
+
+    def set_result(self, cx, system=None) -> dict:
+        """Compute and show the report of `cx` (F given as a System gives max |F|
+        and enables refinement). Returns the report."""
+        from gcmh_core.analysis import topology_report
+
+        report = topology_report(cx, system)
+        self.set_report(report, has_system=system is not None)
+        return report
+
+    def set_report(self, report: dict, has_system: bool | None = None) -> None:
+        """Show a report computed elsewhere (e.g. in the worker thread).
+
+        `has_system` enables "Refine onto M"; by default it is on when the
+        report has a max |F|.
+        """
+        self._report = report
+        self._has_system = report.get("max_abs_F") is not None if has_system is None else bool(has_system)
+        v = self.values
+        v["shape"].setText(_describe_dim(report))
+        v["counts"].setText(_describe_counts(report))
+        v["euler"].setText(str(report["euler_characteristic"]))
+        v["components"].setText(str(report["connected_components"]))
+        v["boundary"].setText(_describe_boundary(report))
+        text, ok = _describe_orientation(report)
+        v["orientation"].setText(text)
+        v["orientation"].setStyleSheet("" if ok is None else (GOOD_STYLE if ok else BAD_STYLE))
+        residual = report.get("max_abs_F")
+        v["residual"].setText("—" if residual is None else f"{residual:.3g}")
+        timings = report.get("timings") or {}
+        v["timings"].setText("\n".join(f"{k} {_seconds(t)}" for k, t in timings.items()) or "—")
+        v["seconds"].setText(_seconds(report.get("seconds")))
+        self.refine_label.setText("")
+        self._update_enabled()
+
+    def clear(self) -> None:
+        """No result: every value back to a dash, refinement off."""
+        self._report = None
+        self._has_system = False
+        for label in self.values.values():
+            label.setText("—")
+            label.setStyleSheet("")
+        self.refine_label.setText("")
+        self._update_enabled()
+
+    def show_refinement(self, before: float, after: float) -> None:
+        """Show max |F| at the vertices before and after a refinement."""
+        factor = ""
+        if after > 0 and before > 0:
+            factor = f" ({before / after:.1e} times smaller)" if after < before else " (no better)"
+        elif after == 0 < before:
+            factor = " (exactly on M)"
+        self.refine_label.setText(f"max |F|: {before:.3g} → {after:.3g}\n{factor.strip(' ()')}")
+        if self._report is not None:
+            self._report = dict(self._report, max_abs_F=float(after))
+            self.values["residual"].setText(f"{after:.3g}")
+
+    def set_refine_enabled(self, enabled: bool) -> None:
+        """Let the window disable the button while a refinement runs."""
+        self.refine_button.setEnabled(bool(enabled) and self._can_refine())
+
+    def _can_refine(self) -> bool:
+        return self._report is not None and self._has_system and self._report["counts"][0] > 0
+
+    def _update_enabled(self) -> None:
+        self.refine_button.setEnabled(self._can_refine())
+        has = self._report is not None
+        surface = has and self._report["dim"] == 2
+        self.boundary_check.setEnabled(has and self._report["boundary_facets"] > 0)
+        self.two_sided_check.setEnabled(surface)
+        self.path_check.setEnabled(has)

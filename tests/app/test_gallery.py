@@ -1,0 +1,83 @@
+"""QtGallery on its own: thumbnails, details, and choosing an example."""
+
+from pathlib import Path
+
+import pytest
+from qtpy.QtCore import Qt
+from qtpy.QtWidgets import QDialog
+
+from app.qt_gallery import QtGallery
+from gcmh_core.examples import example_names, load_example
+
+
+@pytest.fixture
+def gallery(qtbot):
+    g = QtGallery()
+    qtbot.addWidget(g)
+    g.show()
+    qtbot.waitExposed(g)
+    return g
+
+
+def test_every_example_with_its_picture(gallery):
+    assert gallery.names() == example_names()
+    for i, name in enumerate(gallery.names()):
+        assert gallery.has_thumbnail(name), name
+        item = gallery.grid.item(i)
+        assert item.text() == load_example(name).title
+        assert not item.icon().isNull()
+
+
+def test_thumbnails_are_real_pictures():
+    from PIL import Image
+    import numpy as np
+
+    folder = Path(__file__).resolve().parents[2] / "assets" / "gallery"
+    for name in example_names():
+        with Image.open(folder / f"{name}.png") as im:
+            assert im.size == (320, 240)
+            rgb = np.asarray(im.convert("RGB")).reshape(-1, 3)
+        # an object in front of the background: many colours, not a blank frame
+        assert len(np.unique(rgb, axis=0)) > 200, name
+
+
+def test_details_follow_the_selection(gallery):
+    assert gallery.select("hopf-tori")
+    assert gallery.current_name() == "hopf-tori"
+    text = gallery.details.text()
+    assert "Hopf tori" in text and "stereographic" in text and "R<sup>4</sup>" in text
+    assert not gallery.select("no-such-example")
+    assert gallery.current_name() == "hopf-tori"
+
+
+def test_open_button_emits_the_name(gallery, qtbot):
+    gallery.select("moebius-strip")
+    with qtbot.waitSignal(gallery.exampleChosen, timeout=1000) as blocker:
+        qtbot.mouseClick(gallery.open_button, Qt.LeftButton)
+    assert blocker.args == ["moebius-strip"]
+    assert gallery.result() == QDialog.Accepted and not gallery.isVisible()
+
+
+def test_double_click_emits_once(gallery, qtbot):
+    gallery.select("riemann-sqrt")
+    item = gallery.grid.currentItem()
+    seen = []
+    gallery.exampleChosen.connect(seen.append)
+    gallery.grid.scrollToItem(item)
+    rect = gallery.grid.visualItemRect(item)
+    # Qt's item views act on a double-click only after a press on the same item
+    qtbot.mouseClick(gallery.grid.viewport(), Qt.LeftButton, pos=rect.center())
+    qtbot.mouseDClick(gallery.grid.viewport(), Qt.LeftButton, pos=rect.center())
+    qtbot.wait(50)
+    assert seen == ["riemann-sqrt"]
+
+
+def test_missing_thumbnail_gets_a_card(qtbot, tmp_path):
+    examples = [load_example("sphere")]
+    g = QtGallery(examples=examples, gallery_dir=tmp_path)
+    qtbot.addWidget(g)
+    assert g.names() == ["sphere"] and not g.has_thumbnail("sphere")
+    assert not g.grid.item(0).icon().isNull()
+    with qtbot.waitSignal(g.exampleChosen, timeout=1000) as blocker:
+        g.grid.itemActivated.emit(g.grid.item(0))
+    assert blocker.args == ["sphere"]
