@@ -265,6 +265,20 @@ def extract(
     return result
 
 
+# Below this many cubes a kernel run stays in the calling thread: waking the thread
+# pool costs milliseconds, which small continuation waves would pay hundreds of times.
+_SERIAL_CUBES = 256
+
+
+def _serial(chunk, m):
+    """A chunk function run over all m cubes, with the parallel kernel's signature."""
+
+    def run(*args):
+        return chunk(0, m, *args[:-1])  # the last argument is nchunks
+
+    return run
+
+
 class _Grid:
     """The grid's shape and the per-run constants every method needs, and the records
     its kernel runs have produced so far (`parts`), merged by `assemble`.
@@ -312,12 +326,13 @@ class _Grid:
         counts = np.zeros((m, 5), np.int64)
         offsets = np.zeros((m, 5), np.int64)
         common = (values, cube_lin, origin, cube_key, self.axes_arr, value_off, self.corner_off, n, k)
+        parallel = m >= _SERIAL_CUBES
         if self.simplicial:
             st = self.stab
-            kernel = _kernels.simplices_kernel
+            kernel = _kernels.simplices_kernel if parallel else _serial(_kernels._simplicial_chunk, m)
             args = common + (st.start, st.corners, st.c0, st.code, st.facets, st.cube_facets, st.key_base)
         else:
-            kernel = _kernels.cubes_kernel
+            kernel = _kernels.cubes_kernel if parallel else _serial(_kernels._process_chunk, m)
             args = common + (
                 tab.face_start, tab.face_free, tab.face_fixed, tab.face_rank, tab.n_subsets,
                 tab.ksimp_corners, tab.ksimp_face, tab.ksimp_perm, factorial(k), tab.binom, tab.n_codes,
