@@ -613,6 +613,13 @@ def _run_gcch(n, k, axes, bounds, system, sampled, starts, progress, cancel, gri
         wave = wave[np.all((wave >= 0) & (wave < div), axis=1)]
         # one row per cube, in increasing linear order (the output does not depend on it)
         wave = np.stack(np.unravel_index(_unique_inverse(wave @ cube_strides)[0], tuple(div)), axis=1).astype(np.int64)
+    if starts != "auto" and not any(len(v) for v in grid.parts["vk"]):
+        # (with "auto" an empty result is an answer: M does not cross the domain)
+        raise InputError(
+            "M_A does not pass through the start cube(s) or their neighbours: "
+            + ("give a point in a grid cube where every component of F changes sign" if system is None
+               else "the projected start point lies where M grazes the grid; try another start point or div")
+        )
     if progress is not None:
         progress("assembling", 1.0)
     grid.stats["nonfinite_vertices"] = int(len(_unique_inverse(np.concatenate(nonfinite))[0])) if nonfinite else 0

@@ -68,3 +68,11 @@ def test_bad_start_points_say_why():
         extract(f, (-1.5, 1.5), 8, variables="x,y,z", method="gcch", start=(0, 0))
     with pytest.raises(InputError, match="continuation"):
         extract(f, (-1.5, 1.5), 8, variables="x,y,z", start=(0, 0, 1))
+
+
+def test_sampled_start_outside_M_says_so():
+    axes = [np.linspace(-1.5, 1.5, 17)] * 3
+    x, y, z = np.meshgrid(*axes, indexing="ij")
+    values = (x**2 + y**2 + z**2 - 1)[..., None]
+    with pytest.raises(InputError, match="start cube"):
+        extract(values, bounds=(-1.5, 1.5), method="gcch", start=(0.0, 0.0, 0.0))
