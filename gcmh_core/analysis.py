@@ -26,7 +26,8 @@ import numpy as np
 from .complex import CellComplex
 from .errors import InputError
 
-__all__ = ["Orientation", "orient_2cells", "topology_report", "refine_vertices", "graph_components"]
+__all__ = ["Orientation", "boundary_components", "graph_components", "orient_2cells", "refine_vertices",
+           "topology_report"]
 
 
 # ----------------------------------------------------------------------------
