@@ -250,9 +250,9 @@ def extract(
 
         result = run_distributed(method, n_, k_, axes, bounds_, system, sampled, starts, scheduler, block, progress, cancel)
     elif continuation:
-        result = _run_gcch(n_, k_, axes, bounds_, system, sampled, starts, progress, cancel, grid=_Grid(n_, k_, axes, method))
+        result = _run_gcch(n_, k_, axes, bounds_, system, sampled, starts, progress, cancel, grid=_Grid(n_, k_, axes, method, cancel))
     else:
-        result = _run_gcmh(n_, k_, axes, system, sampled, progress, cancel, grid=_Grid(n_, k_, axes, method))
+        result = _run_gcmh(n_, k_, axes, system, sampled, progress, cancel, grid=_Grid(n_, k_, axes, method, cancel))
     result.meta.update(
         method=method,
         div=div_.tolist(),
@@ -268,6 +268,9 @@ def extract(
 # Below this many cubes a kernel run stays in the calling thread: waking the thread
 # pool costs milliseconds, which small continuation waves would pay hundreds of times.
 _SERIAL_CUBES = 256
+# Candidate cubes per kernel run: a run of the three-torus's costliest cubes takes
+# about 0.2 s, so a cancel is answered within that.
+_KERNEL_BATCH = 4096
 
 
 def _serial(chunk, m):
@@ -284,10 +287,11 @@ class _Grid:
     its kernel runs have produced so far (`parts`), merged by `assemble`.
 
     method: "gcmh"/"gcch" run the hypercube kernel, "cms"/"ccs" the simplicial one.
+    cancel: callable() -> bool, polled between kernel batches; True raises `Cancelled`.
     """
 
-    def __init__(self, n, k, axes, method="gcmh"):
-        self.n, self.k, self.axes = n, k, axes
+    def __init__(self, n, k, axes, method="gcmh", cancel=None):
+        self.n, self.k, self.axes, self.cancel = n, k, axes, cancel
         self.simplicial = method in SIMPLICIAL_METHODS
         self.tab = cube_tables(n, k)
         self.dims = np.array([len(a) for a in axes], np.int64)  # vertices per axis
@@ -319,9 +323,16 @@ class _Grid:
         values (NV, k); corner c of cube i is row cube_lin[i] + value_off[c].
         Returns each cube's crossed-facet mask (bit 2a + side).
         """
+        m = len(cube_lin)
+        if m > _KERNEL_BATCH:  # in batches: cancel is polled between them (records keep their order)
+            return np.concatenate([
+                self.run_kernel(values, cube_lin[i : i + _KERNEL_BATCH], origin[i : i + _KERNEL_BATCH], value_off)
+                for i in range(0, m, _KERNEL_BATCH)
+            ])
+        if self.cancel is not None and self.cancel():
+            raise Cancelled("extraction cancelled")
         t = time.perf_counter()
         n, k, tab = self.n, self.k, self.tab
-        m = len(cube_lin)
         cube_key = origin @ self.strides
         counts = np.zeros((m, 5), np.int64)
         offsets = np.zeros((m, 5), np.int64)
