@@ -79,12 +79,13 @@ def _child(case: str, mode: str, workers: int) -> dict:
         t = time.perf_counter()
         run(4, scheduler=address, block=2)
         warm_small_s = time.perf_counter() - t
+        base = client.run(_peak_mb)  # a worker with gcmh_core, numba and the kernels loaded
         t = time.perf_counter()
         cx = run(div, scheduler=address)
         out.update(seconds=time.perf_counter() - t, start_seconds=start_s, first_seconds=first_s,
                    warm_small_seconds=warm_small_s, blocks=cx.meta["blocks"], block=cx.meta["block"])
         peaks = client.run(_peak_mb)
-        out.update(worker_peak_mb=sorted(peaks.values()))
+        out.update(worker_peak_mb=sorted(peaks.values()), worker_base_mb=max(base.values()))
         client.close()
         cluster.close()
     out.update(counts=cx.counts(), euler=cx.euler_characteristic(), digest=_digest(cx),
@@ -160,7 +161,8 @@ def main(argv=None) -> int:
                 same = "yes" if "single" in rows and rows["single"]["digest"] == r["digest"] else "NO"
                 notes.append(f"{case}: cluster start {r['start_seconds']:.2f} s; first tasks (div 4, "
                              f"workers load gcmh_core and the cached kernels) {r['first_seconds']:.2f} s "
-                             f"vs {r['warm_small_seconds']:.2f} s warm")
+                             f"vs {r['warm_small_seconds']:.2f} s warm; a warm idle worker holds "
+                             f"{r['worker_base_mb']:.0f} MB")
             speed = ""
             if mode == "cluster" and "single" in rows:
                 speed = f" ({rows['single']['seconds'] / r['seconds']:.2f}x)"

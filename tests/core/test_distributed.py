@@ -89,6 +89,18 @@ def test_continuation_through_the_cluster(cluster, monkeypatch):
         assert cx.meta["tasks"] > 2 and cx.meta["visited_cubes"] == single.meta["visited_cubes"]
 
 
+@pytest.mark.parametrize("method", ["cms", "ccs"])
+def test_simplicial_methods_through_the_cluster(cluster, monkeypatch, method):
+    monkeypatch.setattr(gd, "LOCAL_WAVE", 16)
+    monkeypatch.setattr(gd, "MIN_CHUNK", 8)
+    ex = load_example("complex-cosine")
+    kw = dict(method=method, start=ex.start) if method == "ccs" else dict(method=method)
+    single = _run("complex-cosine", 8, **kw)
+    cx = _run("complex-cosine", 8, scheduler=cluster[0].scheduler_address, block=None if method == "ccs" else 3, **kw)
+    _assert_identical(single, cx)
+    assert cx.meta["tasks"] > 2
+
+
 class _KillOnce(distributed.WorkerPlugin):
     """Kills the worker process that starts the first gcmh block task (once: the marker file)."""
 
