@@ -22,11 +22,13 @@ each block's slice is scattered to the cluster (continuation scatters the whole
 array once to every worker, since a wave can touch any part of it).
 
 Memory per block of b_1 x ... x b_n cubes, V = (b_1+1)...(b_n+1) vertices:
-F's values 8k V bytes, the candidate pass about 3 V bytes, plus F's full-size
-temporaries (8 V bytes each, one or two for usual formulas) and the records of
-the block's part of M (small next to the values unless M fills the block).
-The default block keeps V <= BLOCK_VERTICES (2^21: ~70 MB at k = 2, ~90 MB at
-k = 3) and gives at least BLOCKS_PER_WORKER blocks per worker thread.
+F's values 8k V bytes, the candidate pass about (k + 6) V bytes (sign codes,
+finiteness masks, the OR over corners), F's full-size temporaries (8 V bytes
+each, t = 1 or 2 for usual formulas), and the records of the block's part of M
+(small next to the values unless M fills the block): about (9k + 8t + 6) V bytes,
+on top of a worker process with numpy, numba and the kernels loaded.  The
+default block keeps V <= BLOCK_VERTICES (2^21: ~70 MB at k = 2, ~90 MB at k = 3)
+and gives at least BLOCKS_PER_WORKER blocks per worker thread.
 
 dask is imported here only, and only when a scheduler is asked for.
 """
@@ -182,12 +184,16 @@ class _Session:
         return self
 
     def __exit__(self, *exc):
-        if self._client is not None:
-            self._client.close()
-        if self.cluster is not None:
-            self.cluster.close()
-        if self.tmpdir is not None:
-            shutil.rmtree(self.tmpdir, ignore_errors=True)
+        try:
+            if self._client is not None:
+                self._client.close()
+        finally:
+            try:
+                if self.cluster is not None:
+                    self.cluster.close()
+            finally:
+                if self.tmpdir is not None:
+                    shutil.rmtree(self.tmpdir, ignore_errors=True)
 
     @property
     def started(self) -> bool:
