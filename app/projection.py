@@ -211,7 +211,7 @@ def hidden_directions(P: np.ndarray) -> np.ndarray:
     out = []
     eye = np.eye(n)
     while len(basis) < n:
-        Bm = np.array(basis)
+        Bm = np.array(basis).reshape(-1, n)
         R = eye - (eye @ Bm.T) @ Bm
         norms = np.linalg.norm(R, axis=1)
         i = int(np.argmax(norms > norms.max() - 1e-9))

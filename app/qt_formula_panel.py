@@ -21,11 +21,11 @@ from qtpy.QtWidgets import (
 )
 
 from . import inputs
+from .qt_widgets import error_label, group, panel_layout
 from .worker import Job
 
 N_MAX = 12
 ERROR_STYLE = "QLineEdit { border: 2px solid #d33; background: #fff0f0; }"
-ERROR_LABEL_STYLE = "color: #c22; font-size: 11px;"
 BAD_CELL = QColor("#ffc8c8")
 GOOD_CELL = QColor("#ffffff")
 METHOD_LABELS = {"gcmh": "GCMH (whole grid)", "gcch": "GCCH (continuation from a start point)",
@@ -59,12 +59,7 @@ def format_number(v: float) -> str:
     return f"{v:.10g}"
 
 
-def _error_label() -> QLabel:
-    lab = QLabel("")
-    lab.setStyleSheet(ERROR_LABEL_STYLE)
-    lab.setWordWrap(True)
-    lab.setVisible(False)
-    return lab
+_error_label = error_label
 
 
 def _mark(edit: QLineEdit, label: QLabel, message: str | None) -> None:
@@ -89,12 +84,10 @@ class QtFormulaPanel(QWidget):
         self._auto_names = True
         self.methods = engine_methods()
 
-        lay = QVBoxLayout(self)
-        lay.setContentsMargins(0, 0, 0, 0)
+        lay = panel_layout(self)
 
         # --- system -------------------------------------------------------
-        sys_box = QGroupBox("System  F(x) = 0,  F: R^n \u2192 R^k")
-        sl = QVBoxLayout(sys_box)
+        sys_box, sl = group(lay, "System  F(x) = 0,  F: R^n \u2192 R^k")
         row = QHBoxLayout()
         self.n_spin = QSpinBox()
         self.n_spin.setRange(1, N_MAX)
@@ -134,11 +127,9 @@ class QtFormulaPanel(QWidget):
         self.formula_edits: list[QLineEdit] = []
         self.formula_errors: list[QLabel] = []
         self.formula_labels: list[QLabel] = []
-        lay.addWidget(sys_box)
 
         # --- domain -------------------------------------------------------
-        dom_box = QGroupBox("Domain and grid")
-        dl = QVBoxLayout(dom_box)
+        dom_box, dl = group(lay, "Domain and grid")
         self.table = QTableWidget(0, 3)
         self.table.setHorizontalHeaderLabels(["lower", "upper", "div"])
         self.table.horizontalHeader().setSectionResizeMode(QHeaderView.Stretch)
@@ -161,7 +152,6 @@ class QtFormulaPanel(QWidget):
         dl.addLayout(drow)
         self.div_error = _error_label()
         dl.addWidget(self.div_error)
-        lay.addWidget(dom_box)
 
         # --- method -------------------------------------------------------
         m_box = QGroupBox("Method")

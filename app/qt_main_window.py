@@ -1,9 +1,12 @@
 """QtMainWindow: the GCMH Studio window.
 
-Layout: a side panel (tabs "Manifold" = :class:`QtFormulaPanel` and "View" =
-:class:`QtProjectionPanel`, with Run / Cancel, a progress bar and a status line
-always visible below) and a ``pyvistaqt.QtInteractor`` in the centre, drawn by
-an :class:`app.scene.Scene`.
+Layout: a side panel (tabs "Manifold" = :class:`QtFormulaPanel`, "View" =
+:class:`QtProjectionPanel` (projection, mapping, slice, style), "Animate" =
+:class:`QtAnimationPanel` and, when the library has its analysis module,
+"Topology" = ``QtTopologyPanel``; with Run / Cancel, a progress bar and a
+status line always visible below) and a ``pyvistaqt.QtInteractor`` in the
+centre, drawn by an :class:`app.scene.Scene`. Double-click a cell to see its
+vertices' coordinates in R^n and its grid cube (:meth:`QtMainWindow.pick_cell`).
 
 Runs go through :class:`app.worker.ExtractWorker` (a QThread); the previous
 result stays on screen and can be turned while a new one computes. Only the
@@ -27,10 +30,25 @@ from qtpy.QtWidgets import (
 )
 
 from . import inputs
+from .animation import Spec, frames_for, tour_angles, write_animation
+from .qt_animation_panel import ROTATE_PERIOD, SLICE_PERIOD, TOUR_PERIOD, QtAnimationPanel
 from .qt_formula_panel import QtFormulaPanel
 from .qt_projection_panel import QtProjectionPanel
-from .scene import Scene, Style, default_camera, describe, render_image
+from .scene import (
+    BOUNDARY_COLOR, GRID_COLOR, PICK_COLOR, Scene, Style, animation_images, copy_camera, default_camera, describe,
+    render_image,
+)
+from .slicing import window_range
 from .worker import ExtractWorker
+
+try:   # written alongside this window; the window works without them
+    from .qt_topology_panel import QtTopologyPanel
+except ImportError:
+    QtTopologyPanel = None
+try:
+    from .qt_gallery import QtGallery
+except ImportError:
+    QtGallery = None
 
 SESSION_FORMAT = "gcmh-session/1"
 DEFAULT_EXAMPLE = "klein-bottle"
@@ -109,8 +127,13 @@ class QtMainWindow(QMainWindow):
         # --- side panel
         self.formula_panel = QtFormulaPanel()
         self.projection_panel = QtProjectionPanel()
+        self.animation_panel = QtAnimationPanel()
+        self.topology_panel = QtTopologyPanel() if QtTopologyPanel is not None else None
         self.tabs = QTabWidget()
-        for w, name in ((self.formula_panel, "Manifold"), (self.projection_panel, "View")):
+        pages = [(self.formula_panel, "Manifold"), (self.projection_panel, "View"), (self.animation_panel, "Animate")]
+        if self.topology_panel is not None:
+            pages.append((self.topology_panel, "Topology"))
+        for w, name in pages:
             sc = QScrollArea()
             sc.setWidgetResizable(True)
             sc.setHorizontalScrollBarPolicy(Qt.ScrollBarAlwaysOff)
@@ -136,6 +159,14 @@ class QtMainWindow(QMainWindow):
         self.result_label.setWordWrap(True)
         self.result_label.setTextInteractionFlags(Qt.TextSelectableByMouse)
         self.result_label.setStyleSheet("font-weight: bold;")
+        self.pick_label = QLabel("")
+        self.pick_label.setWordWrap(True)
+        self.pick_label.setTextInteractionFlags(Qt.TextSelectableByMouse)
+        self.pick_label.setStyleSheet("font-family: monospace; font-size: 11px;")
+        self.pick_label.setVisible(False)
+        self.picked: dict | None = None
+        self._anim_t = 0.0
+        self._anim_a0 = None
 
         side = QWidget()
         sl = QVBoxLayout(side)
@@ -147,6 +178,7 @@ class QtMainWindow(QMainWindow):
         sl.addLayout(br)
         sl.addWidget(self.progress)
         sl.addWidget(self.result_label)
+        sl.addWidget(self.pick_label)
         sl.addWidget(self.status_label)
         side.setMinimumWidth(430)
 
@@ -174,6 +206,17 @@ class QtMainWindow(QMainWindow):
         self.projection_panel.projectionChanged.connect(self._on_projection)
         self.projection_panel.baseChanged.connect(self._on_base)
         self.projection_panel.styleChanged.connect(self._on_style)
+        self.projection_panel.sliceChanged.connect(self._on_slice)
+        self.animation_panel.tick.connect(self._on_anim_tick)
+        self.animation_panel.playingChanged.connect(self._on_anim_playing)
+        self.animation_panel.modeChanged.connect(lambda *_: self._on_anim_playing(self.animation_panel.is_playing()))
+        self.animation_panel.exportRequested.connect(self._export_animation_dialog)
+        if self.topology_panel is not None:
+            self._connect_topology_panel()
+        try:   # double-click a cell: its coordinates in R^n and its grid cube
+            self.plotter.track_click_position(self._on_click, side="left", double=True, viewport=True)
+        except Exception:  # noqa: BLE001 - picking is a convenience
+            pass
         self._update_buttons()
         self.set_status("Choose an example or type a system, then Run (Ctrl+R).")
 
@@ -215,8 +258,17 @@ class QtMainWindow(QMainWindow):
         act(vm, "Reset &rotations", self.projection_panel.reset, None, "all rotation angles to 0")
         act(vm, "Reset &camera", self.reset_camera, None, "fit the view")
 
+        vm.addSeparator()
+        self.play_action = act(vm, "&Play / pause animation", self._toggle_play, "Space",
+                               "start or pause the animation chosen in the Animate tab")
+
         self.examples_menu = mb.addMenu("&Examples")
         self.example_actions = {}
+        self.gallery_action = None
+        if QtGallery is not None:
+            self.gallery_action = act(self.examples_menu, "&Gallery\u2026", self.open_gallery, "Ctrl+G",
+                                      "pictures of all examples: choose one to open")
+            self.examples_menu.addSeparator()
         try:
             from gcmh_core.examples import list_examples
             examples = list_examples()
@@ -430,43 +482,345 @@ class QtMainWindow(QMainWindow):
         pp = self.projection_panel
         pp.set_variables(names, keep=(names == prev_names))
         pp.model.set_vertices(cx.vertices)
+        self.animation_panel.set_variables(names)
         if prev_dim is None or (prev_dim <= 2) != (cx.dim <= 2):
             pp.set_style_defaults(cx.dim)
         if view:
             pp.apply_view(view)
-        self.scene.set_complex(cx, names, pp.matrix(), self._style(), geometry=geometry)
+        self.scene.set_complex(cx, names, pp.model.view(), self._style(), geometry=geometry)
+        self._clear_pick()
+        self._apply_overlays(self.scene)
+        self._apply_slice(render=False)
         self.reset_camera()
+        if self.topology_panel is not None:
+            self._topology_set_result(cx)
         self.resultChanged.emit(cx)
 
     def _style(self) -> Style:
         pp = self.projection_panel
         sub = describe(self.result, self.result_names, pp.color_by()) if self.result is not None else ""
+        mapping = pp.model.mapping if pp.model.n >= 4 else "orthographic"
+        if mapping != "orthographic":
+            sub += f" \u00b7 {mapping}"
         return Style(color_by=pp.color_by(), opacity=pp.opacity(), show_edges=pp.show_edges(),
-                     title=self.result_title, subtitle=sub)
+                     title=self.result_title, subtitle=sub, two_sided=pp.two_sided_check.isChecked())
 
     def _on_projection(self) -> None:
-        if self.scene.mesh is None:
+        if self.scene.complex is None:
             return
-        self.scene.set_projection(self.projection_panel.matrix())
+        pp = self.projection_panel
+        self.scene.set_projection(pp.model.view(), render=False)
+        sw = pp.slice_window()
+        if sw is not None and sw.hidden:    # the hidden directions turn with the view
+            self._apply_slice(render=False)
+        if self.scene.style.subtitle != self._style().subtitle:
+            self.scene.set_style(self._style(), render=False)
+        self.plotter.renderer.ResetCameraClippingRange()
+        self.plotter.render()
 
     def _on_base(self) -> None:
-        if self.scene.mesh is None:
+        if self.scene.complex is None:
             return
-        self.scene.set_projection(self.projection_panel.matrix(), render=False)
+        self._on_projection()
         self.reset_camera()
 
     def _on_style(self) -> None:
-        if self.scene.mesh is None:
+        if self.scene.complex is None:
             return
         st = self._style()
         old = self.scene.style
-        if st.color_by == old.color_by and st.title == old.title and st.subtitle == old.subtitle:
+        if (st.color_by, st.title, st.subtitle, st.two_sided) == (old.color_by, old.title, old.subtitle,
+                                                                    old.two_sided):
             self.scene.style = st
             self.scene.set_opacity(st.opacity, render=False)
             self.scene.set_show_edges(st.show_edges, render=False)
-            self.plotter.render()
         else:
-            self.scene.set_style(st)
+            self.scene.set_style(st, render=False)
+        self._apply_overlays(self.scene)
+        self.plotter.render()
+
+    # ------------------------------------------------------------------ slicing
+    def _slice_params(self, model=None):
+        """(direction, lo, hi, c, w) of the panel's slice for the current result, or None."""
+        pp = self.projection_panel
+        sw = pp.slice_window()
+        if sw is None or self.result is None:
+            return None
+        model = model or pp.model
+        u = sw.direction(model.frame())
+        lo, hi = window_range(self.result.vertices, u)
+        cf, wf = pp.slice_fractions()
+        span = max(hi - lo, 1e-12)
+        return sw, u, lo, hi, lo + cf * span, wf * span
+
+    def _apply_slice(self, render: bool = True) -> None:
+        pp = self.projection_panel
+        prm = self._slice_params()
+        if prm is None:
+            if self.scene.slice is not None:
+                self.scene.set_slice(None, render=False)
+            pp.set_slice_readout("")
+        else:
+            sw, u, lo, hi, c, w = prm
+            k = self.scene.set_slice(u, c, w, render=False)
+            what = sw.label(self.result_names)
+            pp.set_slice_readout(f"{what} in [{c - w:.3g}, {c + w:.3g}] of [{lo:.3g}, {hi:.3g}] \u00b7 "
+                                 f"{k:,} cells" + ("" if k else " (nothing here)"))
+        if render:
+            self.plotter.render()
+
+    def _on_slice(self) -> None:
+        if self.scene.complex is None:
+            return
+        self._apply_slice()
+
+    # ------------------------------------------------------------------ overlays
+    def _apply_overlays(self, scene) -> None:
+        """Boundary facets and grid cubes as line overlays on ``scene``, as the View tab asks."""
+        pp = self.projection_panel
+        cx = self.result
+        if cx is None or scene.complex is None:
+            return
+        if pp.boundary_check.isChecked():
+            X, E = boundary_lines(cx)
+            scene.set_overlay("boundary", X, E, BOUNDARY_COLOR, width=4.0, render=False)
+        else:
+            scene.remove_overlay("boundary", render=False)
+        if pp.grid_check.isChecked():
+            try:
+                X, E = grid_cube_lines(cx)
+            except ValueError as e:
+                self.set_status(f"Grid cubes: {e}", error=True)
+                scene.remove_overlay("grid", render=False)
+            else:
+                scene.set_overlay("grid", X, E, GRID_COLOR, width=1.0, opacity=0.18, render=False)
+        else:
+            scene.remove_overlay("grid", render=False)
+        if self.picked is not None:
+            X, E = self.picked["lines"]
+            scene.set_overlay("pick", X, E, PICK_COLOR, width=5.0, render=False)
+
+    # ------------------------------------------------------------------ picking
+    def pick_cell(self, cell_id: int) -> dict:
+        """Select cell ``cell_id`` (a 2-cell, or an edge of a curve): show and return its facts.
+
+        Returns dict(cell, vertices (ids), coords (m, n), cube (n,) grid index or None).
+        """
+        cx = self.result
+        if cx is None:
+            raise ValueError("nothing to pick: no result yet")
+        info = cell_info(cx, int(cell_id))
+        self.picked = info
+        names = self.result_names
+        rows = [f"{'':>6}" + "".join(f"{nm:>10}" for nm in names)]
+        for v, x in zip(info["vertices"][:12], info["coords"][:12]):
+            rows.append(f"{v:>6}" + "".join(f"{t:>10.4f}" for t in x))
+        if len(info["vertices"]) > 12:
+            rows.append(f"\u2026 {len(info['vertices']) - 12} more vertices")
+        what = "edge" if cx.dim == 1 else "2-cell"
+        cube = "" if info["cube"] is None else f" \u00b7 grid cube {tuple(int(i) for i in info['cube'])}"
+        self.pick_label.setText(f"{what} {info['cell']} ({len(info['vertices'])} vertices){cube}\n"
+                                + "\n".join(rows))
+        self.pick_label.setVisible(True)
+        X, E = info["lines"]
+        self.scene.set_overlay("pick", X, E, PICK_COLOR, width=5.0, render=False)
+        self.plotter.render()
+        return info
+
+    def _clear_pick(self) -> None:
+        self.picked = None
+        self.pick_label.setVisible(False)
+        self.scene.remove_overlay("pick", render=False)
+
+    def pick_at(self, display_xy):
+        """Pick the cell drawn at pixel (x, y) (from the bottom left); None if nothing is there."""
+        cid = self.scene.cell_at(display_xy)
+        if cid is None:
+            self._clear_pick()
+            self.plotter.render()
+            return None
+        return self.pick_cell(cid)
+
+    def _on_click(self, pos) -> None:
+        try:
+            self.pick_at(pos[:2])
+        except Exception as e:  # noqa: BLE001 - a failed pick is a message, never a crash
+            self.set_status(f"Picking failed: {e}", error=True)
+
+    # ------------------------------------------------------------------ animation
+    def _toggle_play(self) -> None:
+        self.animation_panel.set_playing(not self.animation_panel.is_playing())
+
+    def _on_anim_playing(self, on: bool) -> None:
+        # a tour starts from the view on screen; a sweep from the slider's place
+        self._anim_t = 0.0
+        self._anim_a0 = self.projection_panel.model.angles.copy()
+        ap = self.animation_panel
+        if on and ap.mode() == "slice" and self.projection_panel.slice_window() is None:
+            ap.show_message("Turn the slice on in the View tab first.")
+            ap.set_playing(False)
+        elif on and self.result is None:
+            ap.show_message("Nothing to animate yet: run first.")
+            ap.set_playing(False)
+        elif on:
+            ap.show_message("")
+            if ap.mode() == "slice":   # start the sweep where the slider is
+                c0 = self.projection_panel.slice_fractions()[0]
+                self._anim_t = np.arccos(np.clip(1 - 2 * c0, -1, 1)) / (2 * np.pi)
+
+    def _on_anim_tick(self, dt: float) -> None:
+        """Advance the playing animation by ``dt`` seconds (times the speed), in place."""
+        if self.result is None:
+            return
+        ap, pp = self.animation_panel, self.projection_panel
+        mode = ap.mode()
+        if mode == "rotate":
+            plane = ap.plane()
+            if plane is None:
+                return
+            angles = pp.model.angles.copy()
+            row = pp.model.planes.index(tuple(plane))
+            angles[row] = (angles[row] + 360.0 * dt / ROTATE_PERIOD + 180.0) % 360.0 - 180.0
+            pp.set_angles(angles)
+        elif mode == "tour":
+            self._anim_t += dt / TOUR_PERIOD
+            pp.set_angles(tour_angles(self._anim_a0, self._anim_t))
+        else:
+            self._anim_t += dt / SLICE_PERIOD
+            pp.set_slice_center(0.5 * (1 - np.cos(2 * np.pi * self._anim_t)))
+
+    def animation_frames(self, n_frames: int, model=None):
+        """Frames of the animation chosen in the Animate tab (from the current view) and the slice to use."""
+        ap = self.animation_panel
+        model = model or self.projection_panel.model
+        mode = ap.mode()
+        prm = self._slice_params(model)
+        window = None
+        if prm is not None:
+            sw, u, lo, hi, c, w = prm
+            window = sw
+            window.c, window.w = c, w
+        if mode == "rotate":
+            spec = Spec("rotate", plane=tuple(ap.plane()))
+            rng = (0.0, 1.0)
+        elif mode == "tour":
+            spec, rng = Spec("tour"), (0.0, 1.0)
+        else:
+            if prm is None:
+                raise ValueError("a slice sweep needs the slice turned on in the View tab")
+            spec, rng = Spec("slice", var=0), (lo, hi)
+        return frames_for(spec, model.angles.copy(), int(n_frames), slice_range=rng), window
+
+    def export_animation(self, path, frames: int | None = None, fps: float | None = None, size=None,
+                         show_progress: bool = True) -> int:
+        """Render the Animate tab's animation off screen and write ``path`` (.gif or .mp4).
+
+        The window's view is not changed. Returns the number of frames written
+        (0 when cancelled: the file is removed).
+        """
+        import copy
+
+        import pyvista as pv
+        from qtpy.QtWidgets import QApplication, QProgressDialog
+
+        from .projection import ProjectionModel
+
+        if self.result is None or self.scene.complex is None:
+            raise ValueError("nothing to animate yet: run first")
+        ap = self.animation_panel
+        n = int(frames or ap.frames_spin.value())
+        fps = float(fps or ap.fps_spin.value())
+        ap.set_playing(False)
+        model = ProjectionModel.from_dict(self.projection_panel.model.n, self.projection_panel.model.to_dict())
+        model._principal = self.projection_panel.model._principal
+        seq, window = self.animation_frames(n, model)
+        if size is None:
+            size = (self.plotter.interactor.width(), self.plotter.interactor.height())
+        w, h = (int(size[0]) // 2 * 2, int(size[1]) // 2 * 2)
+        dlg = None
+        if show_progress:
+            dlg = QProgressDialog(f"Rendering {os.path.basename(str(path))}\u2026", "Cancel", 0, n, self)
+            dlg.setWindowTitle("Export animation")
+            dlg.setWindowModality(Qt.WindowModal)
+            dlg.setMinimumDuration(0)
+            dlg.setValue(0)
+
+        def progress(k):
+            if dlg is not None:
+                dlg.setValue(k)
+            QApplication.processEvents()
+
+        pl = pv.Plotter(off_screen=True, window_size=[w, h])
+        try:
+            sc = Scene(pl)
+            sc.set_complex(self.result, self.result_names, model.view(), copy.copy(self.scene.style),
+                           geometry=self.scene.geometry)
+            self._apply_overlays(sc)
+            copy_camera(self.plotter.camera, pl.camera)
+            written = write_animation(path, animation_images(sc, model, seq, window), fps=fps, progress=progress,
+                                      cancel=(lambda: dlg.wasCanceled()) if dlg is not None else None)
+        finally:
+            pl.close()
+            if dlg is not None:
+                dlg.close()
+        if written < n:
+            self.set_status(f"Export cancelled after {written} of {n} frames; nothing written.")
+            return 0
+        self.set_status(f"Animation saved to {path} ({n} frames, {w}\u00d7{h}, {ap.spec_text()})")
+        return written
+
+    def _export_animation_dialog(self, fmt: str) -> None:
+        ext = "." + fmt
+        p = self._ask_save_path("Export animation", f"{fmt.upper()} (*{ext})", ext)
+        if p:
+            self._guard("Export", self.export_animation, p)
+
+    # ------------------------------------------------------------------ analysis tools
+    def _connect_topology_panel(self) -> None:
+        tp = self.topology_panel
+        pp = self.projection_panel
+        tp.refineRequested.connect(self.refine_result)
+        tp.highlightBoundaryToggled.connect(pp.boundary_check.setChecked)
+        tp.showPathToggled.connect(pp.grid_check.setChecked)
+        tp.twoSidedToggled.connect(pp.two_sided_check.setChecked)
+
+    def _system(self):
+        from gcmh_core.formula import parse_system
+
+        return parse_system(list(self._job.formulas), list(self._job.variables))
+
+    def _topology_set_result(self, cx) -> None:
+        try:
+            system = self._system() if getattr(self, "_job", None) is not None else None
+        except Exception:  # noqa: BLE001 - the report works without F (no residual)
+            system = None
+        try:
+            self.topology_panel.set_result(cx, system)
+        except Exception as e:  # noqa: BLE001
+            self.set_status(f"Topology report failed: {e}", error=True)
+
+    def refine_result(self) -> None:
+        """Move the vertices closer to M (Newton) and show the refined complex."""
+        if self.result is None:
+            self.set_status("Nothing to refine yet: run first.", error=True)
+            return
+        from gcmh_core.analysis import refine_vertices
+
+        try:
+            cx, before, after = refine_vertices(self.result, self._system())
+        except Exception as e:  # noqa: BLE001
+            self.set_status(f"Refining failed: {e}", error=True)
+            return
+        self.show_result(cx, self.result_names, title=self.result_title)
+        self.result_label.setText(summarize(cx))
+        self.set_status(f"Refined: max |F| at the vertices {before:.3g} \u2192 {after:.3g}")
+
+    def open_gallery(self) -> None:
+        if QtGallery is None:
+            return
+        g = QtGallery(self)
+        g.exampleChosen.connect(self.load_example)
+        g.exec_()
 
     def reset_camera(self) -> None:
         default_camera(self.plotter)
@@ -591,23 +945,25 @@ class QtMainWindow(QMainWindow):
                 p += ".json"
             self._guard("Saving the session", self.save_session, p)
 
-    def _export_complex_dialog(self):
-        if self.result is None:
+    def _ask_save_path(self, title: str, filt: str, default_ext: str, need_result: bool = True):
+        """A save path with ``default_ext`` added when the user typed none; None if refused or nothing to save."""
+        if need_result and self.result is None:
             self.set_status("Nothing to export yet: run first.", error=True)
-            return
-        p = self._file_dialog(True, "Export complex", "Cell complex (*.npz);;VTK unstructured grid (*.vtu)")
+            return None
+        p = self._file_dialog(True, title, filt)
+        if p and not os.path.splitext(p)[1]:
+            p += default_ext
+        return p
+
+    def _export_complex_dialog(self):
+        p = self._ask_save_path("Export complex", "Cell complex (*.npz);;VTK unstructured grid (*.vtu)", ".npz")
         if p:
             self._guard("Export", self.export_complex, p)
 
     def _export_mesh_dialog(self):
-        if self.result is None:
-            self.set_status("Nothing to export yet: run first.", error=True)
-            return
-        p = self._file_dialog(True, "Export projected mesh",
-                              "PLY (*.ply);;Wavefront OBJ (*.obj);;VTK polydata (*.vtp)")
+        p = self._ask_save_path("Export projected mesh", "PLY (*.ply);;Wavefront OBJ (*.obj);;VTK polydata (*.vtp)",
+                                ".ply")
         if p:
-            if not os.path.splitext(p)[1]:
-                p += ".ply"
             self._guard("Export", self.export_mesh, p)
 
     def _screenshot_dialog(self):
@@ -628,6 +984,7 @@ class QtMainWindow(QMainWindow):
     def closeEvent(self, event) -> None:
         self._closing = True
         self._timer.stop()
+        self.animation_panel.set_playing(False)
         for w in [self.worker] + list(self._old_workers):
             if w is not None:
                 w.cancel()
@@ -638,3 +995,119 @@ class QtMainWindow(QMainWindow):
         except Exception:  # noqa: BLE001
             pass
         super().closeEvent(event)
+
+
+# ---------------------------------------------------------------------- model helpers (no Qt)
+def boundary_lines(cx):
+    """The boundary facets of ``cx`` as segments in R^n: (vertices (m, n), edges (E, 2)).
+
+    Surfaces: the boundary edges; higher dimensions: the edges of the boundary
+    2-cells (dim 3) -- for curves the boundary is points, drawn as nothing.
+    """
+    V = np.asarray(cx.vertices)
+    empty = (np.zeros((0, V.shape[1])), np.zeros((0, 2), np.int64))
+    if cx.dim < 2:
+        return empty
+    ids = np.asarray(cx.boundary_facets(), dtype=np.int64)
+    if len(ids) == 0:
+        return empty
+    if cx.dim == 2:
+        E = np.asarray(cx.edges, dtype=np.int64).reshape(-1, 2)[ids]
+    elif cx.dim == 3:
+        off, vids = (np.asarray(a, dtype=np.int64) for a in cx.polygons())
+        sizes = np.diff(off)
+        pick = np.repeat(np.isin(np.arange(len(sizes)), ids), sizes)
+        nxt = np.arange(1, len(vids) + 1)
+        nxt[off[1:] - 1] = off[:-1]
+        E = np.stack([vids[pick], vids[nxt][pick]], 1)
+    else:
+        return empty
+    used, inv = np.unique(E, return_inverse=True)
+    return V[used], inv.reshape(-1, 2)
+
+
+def _grid_of(cx):
+    b = cx.meta.get("bounds")
+    d = cx.meta.get("div")
+    if b is None or d is None:
+        raise ValueError("this result does not say its grid (bounds, div)")
+    lo = np.array([float(x[0]) for x in b])
+    hi = np.array([float(x[1]) for x in b])
+    div = np.array(d if np.ndim(d) else [d] * cx.n, dtype=np.int64)
+    return lo, (hi - lo) / div, div
+
+
+def cell_cubes(cx, X):
+    """Grid cube (n,) int64 of each point of ``X`` (centroids of cells) from the result's bounds and div."""
+    lo, h, div = _grid_of(cx)
+    q = np.floor((np.asarray(X) - lo) / h).astype(np.int64)
+    return np.clip(q, 0, div - 1)
+
+
+def cell_info(cx, cell: int) -> dict:
+    """Facts about a 2-cell (or a curve's edge): its vertex ids, their coordinates, its grid cube, its outline."""
+    V = np.asarray(cx.vertices)
+    if cx.dim == 1:
+        E = np.asarray(cx.edges, dtype=np.int64).reshape(-1, 2)
+        if not 0 <= cell < len(E):
+            raise ValueError(f"no edge {cell} (the curve has {len(E)})")
+        vs = E[cell]
+    else:
+        off, vids = cx.polygons()
+        if not 0 <= cell < len(off) - 1:
+            raise ValueError(f"no 2-cell {cell} (the result has {len(off) - 1})")
+        vs = np.asarray(vids[off[cell]:off[cell + 1]], dtype=np.int64)
+    coords = V[vs]
+    try:
+        cube = cell_cubes(cx, coords.mean(axis=0)[None])[0]
+    except ValueError:
+        cube = None
+    m = len(vs)
+    edges = np.stack([np.arange(m), (np.arange(m) + 1) % m], 1) if m > 2 else np.array([[0, 1]])
+    return dict(cell=int(cell), vertices=vs, coords=coords, cube=cube, lines=(coords, edges))
+
+
+GRID_EDGE_LIMIT = 400_000
+
+
+def grid_cube_lines(cx):
+    """Edges of the grid cubes the result passes through, as segments in R^n: (corners (m, n), edges (E, 2)).
+
+    The engine reports how many cubes it visited, not which: the cubes are
+    recomputed as those holding the centroid of a top-dimensional cell (for
+    a continuation run, the cubes M_A passes through). Corners are the
+    unperturbed grid points.
+    """
+    lo, h, div = _grid_of(cx)
+    n = cx.n
+    dim = cx.dim
+    V = np.asarray(cx.vertices)
+    if dim == 1:
+        E = np.asarray(cx.edges, dtype=np.int64).reshape(-1, 2)
+        cent = 0.5 * (V[E[:, 0]] + V[E[:, 1]])
+    else:
+        off, vids = (np.asarray(a, dtype=np.int64) for a in cx.cell_vertices(dim))
+        sizes = np.maximum(np.diff(off), 1)
+        cent = np.add.reduceat(V[vids], off[:-1], axis=0) / sizes[:, None] if len(vids) else np.zeros((0, n))
+    cubes = np.unique(cell_cubes(cx, cent), axis=0)
+    per = n * 2 ** (n - 1)
+    if len(cubes) * per > GRID_EDGE_LIMIT:
+        raise ValueError(f"{len(cubes):,} cubes with {per} edges each are too many to draw; use a smaller div")
+    # every edge: a corner g (n,) and an axis a with the corner's bit a = 0
+    bits = (np.arange(2 ** n)[:, None] >> np.arange(n)) & 1                        # (2^n, n)
+    starts, axes = [], []
+    for a in range(n):
+        b = bits[bits[:, a] == 0]
+        starts.append((cubes[:, None, :] + b[None]).reshape(-1, n))
+        axes.append(np.full(len(cubes) * len(b), a))
+    g = np.concatenate(starts)
+    ax = np.concatenate(axes)
+    key = np.concatenate([g, ax[:, None]], 1)
+    key = np.unique(key, axis=0)
+    g, ax = key[:, :n], key[:, n]
+    g2 = g.copy()
+    g2[np.arange(len(g2)), ax] += 1
+    pts, inv = np.unique(np.concatenate([g, g2]), axis=0, return_inverse=True)
+    inv = inv.ravel()
+    E = np.stack([inv[:len(g)], inv[len(g):]], 1)
+    return lo + pts * h, E

@@ -1,13 +1,17 @@
 """QtProjectionPanel: how the n-dimensional result is turned and projected to 3D.
 
 Edits an :class:`app.projection.ProjectionModel`: the base projection (three
-coordinates, a generic orthonormal frame, or the principal axes), one rotation
+coordinates, a generic orthonormal frame, or the principal axes), the mapping
+(orthographic, perspective with an eye distance, stereographic), one rotation
 slider per coordinate plane (i, j) labelled with the variable names, a reset
-button; plus the drawing style (colour by a coordinate, opacity, edges).
+button; a slice (a window ``[c - w, c + w]`` of a coordinate or of a hidden
+direction, sliders for c and w as fractions of the range the window reports);
+plus the drawing style (colour by a coordinate, opacity, edges, two-sided
+colours, boundary and grid overlays).
 
-Signals: ``projectionChanged`` (angles or base changed: update points in
-place), ``baseChanged`` (a new base: the viewer may refit the camera),
-``styleChanged`` (colour, opacity or edges).
+Signals: ``projectionChanged`` (angles, base or mapping changed: update points
+in place), ``baseChanged`` (a new base: the viewer may refit the camera),
+``styleChanged`` (colour, opacity, edges, overlays), ``sliceChanged``.
 """
 
 from __future__ import annotations
@@ -15,11 +19,13 @@ from __future__ import annotations
 import numpy as np
 from qtpy.QtCore import Qt, Signal
 from qtpy.QtWidgets import (
-    QCheckBox, QComboBox, QFormLayout, QGridLayout, QGroupBox, QHBoxLayout, QLabel, QPushButton,
-    QScrollArea, QSlider, QSpinBox, QVBoxLayout, QWidget,
+    QCheckBox, QComboBox, QFormLayout, QGridLayout, QHBoxLayout, QLabel, QPushButton,
+    QScrollArea, QSlider, QSpinBox, QWidget,
 )
 
-from .projection import KIND_LABELS, KINDS, ProjectionModel, default_axes
+from .projection import KIND_LABELS, KINDS, MAPPING_LABELS, MAPPINGS, ProjectionModel, default_axes
+from .qt_widgets import error_label, group, panel_layout, slider
+from .slicing import SliceWindow
 
 SOLID = "(solid colour)"
 
@@ -28,6 +34,7 @@ class QtProjectionPanel(QWidget):
     projectionChanged = Signal()
     baseChanged = Signal()
     styleChanged = Signal()
+    sliceChanged = Signal()
 
     def __init__(self, parent=None):
         super().__init__(parent)
@@ -38,11 +45,9 @@ class QtProjectionPanel(QWidget):
         self.slider_labels: list[QLabel] = []
         self.value_labels: list[QLabel] = []
 
-        lay = QVBoxLayout(self)
-        lay.setContentsMargins(0, 0, 0, 0)
+        lay = panel_layout(self)
 
-        box = QGroupBox("Projection to 3D")
-        bl = QVBoxLayout(box)
+        box, bl = group(lay, "Projection to 3D", stretch=1)
         form = QFormLayout()
         self.kind_combo = QComboBox()
         for k in KINDS:
@@ -69,6 +74,16 @@ class QtProjectionPanel(QWidget):
         self.seed_spin.setToolTip("seed of the generic projection")
         self.seed_label = QLabel("frame seed")
         form.addRow(self.seed_label, self.seed_spin)
+        self.mapping_combo = QComboBox()
+        for k in MAPPINGS:
+            self.mapping_combo.addItem(MAPPING_LABELS[k], k)
+        self.mapping_combo.setToolTip("how R^n goes to 3D; perspective and stereographic need n >= 4")
+        form.addRow("mapping", self.mapping_combo)
+        self.distance_slider = slider(11, 100, 30, "perspective: the eye's distance, in radii of the object")
+        self.distance_label = QLabel("eye distance 3.0")
+        form.addRow(self.distance_label, self.distance_slider)
+        self.mapping_error = error_label()
+        form.addRow(self.mapping_error)
         bl.addLayout(form)
 
         rot_head = QHBoxLayout()
@@ -87,20 +102,40 @@ class QtProjectionPanel(QWidget):
         self.slider_grid.setVerticalSpacing(1)
         self.scroll.setWidget(self.slider_box)
         bl.addWidget(self.scroll, 1)
-        lay.addWidget(box, 1)
 
-        sbox = QGroupBox("Style")
-        sf = QFormLayout(sbox)
+        self.slice_box, slf = group(lay, "Slice", QFormLayout)
+        self.slice_box.setCheckable(True)
+        self.slice_box.setChecked(False)
+        self.slice_box.setToolTip("show only the part of the complex inside a window of one direction")
+        self.slice_combo = QComboBox()
+        self.slice_combo.setToolTip("a coordinate, or a direction the current projection hides")
+        slf.addRow("along", self.slice_combo)
+        self.slice_c = slider(0, 1000, 500, "centre of the window (across the whole range)")
+        self.slice_c_label = QLabel("centre")
+        slf.addRow(self.slice_c_label, self.slice_c)
+        self.slice_w = slider(1, 500, 40, "half-width of the window (thousandths of the range)")
+        self.slice_w_label = QLabel("width")
+        slf.addRow(self.slice_w_label, self.slice_w)
+        self.slice_info = QLabel("")
+        self.slice_info.setStyleSheet("color: #666; font-size: 11px;")
+        slf.addRow(self.slice_info)
+
+        sbox, sf = group(lay, "Style", QFormLayout)
         self.color_combo = QComboBox()
         self.color_combo.setToolTip("colour the vertices by one of the n coordinates")
         sf.addRow("colour by", self.color_combo)
-        self.opacity_slider = QSlider(Qt.Horizontal)
-        self.opacity_slider.setRange(5, 100)
-        self.opacity_slider.setValue(100)
+        self.opacity_slider = slider(5, 100, 100)
         sf.addRow("opacity", self.opacity_slider)
         self.edges_check = QCheckBox("show cell edges")
         sf.addRow(self.edges_check)
-        lay.addWidget(sbox)
+        self.two_sided_check = QCheckBox("two-sided colours (front gold, back blue)")
+        self.two_sided_check.setToolTip("colour the two sides of the coherently oriented surface apart; "
+                                        "a non-orientable surface shows where they swap")
+        sf.addRow(self.two_sided_check)
+        self.boundary_check = QCheckBox("highlight the boundary")
+        sf.addRow(self.boundary_check)
+        self.grid_check = QCheckBox("show the grid cubes it passes through")
+        sf.addRow(self.grid_check)
 
         self.kind_combo.currentIndexChanged.connect(self._on_kind)
         for c in self.axis_combos:
@@ -110,6 +145,14 @@ class QtProjectionPanel(QWidget):
         self.color_combo.currentIndexChanged.connect(self._on_style)
         self.opacity_slider.valueChanged.connect(self._on_style)
         self.edges_check.toggled.connect(self._on_style)
+        for c in (self.two_sided_check, self.boundary_check, self.grid_check):
+            c.toggled.connect(self._on_style)
+        self.mapping_combo.currentIndexChanged.connect(self._on_mapping)
+        self.distance_slider.valueChanged.connect(self._on_distance)
+        self.slice_box.toggled.connect(self._on_slice)
+        self.slice_combo.currentIndexChanged.connect(self._on_slice)
+        self.slice_c.valueChanged.connect(self._on_slice)
+        self.slice_w.valueChanged.connect(self._on_slice)
         self.set_variables(self.names)
 
     # ------------------------------------------------------------ building
@@ -145,6 +188,19 @@ class QtProjectionPanel(QWidget):
             i = self.color_combo.findData(color) if color in names else 0
             self.color_combo.setCurrentIndex(max(i, 0))
             self.kind_combo.setCurrentIndex(self.kind_combo.findData(self.model.kind))
+            self.model.mapping = old.mapping if (keep and n >= 4) else "orthographic"
+            self.model.distance = old.distance
+            self.mapping_combo.setCurrentIndex(self.mapping_combo.findData(self.model.mapping))
+            prev = self.slice_combo.currentData()
+            self.slice_combo.clear()
+            for i, nm in enumerate(names):
+                self.slice_combo.addItem(nm, (i, False))
+            for j in range(max(0, n - 3)):
+                self.slice_combo.addItem(f"hidden direction {j + 1}", (j, True))
+            i = self.slice_combo.findData(prev) if (keep and same_n and prev is not None) else -1
+            self.slice_combo.setCurrentIndex(i if i >= 0 else max(0, n - 1))
+            if not (keep and same_n):
+                self.slice_box.setChecked(False)
             self._build_sliders()
             self._sync_kind_widgets()
         finally:
@@ -188,6 +244,9 @@ class QtProjectionPanel(QWidget):
         self.seed_label.setVisible(kind == "generic")
         if kind != "coordinates":
             self.axes_error.setVisible(False)
+        persp = self.model.mapping == "perspective"
+        self.distance_slider.setVisible(persp)
+        self.distance_label.setVisible(persp)
 
     # ------------------------------------------------------------ handlers
     def _on_kind(self, *_):
@@ -224,6 +283,31 @@ class QtProjectionPanel(QWidget):
             self.baseChanged.emit()
             self.projectionChanged.emit()
 
+    def _on_mapping(self, *_):
+        if self._updating:
+            return
+        m = self.mapping_combo.currentData()
+        if m != "orthographic" and self.model.n < 4:
+            self.mapping_error.setText(f"{MAPPING_LABELS[m].split(' ')[0]} needs n >= 4: "
+                                       f"nothing is hidden in R^{self.model.n}")
+            self.mapping_error.setVisible(True)
+            m = "orthographic"
+        else:
+            self.mapping_error.setVisible(False)
+        self.model.mapping = m
+        self._sync_kind_widgets()
+        self.projectionChanged.emit()
+
+    def _on_distance(self, v):
+        self.model.distance = v / 10.0
+        self.distance_label.setText(f"eye distance {self.model.distance:.1f}")
+        if not self._updating and self.model.mapping == "perspective":
+            self.projectionChanged.emit()
+
+    def _on_slice(self, *_):
+        if not self._updating:
+            self.sliceChanged.emit()
+
     def _on_slider(self, row: int, value: int) -> None:
         self.model.angles[row] = float(value)
         self.value_labels[row].setText(f"{value:+d}\u00b0")
@@ -246,6 +330,23 @@ class QtProjectionPanel(QWidget):
         finally:
             self._updating = False
         self.projectionChanged.emit()
+
+    def set_angles(self, degrees) -> None:
+        """All plane angles at once (floats kept: an animation moves smoothly); one projection update."""
+        self._updating = True
+        try:
+            self.model.angles[:] = np.asarray(degrees, dtype=float)
+            for s, v, a in zip(self.sliders, self.value_labels, self.model.angles):
+                s.setValue(int(round(a)))
+                v.setText(f"{int(round(a)):+d}\u00b0")
+            self.model.angles[:] = np.asarray(degrees, dtype=float)   # the sliders rounded them
+        finally:
+            self._updating = False
+        self.projectionChanged.emit()
+
+    def set_slice_center(self, fraction: float) -> None:
+        """The slice window's centre as a fraction of the range (emits sliceChanged)."""
+        self.slice_c.setValue(int(round(1000 * min(max(fraction, 0.0), 1.0))))
 
     def set_angle(self, plane: tuple[int, int], degrees: float) -> None:
         row = self.model.planes.index(tuple(plane))
@@ -305,6 +406,42 @@ class QtProjectionPanel(QWidget):
         finally:
             self._updating = False
 
+    def set_mapping(self, mapping: str) -> None:
+        self.mapping_combo.setCurrentIndex(self.mapping_combo.findData(mapping))
+
+    def slice_window(self) -> SliceWindow | None:
+        """The slice the user set up (c and w as fractions of the range, see :meth:`slice_fractions`), or None."""
+        if not self.slice_box.isChecked() or self.slice_combo.currentData() is None:
+            return None
+        index, hidden = self.slice_combo.currentData()
+        return SliceWindow(int(index), bool(hidden))
+
+    def slice_fractions(self) -> tuple[float, float]:
+        """(centre, half-width) as fractions of the direction's range over the complex."""
+        return self.slice_c.value() / 1000.0, self.slice_w.value() / 1000.0
+
+    def set_slice(self, label: str | None, c_frac: float = 0.5, w_frac: float = 0.04) -> bool:
+        """Turn the slice on along ``label`` (a variable or "hidden direction j"), or off with None."""
+        self._updating = True
+        try:
+            if label is None:
+                self.slice_box.setChecked(False)
+            else:
+                i = self.slice_combo.findText(label)
+                if i < 0:
+                    return False
+                self.slice_combo.setCurrentIndex(i)
+                self.slice_c.setValue(int(round(1000 * c_frac)))
+                self.slice_w.setValue(max(1, int(round(1000 * w_frac))))
+                self.slice_box.setChecked(True)
+        finally:
+            self._updating = False
+        self.sliceChanged.emit()
+        return True
+
+    def set_slice_readout(self, text: str) -> None:
+        self.slice_info.setText(text)
+
     def color_by(self) -> str | None:
         return self.color_combo.currentData()
 
@@ -323,7 +460,13 @@ class QtProjectionPanel(QWidget):
 
     def state(self) -> dict:
         d = self.model.to_dict(self.names)
-        d.update(color=self.color_by(), opacity=self.opacity(), show_edges=self.show_edges())
+        d.update(color=self.color_by(), opacity=self.opacity(), show_edges=self.show_edges(),
+                 two_sided=self.two_sided_check.isChecked(), boundary=self.boundary_check.isChecked(),
+                 grid=self.grid_check.isChecked())
+        sw = self.slice_window()
+        if sw is not None:
+            c, w = self.slice_fractions()
+            d["slice"] = {"along": self.slice_combo.currentText(), "c": c, "w": w}
         return d
 
     def set_state(self, d: dict) -> None:
@@ -334,7 +477,22 @@ class QtProjectionPanel(QWidget):
             m = ProjectionModel.from_dict(n, d) if len(d.get("angles", [0] * (n * (n - 1) // 2))) == \
                 n * (n - 1) // 2 else ProjectionModel(n=n)
             m._principal = self.model._principal
+            if n < 4:
+                m.mapping = "orthographic"
             self.model = m
+            self.mapping_combo.setCurrentIndex(self.mapping_combo.findData(m.mapping))
+            self.distance_slider.setValue(int(round(10 * m.distance)))
+            self.two_sided_check.setChecked(bool(d.get("two_sided", False)))
+            self.boundary_check.setChecked(bool(d.get("boundary", False)))
+            self.grid_check.setChecked(bool(d.get("grid", False)))
+            sl = d.get("slice")
+            if sl and self.slice_combo.findText(sl.get("along", "")) >= 0:
+                self.slice_combo.setCurrentIndex(self.slice_combo.findText(sl["along"]))
+                self.slice_c.setValue(int(round(1000 * float(sl.get("c", 0.5)))))
+                self.slice_w.setValue(max(1, int(round(1000 * float(sl.get("w", 0.04))))))
+                self.slice_box.setChecked(True)
+            else:
+                self.slice_box.setChecked(False)
             self.kind_combo.setCurrentIndex(self.kind_combo.findData(m.kind))
             for c, a in zip(self.axis_combos, m.axes):
                 c.setCurrentIndex(c.findData(int(a)))
@@ -352,3 +510,4 @@ class QtProjectionPanel(QWidget):
         self.baseChanged.emit()
         self.projectionChanged.emit()
         self.styleChanged.emit()
+        self.sliceChanged.emit()

@@ -1,0 +1,167 @@
+"""QtAnimationPanel: play a rotation, a grand tour or a slice sweep, and export it as GIF / MP4.
+
+The panel owns only the controls and a QTimer on the GUI thread; each tick it
+emits ``tick(seconds)`` (the time since the last tick, times the speed) and
+the window moves the view by that much, in place. ``exportRequested(format)``
+("gif" or "mp4") asks the window to render the animation off screen.
+
+Modes (:data:`MODES`): ``rotate`` (the chosen plane, one turn per
+``ROTATE_PERIOD`` seconds at speed 1), ``tour`` (the path of
+:func:`app.animation.tour_angles`, one period per ``TOUR_PERIOD`` seconds) and
+``slice`` (the slice window's centre sweeps across and back per
+``SLICE_PERIOD`` seconds; needs the slice turned on in the View tab).
+"""
+
+from __future__ import annotations
+
+import time
+
+from qtpy.QtCore import QTimer, Signal
+from qtpy.QtWidgets import QComboBox, QFormLayout, QHBoxLayout, QLabel, QPushButton, QSpinBox, QWidget
+
+from .qt_widgets import error_label, group, panel_layout, slider
+
+MODES = {"rotate": "Rotate in a plane", "tour": "Grand tour (smooth path through projections)",
+         "slice": "Sweep the slice window"}
+ROTATE_PERIOD = 12.0
+TOUR_PERIOD = 60.0
+SLICE_PERIOD = 10.0
+TICK_MS = 33
+
+
+class QtAnimationPanel(QWidget):
+    tick = Signal(float)              # elapsed seconds times the speed factor
+    playingChanged = Signal(bool)
+    exportRequested = Signal(str)     # "gif" or "mp4"
+    modeChanged = Signal(str)
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self.names: list[str] = []
+        self.planes: list[tuple[int, int]] = []
+        lay = panel_layout(self)
+
+        _, pf = group(lay, "Play", QFormLayout)
+        self.mode_combo = QComboBox()
+        for k, label in MODES.items():
+            self.mode_combo.addItem(label, k)
+        pf.addRow("animation", self.mode_combo)
+        self.plane_combo = QComboBox()
+        self.plane_combo.setToolTip("the plane of the rotation")
+        self.plane_label = QLabel("plane")
+        pf.addRow(self.plane_label, self.plane_combo)
+        self.speed_slider = slider(1, 100, 20, "speed: 1 = a tenth of the normal speed, 100 = five times")
+        self.speed_label = QLabel("speed 1.0\u00d7")
+        pf.addRow(self.speed_label, self.speed_slider)
+        self.play_button = QPushButton("Play")
+        self.play_button.setCheckable(True)
+        self.play_button.setToolTip("start or pause the animation (Space)")
+        pf.addRow(self.play_button)
+        self.message = error_label()
+        pf.addRow(self.message)
+
+        _, ef = group(lay, "Export", QFormLayout)
+        self.frames_spin = QSpinBox()
+        self.frames_spin.setRange(2, 2000)
+        self.frames_spin.setValue(72)
+        self.frames_spin.setToolTip("frames in the exported animation (one whole turn, tour or sweep)")
+        ef.addRow("frames", self.frames_spin)
+        self.fps_spin = QSpinBox()
+        self.fps_spin.setRange(1, 60)
+        self.fps_spin.setValue(20)
+        ef.addRow("frames per second", self.fps_spin)
+        row = QHBoxLayout()
+        self.gif_button = QPushButton("Export GIF\u2026")
+        self.mp4_button = QPushButton("Export MP4\u2026")
+        row.addWidget(self.gif_button)
+        row.addWidget(self.mp4_button)
+        ef.addRow(row)
+        lay.addStretch(1)
+
+        self.timer = QTimer(self)
+        self.timer.setInterval(TICK_MS)
+        self.timer.timeout.connect(self._on_timer)
+        self._last = None
+        self.mode_combo.currentIndexChanged.connect(self._on_mode)
+        self.speed_slider.valueChanged.connect(self._on_speed)
+        self.play_button.toggled.connect(self.set_playing)
+        self.gif_button.clicked.connect(lambda: self.exportRequested.emit("gif"))
+        self.mp4_button.clicked.connect(lambda: self.exportRequested.emit("mp4"))
+        self._on_mode()
+
+    # ------------------------------------------------------------ state
+    def set_variables(self, names) -> None:
+        from .projection import planes
+
+        self.names = list(names)
+        self.planes = planes(len(self.names))
+        prev = self.plane_combo.currentData()
+        self.plane_combo.blockSignals(True)
+        self.plane_combo.clear()
+        for p in self.planes:
+            self.plane_combo.addItem(f"{self.names[p[0]]}\u2013{self.names[p[1]]}", p)
+        i = self.plane_combo.findData(prev) if prev is not None else -1
+        self.plane_combo.setCurrentIndex(i if i >= 0 else max(0, len(self.planes) - 1))
+        self.plane_combo.blockSignals(False)
+
+    def mode(self) -> str:
+        return self.mode_combo.currentData()
+
+    def set_mode(self, mode: str) -> None:
+        self.mode_combo.setCurrentIndex(self.mode_combo.findData(mode))
+
+    def plane(self) -> tuple[int, int] | None:
+        return self.plane_combo.currentData()
+
+    def set_plane(self, plane) -> None:
+        self.plane_combo.setCurrentIndex(self.plane_combo.findData(tuple(plane)))
+
+    def speed(self) -> float:
+        """Speed factor: slider 20 is 1x; 1 is 0.05x; 100 is 5x."""
+        return self.speed_slider.value() / 20.0
+
+    def spec_text(self) -> str:
+        """The animation in ``--animate`` syntax (for messages and file names)."""
+        m = self.mode()
+        if m == "rotate" and self.plane() is not None:
+            i, j = self.plane()
+            return f"rotate:{self.names[i]}-{self.names[j]}"
+        return m
+
+    def show_message(self, text: str) -> None:
+        self.message.setText(text)
+        self.message.setVisible(bool(text))
+
+    # ------------------------------------------------------------ playing
+    def is_playing(self) -> bool:
+        return self.timer.isActive()
+
+    def set_playing(self, on: bool) -> None:
+        on = bool(on)
+        if self.play_button.isChecked() != on:
+            self.play_button.blockSignals(True)
+            self.play_button.setChecked(on)
+            self.play_button.blockSignals(False)
+        self.play_button.setText("Pause" if on else "Play")
+        if on and not self.timer.isActive():
+            self._last = time.perf_counter()
+            self.timer.start()
+        elif not on:
+            self.timer.stop()
+        self.playingChanged.emit(on)
+
+    def _on_timer(self) -> None:
+        now = time.perf_counter()
+        dt = min(now - (self._last or now), 0.25)   # after a stall, don't jump
+        self._last = now
+        self.tick.emit(dt * self.speed())
+
+    def _on_mode(self, *_):
+        rot = self.mode() == "rotate"
+        self.plane_combo.setVisible(rot)
+        self.plane_label.setVisible(rot)
+        self.show_message("")
+        self.modeChanged.emit(self.mode())
+
+    def _on_speed(self, *_):
+        self.speed_label.setText(f"speed {self.speed():.2g}\u00d7")
