@@ -388,10 +388,12 @@ def _process_wave(session, method, system, sampled, cancel, grid, origins):
     formula = None if system is None else (tuple(system.texts), tuple(system.variables))
     data = session.sampled_for_tasks(whole=True)
     threads = session.kernel_threads()
+    # scattered, not passed inline: a big wave's origins would make a large task graph (dask warns)
+    chunks = client.scatter(np.array_split(origins, nchunks), hash=False)
     futures = [
         client.submit(_cubes_task, grid.n, grid.k, method, grid.axes, formula, data, chunk, threads,
                       key=session.key("wave"), pure=False)
-        for chunk in np.array_split(origins, nchunks)
+        for chunk in chunks
     ]
     masks, nonfinite = [], []
     for result in _gather(session, futures, cancel):
