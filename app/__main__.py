@@ -209,10 +209,20 @@ def headless_screenshot(args) -> int:
 
 
 def _headless_animation(args, scene, model, window, spec, cx) -> int:
+    import numpy as np
+
     from .animation import frames_for, write_animation
     from .scene import animation_images
 
     rng = getattr(window, "range", (0.0, 1.0))
+    if spec.kind == "rotate" and model.mapping == "orthographic":
+        P = model.matrix()
+        i, j = spec.plane
+        if np.allclose(P[:, [i, j]], 0.0):
+            names = scene.names
+            print(f"gcmh-app: note: {names[i]} and {names[j]} are both hidden in this view, so turning their plane "
+                  f"moves nothing on screen (try rotate:{names[int(np.abs(P).sum(0).argmax())]}-{names[i]}, "
+                  "or --mapping perspective)", file=sys.stderr)
     frames = frames_for(spec, model.angles.copy(), args.frames, slice_range=rng)
     outs = [p for p in (args.gif, args.mp4) if p]
     if len(outs) == 1:

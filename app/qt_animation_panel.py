@@ -95,12 +95,12 @@ class QtAnimationPanel(QWidget):
 
         self.names = list(names)
         self.planes = planes(len(self.names))
-        prev = self.plane_combo.currentData()
+        prev = self.plane_combo.currentText()
         self.plane_combo.blockSignals(True)
         self.plane_combo.clear()
-        for p in self.planes:
-            self.plane_combo.addItem(f"{self.names[p[0]]}\u2013{self.names[p[1]]}", p)
-        i = self.plane_combo.findData(prev) if prev is not None else -1
+        for r, p in enumerate(self.planes):   # data: the row in planes() (a tuple would not survive QVariant)
+            self.plane_combo.addItem(f"{self.names[p[0]]}\u2013{self.names[p[1]]}", r)
+        i = self.plane_combo.findText(prev) if prev else -1
         self.plane_combo.setCurrentIndex(i if i >= 0 else max(0, len(self.planes) - 1))
         self.plane_combo.blockSignals(False)
 
@@ -111,10 +111,11 @@ class QtAnimationPanel(QWidget):
         self.mode_combo.setCurrentIndex(self.mode_combo.findData(mode))
 
     def plane(self) -> tuple[int, int] | None:
-        return self.plane_combo.currentData()
+        r = self.plane_combo.currentData()
+        return None if r is None else self.planes[int(r)]
 
     def set_plane(self, plane) -> None:
-        self.plane_combo.setCurrentIndex(self.plane_combo.findData(tuple(plane)))
+        self.plane_combo.setCurrentIndex(self.plane_combo.findData(self.planes.index(tuple(plane))))
 
     def speed(self) -> float:
         """Speed factor: slider 20 is 1x; 1 is 0.05x; 100 is 5x."""

@@ -574,3 +574,191 @@ def test_headless_view_options(tmp_path):
     bad = subprocess.run([sys.executable, "-m", "app", "--example", "complex-cosine", "--screenshot", str(out),
                           "--project", "u,v,q"], cwd=REPO, env=env, capture_output=True, text=True, timeout=300)
     assert bad.returncode == 2 and "variables are" in bad.stderr
+
+
+# --------------------------------------------------------------------------- issue 5: seeing higher dimensions
+def _klein(qtbot, window, div=(12, 12, 8, 16, 16)):
+    with qtbot.waitSignal(window.runFinished, timeout=120_000) as b:
+        window.load_example("klein-bottle", div=list(div))
+    assert b.args[0] == "done", window.last_status
+    return window.result
+
+
+def test_slice_window_clips_the_klein_bottle(qtbot, window):
+    cx = _klein(qtbot, window)
+    pp = window.projection_panel
+    full = window.scene.mesh.n_cells
+    assert pp.set_slice("s", 0.5, 0.03)
+    mesh = window.scene.mesh
+    s = np.asarray(mesh.point_data["s"])
+    lo, hi = cx.vertices[:, 3].min(), cx.vertices[:, 3].max()
+    c, w = lo + 0.5 * (hi - lo), 0.03 * (hi - lo)
+    assert 0 < mesh.n_cells < full / 4
+    assert np.all(s >= c - w - 1e-9) and np.all(s <= c + w + 1e-9)
+    assert np.isclose(s.min(), c - w) and np.isclose(s.max(), c + w)     # clipped, not dropped
+    assert "cells" in pp.slice_info.text()
+    # moving the centre slider moves the window
+    pp.slice_c.setValue(100)
+    s2 = np.asarray(window.scene.mesh.point_data["s"])
+    assert s2.max() < s.min()
+    # a hidden direction of the view: for (x, y, z) of R^5 hidden direction 1 is s itself
+    pp.set_slice("hidden direction 1", 0.5, 0.03)
+    assert np.allclose(window.scene.slice[0], np.eye(5)[3])
+    # ...and it turns with the view
+    pp.set_angle((2, 3), 30)
+    assert not np.allclose(window.scene.slice[0], np.eye(5)[3])
+    img = window.screenshot_array()
+    assert picture_stats(img) > 50
+    pp.set_slice(None)
+    assert window.scene.mesh.n_cells == full and window.scene.slice is None
+
+
+def test_slice_outside_is_empty_and_the_view_survives(qtbot, window):
+    set_system(qtbot, window, 3, 1, ["x1^2 + x2^2 + x3^2 - 1"], bounds=("-1.5", "1.5"), div="8")
+    assert run_and_wait(qtbot, window) == "done"
+    pp = window.projection_panel
+    pp.set_slice("x3", 0.5, 0.02)       # the equator: a band
+    band = np.asarray(window.scene.mesh.points)
+    assert len(band) and np.all(np.abs(band[:, 2]) < 0.1)
+    pp.set_slice("x3", 0.0, 0.02)       # the window reaches just over the bottom: a small cap
+    cap = window.scene.mesh.n_cells
+    assert 0 < cap < 20
+    assert window.scene.set_slice([0, 0, 1], 1.5, 0.1) == 0     # beyond the sphere: nothing
+    assert window.scene.mesh is None
+    pp.set_angle((0, 1), 20)            # turning the view with the slider re-slices; nothing breaks
+    window.screenshot_array()
+    pp.set_slice(None)
+    assert window.scene.mesh is not None
+
+
+def test_mapping_kinds_keep_the_rotation(qtbot, window):
+    from app.projection import stereographic
+
+    with qtbot.waitSignal(window.runFinished, timeout=60_000):
+        window.load_example("clifford-torus", div=10)
+    pp = window.projection_panel
+    pp.set_angle((0, 3), 25)
+    angles = pp.model.angles.copy()
+    pp.set_mapping("stereographic")
+    assert np.allclose(pp.model.angles, angles)
+    sc = window.scene
+    X = (window.result.vertices - sc.geometry.projector.center)
+    Y = pp.model.frame() @ X.T
+    r = sc.geometry.projector.radii()[1]
+    np.testing.assert_allclose(sc.mesh.points, stereographic(Y, r).T, rtol=1e-4, atol=1e-4)
+    # normals come from the projected mesh: unit-ish, finite
+    N = np.asarray(sc.mesh.point_data["Normals"])
+    assert np.all(np.isfinite(N)) and np.linalg.norm(N, axis=1).min() > 0
+    before = np.array(sc.mesh.points)
+    pp.set_angle((2, 3), 40)            # the sliders still update in place
+    assert not np.allclose(before, sc.mesh.points)
+    pp.set_mapping("perspective")
+    pp.distance_slider.setValue(20)
+    assert pp.model.distance == 2.0 and "perspective" in sc.style.subtitle
+    pp.set_mapping("orthographic")
+    np.testing.assert_allclose(sc.mesh.points, X @ pp.matrix().T, rtol=1e-4, atol=1e-4)
+    # R^3: nothing is hidden, the choice is refused next to the field
+    set_system(qtbot, window, 3, 1, ["x1^2 + x2^2 + x3^2 - 1"], div="6")
+    assert run_and_wait(qtbot, window) == "done"
+    pp.set_mapping("perspective")
+    assert pp.model.mapping == "orthographic" and not pp.mapping_error.isHidden()
+
+
+def test_animation_play_tour_rotate_and_sweep(qtbot, window):
+    _klein(qtbot, window)
+    ap, pp = window.animation_panel, window.projection_panel
+    ap.set_mode("rotate")
+    ap.set_plane((3, 4))
+    row = pp.model.planes.index((3, 4))
+    window._on_anim_playing(True)
+    window._on_anim_tick(1.5)           # 1.5 s at speed 1: 45 degrees
+    assert pp.model.angles[row] == pytest.approx(45.0)
+    assert pp.sliders[row].value() == 45
+    ap.set_mode("tour")
+    a0 = pp.model.angles.copy()
+    pts0 = np.array(window.scene.mesh.points)
+    with qtbot.waitSignal(pp.projectionChanged, timeout=3000):
+        ap.set_playing(True)
+    qtbot.wait(300)
+    ap.set_playing(False)
+    assert not np.allclose(pp.model.angles, a0)
+    assert not np.allclose(pts0, window.scene.mesh.points)
+    ap.set_mode("slice")
+    ap.set_playing(True)                # no slice: refused with a message
+    assert not ap.is_playing() and "slice" in ap.message.text()
+    pp.set_slice("s", 0.2, 0.03)
+    ap.set_playing(True)
+    assert ap.is_playing()
+    c0 = pp.slice_c.value()
+    window._on_anim_tick(1.0)
+    assert pp.slice_c.value() != c0
+    ap.set_playing(False)
+
+
+def test_export_animation_from_the_window(qtbot, window, tmp_path):
+    import imageio.v3 as iio
+
+    _klein(qtbot, window)
+    ap = window.animation_panel
+    ap.set_mode("rotate")
+    ap.set_plane((2, 3))                # z-s: turns s into view (s-t alone would move nothing on screen)
+    angles = window.projection_panel.model.angles.copy()
+    p = tmp_path / "rot.gif"
+    assert window.export_animation(p, frames=5, size=(200, 150)) == 5
+    g = iio.imread(p, index=None)
+    assert g.shape[:3] == (5, 150, 200)
+    assert np.allclose(window.projection_panel.model.angles, angles)      # the window's view is untouched
+    window.projection_panel.set_slice("s", 0.5, 0.05)
+    ap.set_mode("slice")
+    m = tmp_path / "sweep.mp4"
+    assert window.export_animation(m, frames=4, size=(160, 120)) == 4
+    import imageio.v2 as imageio
+
+    r = imageio.get_reader(str(m), format="ffmpeg")
+    assert len([f for f in r]) == 4
+    r.close()
+
+
+def test_two_sided_colours_boundary_and_grid(qtbot, window):
+    cx = _klein(qtbot, window)
+    pp = window.projection_panel
+    pp.two_sided_check.setChecked(True)
+    assert window.scene.actor.backface_prop is not None
+    img = window.screenshot_array()[..., :3].astype(int)
+    gold = np.sum((np.abs(img - [217, 164, 65]).sum(-1) < 120) & (img[..., 0] > img[..., 2] + 60))
+    blue = np.sum(img[..., 2] > img[..., 0] + 60)
+    assert gold > 500 and blue > 500, (gold, blue)
+    pp.boundary_check.setChecked(True)
+    geo, mesh = window.scene.overlays["boundary"][:2]
+    assert mesh.n_cells == len(cx.boundary_facets()) > 0
+    pp.grid_check.setChecked(True)
+    gmesh = window.scene.overlays["grid"][1]
+    assert gmesh.n_cells > 0
+    # the overlays turn with the view, in place
+    before = np.array(gmesh.points)
+    pp.set_angle((0, 3), 30)
+    assert not np.allclose(before, gmesh.points)
+    pp.set_slice("s", 0.5, 0.05)        # and are clipped by the slice
+    assert window.scene.overlays["grid"][1].n_cells < gmesh.n_cells
+
+
+def test_pick_a_cell_shows_its_coordinates_and_cube(qtbot, window):
+    set_system(qtbot, window, 3, 1, ["x1^2 + x2^2 + x3^2 - 1"], bounds=("-1.5", "1.5"), div="8")
+    assert run_and_wait(qtbot, window) == "done"
+    cx = window.result
+    info = window.pick_cell(5)
+    off, vids = cx.polygons()
+    assert list(info["vertices"]) == list(vids[off[5]:off[5 + 1]])
+    assert np.allclose(info["coords"], cx.vertices[info["vertices"]])
+    lo, h = -1.5, 3.0 / 8
+    cube = np.floor((info["coords"].mean(0) - lo) / h).astype(int)
+    assert tuple(info["cube"]) == tuple(cube)
+    assert "grid cube" in window.pick_label.text() and not window.pick_label.isHidden()
+    # picking on screen: the cell nearest the camera at its own centre is found again
+    cam = np.array(window.plotter.camera.position)
+    X = np.asarray(window.scene.mesh.points)
+    cent = np.array([X[vids[off[i]:off[i + 1]]].mean(0) for i in range(len(off) - 1)])
+    near = int(np.argmin(np.linalg.norm(cent - cam, axis=1)))
+    xy = window.scene.display_position(near)
+    assert window.pick_at(xy)["cell"] == near
+    assert window.pick_at((2, 2)) is None and window.pick_label.isHidden()
