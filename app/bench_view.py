@@ -2,6 +2,7 @@
 
     python -m app.bench_view                 # table for 10k, 100k, 1M vertices; n = 4, 5, 10
     python -m app.bench_view --render        # also time a render off screen (needs GL: xvfb-run or EGL)
+    python -m app.bench_view --mapping stereographic   # a nonlinear view: normals from the projected mesh
 
 The test surface is a flat torus (a product of two circles) of V vertices,
 turned into R^n by a fixed orthogonal map and built as a real
@@ -48,7 +49,7 @@ def torus_complex(side: int, n: int, seed: int = 0):
                        meta={"variables": [f"x{j + 1}" for j in range(n)]})
 
 
-def bench(V: int, n: int, steps: int = 20, render: bool = False) -> dict:
+def bench(V: int, n: int, steps: int = 20, render: bool = False, mapping: str = "orthographic") -> dict:
     import pyvista as pv
 
     from .projection import ProjectionModel
@@ -59,23 +60,23 @@ def bench(V: int, n: int, steps: int = 20, render: bool = False) -> dict:
     pl = pv.Plotter(off_screen=True, window_size=[800, 600])
     try:
         scene = Scene(pl)
-        model = ProjectionModel(n=n)
+        model = ProjectionModel(n=n, mapping=mapping if n >= 4 else "orthographic")
         t0 = time.perf_counter()
-        scene.set_complex(cx, cx.point_names(), model.matrix(), Style(color_by="x1", axes=False))
+        scene.set_complex(cx, cx.point_names(), model.view(), Style(color_by="x1", axes=False))
         build = time.perf_counter() - t0
         if render:
             pl.ren_win.Render()
         tp, tn, tt, tr = [], [], [], []
         for s in range(steps):
             model.angles[s % len(model.angles)] += 3.0
-            P = model.matrix()
+            view = model.view()
             t0 = time.perf_counter()
-            scene.projector.project(P, out=scene._pts)
+            scene.projector.project_view(view, out=scene._pts)
             t1 = time.perf_counter()
-            scene._P = P
+            scene._set_view(view)
             scene._write_normals()
             t2 = time.perf_counter()
-            scene.set_projection(P, render=False)   # the whole step as the window does it
+            scene.set_projection(view, render=False)   # the whole step as the window does it
             t3 = time.perf_counter()
             if render:
                 pl.ren_win.Render()
@@ -97,16 +98,19 @@ def main(argv=None) -> int:
     p.add_argument("--dims", default="3,4,5,10", help="ambient dimensions n (comma-separated, >= 3)")
     p.add_argument("--steps", type=int, default=20)
     p.add_argument("--render", action="store_true", help="also time an off-screen render")
+    p.add_argument("--mapping", default="orthographic", choices=("orthographic", "perspective", "stereographic"),
+                   help="the view's mapping (nonlinear ones take normals from the projected mesh; n >= 4)")
     a = p.parse_args(argv)
     sizes = [int(s) for s in a.sizes.split(",")]
     dims = [int(s) for s in a.dims.split(",")]
     print(f"{'vertices':>10} {'n':>3} {'project ms':>11} {'normals ms':>11} {'step ms':>9} {'render ms':>10} {'build s':>8}")
     for V in sizes:
         for n in dims:
-            r = bench(V, n, a.steps, a.render)
+            r = bench(V, n, a.steps, a.render, a.mapping)
             print(f"{r['V']:>10,} {r['n']:>3} {r['project_ms']:>11.2f} {r['normals_ms']:>11.2f} "
                   f"{r['step_ms']:>9.2f} {r['render_ms']:>10.1f} {r['build_s']:>8.2f}", flush=True)
-    print("step = points + normals written in place + VTK Modified (what a slider move costs before drawing)")
+    print(f"mapping: {a.mapping}; step = points + normals written in place + VTK Modified "
+          "(what a slider move costs before drawing)")
     return 0
 
 

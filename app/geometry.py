@@ -15,8 +15,8 @@ with one more small matmul.
 
 That identity needs a linear projection. Under a nonlinear one (perspective,
 stereographic) :class:`MeshNormals` computes the normals from the projected
-points instead: Newell normals of the polygons summed at their vertices, with
-the same sign alignment, all in numpy over the corners at once.
+points instead: polygon area vectors summed at their vertices with the same
+per-corner signs, in one compiled (numba) pass over the corners.
 """
 
 from __future__ import annotations
@@ -175,12 +175,13 @@ def oriented_loops(cx, offsets, vids, cell_ids) -> np.ndarray:
     return ov[take]
 
 
-def vertex_bivectors(vertices: np.ndarray, offsets: np.ndarray, vids: np.ndarray) -> np.ndarray:
+def vertex_bivectors(vertices: np.ndarray, offsets: np.ndarray, vids: np.ndarray, return_signs: bool = False):
     """Per-vertex sum of the area bivectors of its polygons (V, n(n-1)/2) float64.
 
     Pass loops oriented by :func:`orient_polygons`; where orientation fails (a
     non-orientable seam) each face's sign is also aligned with one reference
     face at the vertex, so normals never cancel. Order of components: planes().
+    With ``return_signs``, also the (corners,) float64 sign used at each corner.
     """
     X = np.asarray(vertices, dtype=np.float64)
     V, n = X.shape
@@ -190,7 +191,8 @@ def vertex_bivectors(vertices: np.ndarray, offsets: np.ndarray, vids: np.ndarray
     vids = np.asarray(vids, dtype=np.int64)
     N = len(offsets) - 1
     if N == 0 or m == 0:
-        return np.zeros((V, m))
+        Bv = np.zeros((V, m))
+        return (Bv, np.ones(len(vids))) if return_signs else Bv
     sizes = np.diff(offsets)
     face_of = np.repeat(np.arange(N), sizes)
     pos = np.arange(len(vids))
@@ -222,7 +224,7 @@ def vertex_bivectors(vertices: np.ndarray, offsets: np.ndarray, vids: np.ndarray
     Bv = np.zeros((V, m))
     for c in range(m):
         Bv[:, c] = np.bincount(vids, weights=s * BfT[c][face_of], minlength=V)
-    return Bv
+    return (Bv, s) if return_signs else Bv
 
 
 def cross_table(P: np.ndarray) -> np.ndarray:
@@ -315,42 +317,67 @@ class NormalField:
             np.subtract(oT[r], t, out=oT[r])
 
 
-class MeshNormals:
-    """Vertex normals computed from projected points (for nonlinear views), vectorised.
+def _mesh_normals_py(pts, offsets, vids, sgn, out):
+    """Per face: its normal, relative to its first corner (sum of (p_i - p_0) x (p_i+1 - p_0)),
+    added with the corner's sign to each of its vertices."""
+    out[:] = 0.0
+    for f in range(len(offsets) - 1):
+        a = offsets[f]
+        b = offsets[f + 1]
+        p0 = vids[a]
+        ox, oy, oz = pts[p0, 0], pts[p0, 1], pts[p0, 2]
+        nx = 0.0
+        ny = 0.0
+        nz = 0.0
+        for i in range(a + 1, b - 1):
+            p = vids[i]
+            q = vids[i + 1]
+            ux, uy, uz = pts[p, 0] - ox, pts[p, 1] - oy, pts[p, 2] - oz
+            wx, wy, wz = pts[q, 0] - ox, pts[q, 1] - oy, pts[q, 2] - oz
+            nx += uy * wz - uz * wy
+            ny += uz * wx - ux * wz
+            nz += ux * wy - uy * wx
+        for i in range(a, b):
+            v = vids[i]
+            s = sgn[i]
+            out[v, 0] += s * nx
+            out[v, 1] += s * ny
+            out[v, 2] += s * nz
 
-    The corner arrays (next corner, face of each corner, a reference face per
-    vertex) are built once; :meth:`write` then costs a few passes over the corners.
+
+_MESH_NORMALS = None
+
+
+def _mesh_normals_kernel():
+    global _MESH_NORMALS
+    if _MESH_NORMALS is None:
+        try:
+            from numba import njit
+            _MESH_NORMALS = njit(cache=True, nogil=True)(_mesh_normals_py)
+        except ImportError:  # pragma: no cover - numba is a dependency of gcmh_core
+            _MESH_NORMALS = _mesh_normals_py
+    return _MESH_NORMALS
+
+
+class MeshNormals:
+    """Vertex normals computed from projected points (for nonlinear views): one compiled pass over the corners.
+
+    Each polygon's normal (a fan from its first corner: exact area vector of a
+    planar polygon) is added to its vertices with the corner's sign, the sign
+    that aligns it with the vertex's reference face in R^n (as for the
+    bivectors), so a non-orientable seam does not cancel.
     """
 
-    def __init__(self, offsets: np.ndarray, vids: np.ndarray, n_vertices: int):
-        offsets = np.asarray(offsets, dtype=np.int64)
-        self.vids = np.asarray(vids, dtype=np.int64)
+    def __init__(self, offsets: np.ndarray, vids: np.ndarray, n_vertices: int, signs: np.ndarray | None = None):
+        self.offsets = np.ascontiguousarray(offsets, dtype=np.int64)
+        self.vids = np.ascontiguousarray(vids, dtype=np.int64)
         self.V = int(n_vertices)
-        N = len(offsets) - 1
-        sizes = np.diff(offsets)
-        self.starts = offsets[:-1]
-        self.face_of = np.repeat(np.arange(N), sizes)
-        nxt = np.arange(1, len(self.vids) + 1)
-        if N:
-            nxt[offsets[1:] - 1] = offsets[:-1]
-        self.vnext = self.vids[nxt]
-        ref = np.full(self.V, -1, dtype=np.int64)
-        ref[self.vids[::-1]] = self.face_of[::-1]
-        self.ref = ref[self.vids]                 # per corner: the reference face of its vertex
+        self.signs = (np.ones(len(self.vids), dtype=np.float32) if signs is None
+                      else np.ascontiguousarray(signs, dtype=np.float32))
 
     def write(self, pts: np.ndarray, out: np.ndarray) -> None:
         """(V, 3) normals of the mesh with points ``pts`` (V, 3) into ``out`` (V, 3)."""
-        if len(self.vids) == 0:
-            out[...] = 0
-            return
-        a = pts[self.vids]
-        b = pts[self.vnext]
-        # Newell: the face normal is half the sum of p_i x p_(i+1) over its corners
-        Nf = np.add.reduceat(np.cross(a, b), self.starts, axis=0)
-        s = np.einsum("ij,ij->i", Nf[self.face_of], Nf[self.ref])
-        w = np.where(s < 0, -1.0, 1.0)
-        for c in range(3):
-            out[:, c] = np.bincount(self.vids, weights=w * Nf[self.face_of, c], minlength=self.V)
+        _mesh_normals_kernel()(pts, self.offsets, self.vids, self.signs, out)
 
 
 @dataclass
@@ -374,6 +401,7 @@ class Geometry:
     vids: np.ndarray | None = None
     edges: np.ndarray | None = None
     cell_ids: np.ndarray | None = None
+    signs: np.ndarray | None = None
     _mesh_normals: "MeshNormals | None" = None
 
     def mesh_normals(self) -> "MeshNormals | None":
@@ -381,7 +409,7 @@ class Geometry:
         if self.kind != "polygons" or self.normals is None:
             return None
         if self._mesh_normals is None:
-            self._mesh_normals = MeshNormals(self.offsets, self.vids, self.projector.XT.shape[1])
+            self._mesh_normals = MeshNormals(self.offsets, self.vids, self.projector.XT.shape[1], self.signs)
         return self._mesh_normals
 
     @classmethod
@@ -398,11 +426,12 @@ class Geometry:
             lines[:, 0] = 2
             lines[:, 1:] = sl.edges
             return cls(dim, n, "lines", lines.ravel(), projector, edges=sl.edges, cell_ids=ids)
-        normals = None
+        normals = signs = None
         if dim == 2 and len(sl.vids):
-            normals = NormalField(vertex_bivectors(sl.vertices, sl.offsets, sl.vids), n)
+            Bv, signs = vertex_bivectors(sl.vertices, sl.offsets, sl.vids, return_signs=True)
+            normals = NormalField(Bv, n)
         return cls(dim, n, "polygons", polygon_faces(sl.offsets, sl.vids), projector, normals,
-                   offsets=sl.offsets, vids=sl.vids, cell_ids=ids)
+                   offsets=sl.offsets, vids=sl.vids, cell_ids=ids, signs=signs)
 
     @classmethod
     def build(cls, cx) -> "Geometry":
@@ -419,10 +448,11 @@ class Geometry:
         offsets0, vids0 = cx.polygons()
         cell_ids = np.flatnonzero(np.diff(np.asarray(offsets0)) >= 3)
         offsets, vids = _proper_polygons(offsets0, vids0)
-        normals = None
+        normals = signs = None
         if dim == 2:
             vids = oriented_loops(cx, offsets, vids, cell_ids)
             if len(vids):
-                normals = NormalField(vertex_bivectors(V, offsets, vids), cx.n)
+                Bv, signs = vertex_bivectors(V, offsets, vids, return_signs=True)
+                normals = NormalField(Bv, cx.n)
         return cls(dim, cx.n, "polygons", polygon_faces(offsets, vids), projector, normals,
-                   offsets=offsets, vids=vids, cell_ids=cell_ids)
+                   offsets=offsets, vids=vids, cell_ids=cell_ids, signs=signs)

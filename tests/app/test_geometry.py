@@ -83,3 +83,46 @@ def test_curves_are_lines():
     geo = Geometry.build(cx)
     assert geo.kind == "lines" and geo.normals is None
     assert len(geo.cells) == 3 * cx.count(1)
+
+
+def test_mesh_normals_agree_with_bivector_normals_under_a_linear_view():
+    """Normals from projected points (nonlinear views) match the exact bivector normals when the view is linear."""
+    from app.bench_view import torus_complex
+    from app.geometry import Geometry
+    from app.projection import ProjectionModel
+
+    for n in (4, 5):
+        cx = torus_complex(40, n)
+        geo = Geometry.build(cx)
+        m = ProjectionModel(n=n, kind="generic", seed=2)
+        m.angles[:] = 17.0
+        P = m.matrix()
+        pts = geo.projector.project(P)
+        exact = np.zeros_like(pts)
+        geo.normals.write(P, exact)
+        mine = np.zeros_like(pts)
+        geo.mesh_normals().write(pts, mine)
+        big = np.linalg.norm(exact, axis=1) > 1e-3 * np.linalg.norm(exact, axis=1).max()
+        cos = np.einsum("ij,ij->i", exact, mine)[big] / (
+            np.linalg.norm(exact, axis=1)[big] * np.linalg.norm(mine, axis=1)[big])
+        assert np.median(cos) > 0.999 and cos.min() > 0.9
+
+
+def test_mesh_normals_of_a_stereographic_sphere_point_outward():
+    """A unit 2-sphere in R^4 (x4 = 0) seen stereographically is the same sphere: normals radial."""
+    import gcmh_core
+
+    from app.geometry import Geometry
+    from app.projection import ProjectionModel
+
+    cx = gcmh_core.extract(["x1^2 + x2^2 + x3^2 + x4^2 - 1", "x4 - 0.01"], bounds=[(-1.2, 1.2)] * 4, div=10,
+                           variables=["x1", "x2", "x3", "x4"])
+    geo = Geometry.build(cx)
+    view = ProjectionModel(n=4, mapping="stereographic").view()
+    pts = geo.projector.project_view(view)
+    N = np.zeros_like(pts)
+    geo.mesh_normals().write(pts, N)
+    c = pts - pts.mean(0)
+    cos = np.einsum("ij,ij->i", c, N) / (np.linalg.norm(c, axis=1) * np.linalg.norm(N, axis=1))
+    assert np.all(np.abs(cos) > 0.9)
+    assert abs(np.mean(np.sign(cos))) == 1.0      # one side everywhere: oriented loops
