@@ -429,8 +429,10 @@ class QtMainWindow(QMainWindow):
         self.progress.setFormat(f"done \u00b7 {time.perf_counter() - self._run_t0:.1f} s")
         same_system = self._title_system is not None and self._title_system == (job.formulas, job.variables)
         title = self._pending_title if same_system else ""
+        report = getattr(self.sender(), "report", None)
         try:
-            self.show_result(cx, job.variables, view=self._pending_view, title=title, geometry=geometry)
+            self.show_result(cx, job.variables, view=self._pending_view, title=title, geometry=geometry,
+                             report=report)
         except Exception as e:  # noqa: BLE001 - a drawing problem must not take the window down
             self.set_status(f"Could not draw the result: {type(e).__name__}: {e}", error=True)
             self.runFinished.emit("failed")
@@ -471,8 +473,9 @@ class QtMainWindow(QMainWindow):
         w.deleteLater()
 
     # ------------------------------------------------------------------ view
-    def show_result(self, cx, names, view: dict | None = None, title: str = "", geometry=None) -> None:
-        """Put a CellComplex on screen (GUI thread)."""
+    def show_result(self, cx, names, view: dict | None = None, title: str = "", geometry=None,
+                    report: dict | None = None) -> None:
+        """Put a CellComplex on screen (GUI thread). ``report``: its topology report if already made."""
         names = list(names)
         prev_dim = self.result.dim if self.result is not None else None
         prev_names = self.result_names
@@ -493,7 +496,7 @@ class QtMainWindow(QMainWindow):
         self._apply_slice(render=False)
         self.reset_camera()
         if self.topology_panel is not None:
-            self._topology_set_result(cx)
+            self._topology_set_result(cx, report)
         self.resultChanged.emit(cx)
 
     def _style(self) -> Style:
@@ -777,50 +780,64 @@ class QtMainWindow(QMainWindow):
 
     # ------------------------------------------------------------------ analysis tools
     def _connect_topology_panel(self) -> None:
+        """The topology panel's view switches and the View tab's are the same switches, kept in step."""
         tp = self.topology_panel
         pp = self.projection_panel
         tp.refineRequested.connect(self.refine_result)
-        tp.highlightBoundaryToggled.connect(pp.boundary_check.setChecked)
-        tp.showPathToggled.connect(pp.grid_check.setChecked)
-        tp.twoSidedToggled.connect(pp.two_sided_check.setChecked)
+        for theirs, mine in ((tp.boundary_check, pp.boundary_check), (tp.path_check, pp.grid_check),
+                             (tp.two_sided_check, pp.two_sided_check)):
+            theirs.toggled.connect(mine.setChecked)    # setChecked with the same value emits nothing: no loop
+            mine.toggled.connect(theirs.setChecked)
 
     def _system(self):
-        from gcmh_core.formula import parse_system
+        from .worker import system_of
 
-        return parse_system(list(self._job.formulas), list(self._job.variables))
+        return system_of(self._job)
 
-    def _topology_set_result(self, cx) -> None:
+    def _topology_set_result(self, cx, report=None) -> None:
         try:
-            system = self._system() if getattr(self, "_job", None) is not None else None
-        except Exception:  # noqa: BLE001 - the report works without F (no residual)
-            system = None
-        try:
-            self.topology_panel.set_result(cx, system)
+            if report is not None:
+                self.topology_panel.set_report(report)
+                return
+            from .worker import topology_of
+
+            report = topology_of(cx, getattr(self, "_job", None))
+            if report is None:
+                self.topology_panel.clear()
+            else:
+                self.topology_panel.set_report(report)
         except Exception as e:  # noqa: BLE001
             self.set_status(f"Topology report failed: {e}", error=True)
 
-    def refine_result(self) -> None:
-        """Move the vertices closer to M (Newton) and show the refined complex."""
-        if self.result is None:
+    def refine_result(self) -> dict | None:
+        """Move the vertices closer to M (Gauss-Newton) and show the refined complex; returns the numbers."""
+        if self.result is None or getattr(self, "_job", None) is None:
             self.set_status("Nothing to refine yet: run first.", error=True)
-            return
+            return None
         from gcmh_core.analysis import refine_vertices
 
         try:
             cx, before, after = refine_vertices(self.result, self._system())
         except Exception as e:  # noqa: BLE001
             self.set_status(f"Refining failed: {e}", error=True)
-            return
+            return None
         self.show_result(cx, self.result_names, title=self.result_title)
         self.result_label.setText(summarize(cx))
+        if self.topology_panel is not None:
+            self.topology_panel.show_refinement(before, after)
         self.set_status(f"Refined: max |F| at the vertices {before:.3g} \u2192 {after:.3g}")
+        return dict(before=before, after=after)
 
-    def open_gallery(self) -> None:
+    def open_gallery(self):
+        """Show the example gallery (window-modal, not blocking); choosing an example opens and runs it."""
         if QtGallery is None:
-            return
+            return None
         g = QtGallery(self)
-        g.exampleChosen.connect(self.load_example)
-        g.exec_()
+        g.exampleChosen.connect(lambda name: self.load_example(name))
+        g.setAttribute(Qt.WA_DeleteOnClose)
+        self.gallery = g
+        g.open()
+        return g
 
     def reset_camera(self) -> None:
         default_camera(self.plotter)

@@ -49,6 +49,29 @@ def run_job(job: Job, progress=None, cancel=None):
     return gcmh_core.extract(list(job.formulas), progress=progress, cancel=cancel, **job.kwargs())
 
 
+def system_of(job: Job):
+    """The parsed F of a job (a gcmh_core.formula.System)."""
+    from gcmh_core.formula import parse_system
+
+    return parse_system(list(job.formulas), list(job.variables))
+
+
+def topology_of(cx, job: Job | None = None) -> dict | None:
+    """The topology report of ``cx`` (with max |F| when the job's F parses); None without the analysis module."""
+    try:
+        from gcmh_core.analysis import topology_report
+    except ImportError:
+        return None
+    try:
+        system = system_of(job) if job is not None else None
+    except Exception:  # noqa: BLE001 - sampled data or odd text: the report without F
+        system = None
+    try:
+        return topology_report(cx, system)
+    except Exception:  # noqa: BLE001 - the panel computes (and reports) it itself then
+        return None
+
+
 class ExtractWorker(QThread):
     """One extraction in a thread. Create a new worker per run."""
 
@@ -69,6 +92,7 @@ class ExtractWorker(QThread):
         self.result = None
         self.error: str | None = None
         self.traceback: str | None = None
+        self.report: dict | None = None    # gcmh_core.analysis.topology_report of the result, when available
 
     # called from the GUI thread
     def cancel(self) -> None:
@@ -128,6 +152,7 @@ class ExtractWorker(QThread):
                 geometry = Geometry.build(cx)
             except Exception:  # noqa: BLE001 - the GUI thread will build it (and report) instead
                 self.traceback = traceback.format_exc()
+            self.report = topology_of(cx, self.job)
         if self._cancel.is_set():
             self.cancelled.emit()
             return

@@ -762,3 +762,52 @@ def test_pick_a_cell_shows_its_coordinates_and_cube(qtbot, window):
     xy = window.scene.display_position(near)
     assert window.pick_at(xy)["cell"] == near
     assert window.pick_at((2, 2)) is None and window.pick_label.isHidden()
+
+
+def test_topology_tab_refine_and_shared_switches(qtbot, window):
+    pytest.importorskip("gcmh_core.analysis")
+    if window.topology_panel is None:
+        pytest.skip("no topology panel in this tree")
+    set_system(qtbot, window, 3, 1, ["x1^2 + x2^2 + x3^2 - 1"], div="8")
+    assert run_and_wait(qtbot, window) == "done"
+    tp, pp = window.topology_panel, window.projection_panel
+    rep = tp.report()
+    assert rep is not None and rep["euler_characteristic"] == 2
+    assert any(window.tabs.tabText(i) == "Topology" for i in range(window.tabs.count()))
+    # the panel's switches and the View tab's are one and the same
+    tp.two_sided_check.setChecked(True)
+    assert pp.two_sided_check.isChecked() and window.scene.style.two_sided
+    pp.boundary_check.setChecked(True)
+    assert tp.boundary_check.isChecked()
+    tp.path_check.setChecked(True)
+    assert "grid" in window.scene.overlays
+    # refinement moves the vertices onto M
+    r0 = np.abs(np.linalg.norm(window.result.vertices, axis=1) - 1).max()
+    out = window.refine_result()
+    assert out is not None and out["after"] < out["before"]
+    r1 = np.abs(np.linalg.norm(window.result.vertices, axis=1) - 1).max()
+    assert r1 < 0.1 * r0
+    assert "\u2192" in window.last_status
+
+
+def test_geometry_uses_the_library_orientation(qtbot, window):
+    analysis = pytest.importorskip("gcmh_core.analysis")
+    cx = _klein(qtbot, window)
+    geo = window.scene.geometry
+    o = analysis.orient_2cells(cx)
+    oo, ov = np.asarray(o.offsets), np.asarray(o.vertices)
+    keep = np.diff(oo) >= 3
+    expect = np.concatenate([ov[oo[i]:oo[i + 1]] for i in np.flatnonzero(keep)])
+    assert np.array_equal(geo.vids, expect)
+
+
+def test_gallery_opens_from_the_examples_menu(qtbot, window):
+    if window.gallery_action is None:
+        pytest.skip("no gallery in this tree")
+    window.gallery_action.trigger()
+    g = window.gallery
+    qtbot.waitExposed(g)
+    with qtbot.waitSignal(window.runFinished, timeout=120_000) as b:
+        g.exampleChosen.emit("sphere")
+    assert b.args[0] == "done" and window.result.dim == 2
+    g.close()
