@@ -220,6 +220,7 @@ class _Session:
             )
             return Client(self.cluster, set_as_default=False)
         _probe(self.address)
+        _identify(self.address)
         try:
             client = Client(self.address, timeout=CONNECT_TIMEOUT, set_as_default=False)
         except Exception as err:  # noqa: BLE001  (anything here means: not a usable scheduler)
@@ -283,6 +284,42 @@ def _probe(address: str) -> None:
     except OSError as err:
         reason = err.strerror or str(err) or type(err).__name__
         raise InputError(f"cannot reach the dask scheduler at {address}: {reason}") from None
+
+
+def _identify(address: str) -> None:
+    """Ask whatever listens at `address` who it is, with a deadline.  dask's Client waits
+    forever for the handshake of a server that accepts TCP but is not dask (a web
+    server, say).  The question runs on its own thread and event loop, so this works
+    from a thread that already runs one (a notebook); on a timeout the thread is
+    abandoned (a daemon, it holds one socket)."""
+    import asyncio  # noqa: PLC0415
+
+    from distributed.core import rpc  # noqa: PLC0415
+
+    answer: dict = {}
+
+    async def ask():
+        remote = rpc(address, timeout=CONNECT_TIMEOUT)
+        try:
+            return await asyncio.wait_for(remote.identity(), CONNECT_TIMEOUT)
+        finally:
+            await remote.close_rpc()
+
+    def run():
+        try:
+            answer["identity"] = asyncio.run(ask())
+        except BaseException as err:  # noqa: BLE001  (reported to the caller below)
+            answer["error"] = err
+
+    thread = threading.Thread(target=run, name="gcmh-dask-identify", daemon=True)
+    thread.start()
+    thread.join(CONNECT_TIMEOUT + 1.0)
+    if thread.is_alive() or "error" in answer:
+        why = "no answer" if thread.is_alive() else _first_line(answer["error"])
+        raise InputError(f"{address} does not answer as a dask scheduler ({why}); is `dask scheduler` running there?")
+    kind = answer["identity"].get("type") if isinstance(answer.get("identity"), dict) else None
+    if kind != "Scheduler":
+        raise InputError(f"{address} is a dask {kind or 'server'}, not a scheduler: give the scheduler's address")
 
 
 def _first_line(err) -> str:

@@ -138,6 +138,25 @@ def test_unreachable_scheduler_is_a_clear_error_within_seconds(address):
     assert time.perf_counter() - t < gd.CONNECT_TIMEOUT + 1
 
 
+def test_a_server_that_is_not_dask_is_a_clear_error_within_seconds():
+    import socket
+
+    with socket.socket() as server:  # accepts TCP connections, never says a word
+        server.bind(("127.0.0.1", 0))
+        server.listen()
+        address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
+        t = time.perf_counter()
+        with pytest.raises(InputError, match="does not answer as a dask scheduler"):
+            extract("x^2 + y^2 + z^2 - 1", (-1.5, 1.5), 6, variables="x,y,z", scheduler=address)
+        assert time.perf_counter() - t < gd.CONNECT_TIMEOUT + 2
+
+
+def test_a_worker_address_is_not_a_scheduler(cluster):
+    worker = next(iter(cluster[1].scheduler_info()["workers"]))
+    with pytest.raises(InputError, match="is a dask Worker, not a scheduler"):
+        extract("x^2 + y^2 + z^2 - 1", (-1.5, 1.5), 6, variables="x,y,z", scheduler=worker)
+
+
 @pytest.mark.parametrize("scheduler, block, message", [
     ("somewhere", None, "scheduler must be 'local' or an address"),
     ("tcp://host", None, "scheduler must be 'local' or an address"),
