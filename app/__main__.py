@@ -67,6 +67,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--slice", metavar="VAR=C", help="show only |VAR - C| <= --slice-width (screenshots)")
     p.add_argument("--slice-width", type=float, default=None, metavar="W",
                    help="half-width of the slicing window (default: 4%% of the variable's range)")
+    p.add_argument("--two-sided", action="store_true",
+                   help="front faces gold, back faces blue (a surface's two sides; Klein bottle: where they swap)")
+    p.add_argument("--boundary", action="store_true", help="draw the boundary facets in red")
     p.add_argument("--animate", metavar="SPEC",
                    help="no window: render an animation, SPEC = rotate:I-J | tour | slice:VAR (needs --gif/--mp4)")
     p.add_argument("--frames", type=int, default=60, help="animation frames (default 60)")
@@ -187,10 +190,19 @@ def headless_screenshot(args) -> int:
     try:
         scene = Scene(pl)
         dim = cx.dim
-        sub = describe(cx, names, color)
+        sub = describe(cx, names, None if args.two_sided else color)
+        if args.two_sided:
+            sub += " \u00b7 two sides: gold front, blue back"
         if args.mapping != "orthographic":
             sub += f" \u00b7 {args.mapping}"
-        scene.set_complex(cx, names, model.view(), Style(color_by=color, title=ex.title, subtitle=sub))
+        scene.set_complex(cx, names, model.view(), Style(color_by=color, title=ex.title, subtitle=sub,
+                                                         two_sided=args.two_sided))
+        if args.boundary:
+            from .geometry import boundary_lines
+            from .scene import BOUNDARY_COLOR
+
+            X, E = boundary_lines(cx)
+            scene.set_overlay("boundary", X, E, BOUNDARY_COLOR, width=4.0, render=False)
         default_camera(pl)   # fitted to the whole complex: a slice or a tour stays in the picture
         if window is not None:
             scene.set_slice(window.direction(model.frame()), window.c, window.w, render=False)

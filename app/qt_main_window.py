@@ -38,6 +38,7 @@ from .scene import (
     BOUNDARY_COLOR, GRID_COLOR, PICK_COLOR, Scene, Style, animation_images, copy_camera, default_camera, describe,
     render_image,
 )
+from .geometry import boundary_lines, cell_info, grid_cube_lines
 from .slicing import window_range
 from .worker import ExtractWorker
 
@@ -501,7 +502,10 @@ class QtMainWindow(QMainWindow):
 
     def _style(self) -> Style:
         pp = self.projection_panel
-        sub = describe(self.result, self.result_names, pp.color_by()) if self.result is not None else ""
+        two = pp.two_sided_check.isChecked()
+        sub = describe(self.result, self.result_names, None if two else pp.color_by()) if self.result is not None else ""
+        if two and self.result is not None:
+            sub += " \u00b7 two sides: gold front, blue back"
         mapping = pp.model.mapping if pp.model.n >= 4 else "orthographic"
         if mapping != "orthographic":
             sub += f" \u00b7 {mapping}"
@@ -1012,119 +1016,3 @@ class QtMainWindow(QMainWindow):
         except Exception:  # noqa: BLE001
             pass
         super().closeEvent(event)
-
-
-# ---------------------------------------------------------------------- model helpers (no Qt)
-def boundary_lines(cx):
-    """The boundary facets of ``cx`` as segments in R^n: (vertices (m, n), edges (E, 2)).
-
-    Surfaces: the boundary edges; higher dimensions: the edges of the boundary
-    2-cells (dim 3) -- for curves the boundary is points, drawn as nothing.
-    """
-    V = np.asarray(cx.vertices)
-    empty = (np.zeros((0, V.shape[1])), np.zeros((0, 2), np.int64))
-    if cx.dim < 2:
-        return empty
-    ids = np.asarray(cx.boundary_facets(), dtype=np.int64)
-    if len(ids) == 0:
-        return empty
-    if cx.dim == 2:
-        E = np.asarray(cx.edges, dtype=np.int64).reshape(-1, 2)[ids]
-    elif cx.dim == 3:
-        off, vids = (np.asarray(a, dtype=np.int64) for a in cx.polygons())
-        sizes = np.diff(off)
-        pick = np.repeat(np.isin(np.arange(len(sizes)), ids), sizes)
-        nxt = np.arange(1, len(vids) + 1)
-        nxt[off[1:] - 1] = off[:-1]
-        E = np.stack([vids[pick], vids[nxt][pick]], 1)
-    else:
-        return empty
-    used, inv = np.unique(E, return_inverse=True)
-    return V[used], inv.reshape(-1, 2)
-
-
-def _grid_of(cx):
-    b = cx.meta.get("bounds")
-    d = cx.meta.get("div")
-    if b is None or d is None:
-        raise ValueError("this result does not say its grid (bounds, div)")
-    lo = np.array([float(x[0]) for x in b])
-    hi = np.array([float(x[1]) for x in b])
-    div = np.array(d if np.ndim(d) else [d] * cx.n, dtype=np.int64)
-    return lo, (hi - lo) / div, div
-
-
-def cell_cubes(cx, X):
-    """Grid cube (n,) int64 of each point of ``X`` (centroids of cells) from the result's bounds and div."""
-    lo, h, div = _grid_of(cx)
-    q = np.floor((np.asarray(X) - lo) / h).astype(np.int64)
-    return np.clip(q, 0, div - 1)
-
-
-def cell_info(cx, cell: int) -> dict:
-    """Facts about a 2-cell (or a curve's edge): its vertex ids, their coordinates, its grid cube, its outline."""
-    V = np.asarray(cx.vertices)
-    if cx.dim == 1:
-        E = np.asarray(cx.edges, dtype=np.int64).reshape(-1, 2)
-        if not 0 <= cell < len(E):
-            raise ValueError(f"no edge {cell} (the curve has {len(E)})")
-        vs = E[cell]
-    else:
-        off, vids = cx.polygons()
-        if not 0 <= cell < len(off) - 1:
-            raise ValueError(f"no 2-cell {cell} (the result has {len(off) - 1})")
-        vs = np.asarray(vids[off[cell]:off[cell + 1]], dtype=np.int64)
-    coords = V[vs]
-    try:
-        cube = cell_cubes(cx, coords.mean(axis=0)[None])[0]
-    except ValueError:
-        cube = None
-    m = len(vs)
-    edges = np.stack([np.arange(m), (np.arange(m) + 1) % m], 1) if m > 2 else np.array([[0, 1]])
-    return dict(cell=int(cell), vertices=vs, coords=coords, cube=cube, lines=(coords, edges))
-
-
-GRID_EDGE_LIMIT = 400_000
-
-
-def grid_cube_lines(cx):
-    """Edges of the grid cubes the result passes through, as segments in R^n: (corners (m, n), edges (E, 2)).
-
-    The engine reports how many cubes it visited, not which: the cubes are
-    recomputed as those holding the centroid of a top-dimensional cell (for
-    a continuation run, the cubes M_A passes through). Corners are the
-    unperturbed grid points.
-    """
-    lo, h, div = _grid_of(cx)
-    n = cx.n
-    dim = cx.dim
-    V = np.asarray(cx.vertices)
-    if dim == 1:
-        E = np.asarray(cx.edges, dtype=np.int64).reshape(-1, 2)
-        cent = 0.5 * (V[E[:, 0]] + V[E[:, 1]])
-    else:
-        off, vids = (np.asarray(a, dtype=np.int64) for a in cx.cell_vertices(dim))
-        sizes = np.maximum(np.diff(off), 1)
-        cent = np.add.reduceat(V[vids], off[:-1], axis=0) / sizes[:, None] if len(vids) else np.zeros((0, n))
-    cubes = np.unique(cell_cubes(cx, cent), axis=0)
-    per = n * 2 ** (n - 1)
-    if len(cubes) * per > GRID_EDGE_LIMIT:
-        raise ValueError(f"{len(cubes):,} cubes with {per} edges each are too many to draw; use a smaller div")
-    # every edge: a corner g (n,) and an axis a with the corner's bit a = 0
-    bits = (np.arange(2 ** n)[:, None] >> np.arange(n)) & 1                        # (2^n, n)
-    starts, axes = [], []
-    for a in range(n):
-        b = bits[bits[:, a] == 0]
-        starts.append((cubes[:, None, :] + b[None]).reshape(-1, n))
-        axes.append(np.full(len(cubes) * len(b), a))
-    g = np.concatenate(starts)
-    ax = np.concatenate(axes)
-    key = np.concatenate([g, ax[:, None]], 1)
-    key = np.unique(key, axis=0)
-    g, ax = key[:, :n], key[:, n]
-    g2 = g.copy()
-    g2[np.arange(len(g2)), ax] += 1
-    pts, inv = np.unique(np.concatenate([g, g2]), axis=0, return_inverse=True)
-    inv = inv.ravel()
-    E = np.stack([inv[:len(g)], inv[len(g):]], 1)
-    return lo + pts * h, E

@@ -57,8 +57,7 @@ class Style:
     scalar_bar: bool = True
     axes: bool = True
     two_sided: bool = False          # front faces SURFACE_COLOR, back faces BACK_COLOR (no colour map)
-    show_boundary: bool = False
-    show_grid: bool = False
+    slice_context: bool = True      # while slicing, the whole result as a faint ghost
     extra: dict = field(default_factory=dict)
 
     def resolved_opacity(self, dim: int) -> float:
@@ -104,6 +103,7 @@ class Scene:
         self._mesh_normals = None
         self.overlays: dict = {}                   # name -> [Geometry-like (projector, cells, kind), mesh, actor, color]
         self._overlay_src: dict = {}               # name -> (vertices (m, n), edges (E, 2)) before slicing
+        self._ghost = None                         # (mesh, actor): the whole result, faint, while slicing
         plotter.set_background(BACKGROUND, top=BACKGROUND_TOP)
         try:
             plotter.enable_anti_aliasing("ssaa")
@@ -127,6 +127,7 @@ class Scene:
         self.geometry = self.draw_geo = None
         self.slice = None
         self._mesh_normals = None
+        self._set_ghost(False)
         for name in list(self.overlays):
             self.remove_overlay(name, render=False)
         self._overlay_src.clear()
@@ -204,6 +205,10 @@ class Scene:
         self.view, self.geometry, self.draw_geo, self.slice = other.view, other.geometry, other.draw_geo, other.slice
         self.style = style if style is not None else other.style
         self._add_actor()
+        if other._ghost is not None:
+            m = other._ghost[0]
+            self._ghost = (m, self.plotter.add_mesh(m, color="#c8d2e6", opacity=0.07, lighting=False, pickable=False,
+                                                    render=False, reset_camera=False, name="gcmh-slice-ghost"))
         for name, (geo, mesh, _actor, color, width) in other.overlays.items():
             self.overlays[name] = [geo, mesh, self._add_overlay_actor(name, mesh, color, width), color, width]
         self._update_axes_labels()
@@ -303,6 +308,10 @@ class Scene:
             self.mesh.GetPoints().Modified()
             self._write_normals()
             self.mesh.Modified()
+        if self._ghost is not None:
+            self.geometry.projector.project_view(self.view, out=self._ghost[0].points)
+            self._ghost[0].GetPoints().Modified()
+            self._ghost[0].Modified()
         for geo, mesh, *_ in self.overlays.values():
             if mesh is not None:
                 geo.projector.project_view(self.view, out=mesh.points)
@@ -351,9 +360,25 @@ class Scene:
             self._show_geometry(sgeo, sl.vertices)
         for name in list(self._overlay_src):
             self._build_overlay(name)
+        self._set_ghost(self.slice is not None and self.style.slice_context and geo.kind == "polygons")
         if render:
             self.plotter.render()
         return 0 if self.mesh is None else int(self.mesh.n_cells)
+
+    def _set_ghost(self, on: bool) -> None:
+        """The whole result, faint and unlit, behind a slice: where the slice sits in the whole."""
+        if not on:
+            if self._ghost is not None:
+                self.plotter.remove_actor(self._ghost[1], render=False)
+                self._ghost = None
+            return
+        if self._ghost is not None:
+            return
+        geo = self.geometry
+        mesh = pv.PolyData(geo.projector.project_view(self.view), faces=geo.cells)
+        actor = self.plotter.add_mesh(mesh, color="#c8d2e6", opacity=0.07, lighting=False, pickable=False,
+                                      render=False, reset_camera=False, name="gcmh-slice-ghost")
+        self._ghost = (mesh, actor)
 
     # ------------------------------------------------------------------ overlays
     def set_overlay(self, name: str, vertices, edges, color: str, width: float = 2.0,

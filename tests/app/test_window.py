@@ -597,6 +597,7 @@ def test_slice_window_clips_the_klein_bottle(qtbot, window):
     assert np.all(s >= c - w - 1e-9) and np.all(s <= c + w + 1e-9)
     assert np.isclose(s.min(), c - w) and np.isclose(s.max(), c + w)     # clipped, not dropped
     assert "cells" in pp.slice_info.text()
+    assert window.scene._ghost is not None          # the whole bottle, faint, for context
     # moving the centre slider moves the window
     pp.slice_c.setValue(100)
     s2 = np.asarray(window.scene.mesh.point_data["s"])
@@ -610,7 +611,7 @@ def test_slice_window_clips_the_klein_bottle(qtbot, window):
     img = window.screenshot_array()
     assert picture_stats(img) > 50
     pp.set_slice(None)
-    assert window.scene.mesh.n_cells == full and window.scene.slice is None
+    assert window.scene.mesh.n_cells == full and window.scene.slice is None and window.scene._ghost is None
 
 
 def test_slice_outside_is_empty_and_the_view_survives(qtbot, window):
