@@ -334,6 +334,7 @@ def _gather(session, futures, cancel, on_done=None) -> list:
     other futures are cancelled.
     """
     from distributed import as_completed  # noqa: PLC0415
+    from distributed.scheduler import KilledWorker  # noqa: PLC0415
 
     index = {f.key: i for i, f in enumerate(futures)}
     results = [None] * len(futures)
@@ -347,7 +348,13 @@ def _gather(session, futures, cancel, on_done=None) -> list:
                 time.sleep(POLL)
                 continue
             for f in ac.next_batch(block=False):
-                results[index[f.key]] = f.result()  # re-raises a task's error here
+                try:
+                    results[index[f.key]] = f.result()  # re-raises a task's error here
+                except KilledWorker:
+                    raise InputError(
+                        "a task killed dask workers again and again (out of memory?): "
+                        "use a smaller block, or workers with more memory"
+                    ) from None
                 f.release()
                 done += 1
                 if on_done is not None:

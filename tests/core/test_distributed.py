@@ -130,6 +130,26 @@ def test_a_killed_worker_is_replaced_and_the_result_is_identical(cluster, tmp_pa
     client.wait_for_workers(2, timeout=60)  # the nanny restarted it
 
 
+class _KillAlways(distributed.WorkerPlugin):
+    """Kills every worker that starts a gcmh block task: dask gives up after a few deaths."""
+
+    def transition(self, key, start, finish, **kwargs):
+        if finish == "executing" and str(key).startswith("gcmh-block-"):
+            os._exit(1)
+
+
+def test_a_task_that_keeps_killing_workers_is_a_clear_error(cluster):
+    lc, client = cluster
+    client.register_plugin(_KillAlways(), name="kill-always")
+    try:
+        with pytest.raises(InputError, match="killed dask workers again and again"):
+            _run("sphere", 6, scheduler=lc.scheduler_address, block=6)  # one task
+    finally:
+        client.unregister_worker_plugin("kill-always")
+    client.wait_for_workers(2, timeout=60)
+    _assert_identical(_run("sphere", 6), _run("sphere", 6, scheduler=lc.scheduler_address))  # healthy again
+
+
 @pytest.mark.parametrize("address", ["tcp://127.0.0.1:1", "tcp://no-such-host.invalid:8786"])
 def test_unreachable_scheduler_is_a_clear_error_within_seconds(address):
     t = time.perf_counter()
