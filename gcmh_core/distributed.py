@@ -92,6 +92,8 @@ def run_distributed(method, n, k, axes, bounds, system, sampled, starts, schedul
     except ImportError:
         raise InputError("scheduler needs dask.distributed, which is not installed: pip install gcmh[cluster]") from None
     grid = _Grid(n, k, axes, method)  # validates the grid's size before any cluster starts
+    if progress is not None:  # starting a cluster takes a second or two: say so
+        progress("starting a local dask cluster" if address == "local" else f"connecting to {address}", 0.0)
     with _Session(address, sampled) as session:
         if method in CONTINUATION_METHODS:
             process = functools.partial(_process_wave, session, method, system, sampled, cancel)

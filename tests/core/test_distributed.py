@@ -205,7 +205,8 @@ def test_cancel_stops_the_run_and_its_tasks(cluster):
 
     with pytest.raises(Cancelled):
         _run("complex-cosine", 12, scheduler=lc.scheduler_address, block=2, progress=progress, cancel=cancel)
-    assert seen[0] == ("extracting: 0/1296 blocks", 0.0)
+    assert seen[0] == (f"connecting to {lc.scheduler_address}", 0.0)
+    assert seen[1] == ("extracting: 0/1296 blocks", 0.0)
 
     def pending(dask_scheduler):
         return [k for k in dask_scheduler.tasks if str(k).startswith("gcmh-")]
