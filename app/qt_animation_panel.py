@@ -17,9 +17,9 @@ from __future__ import annotations
 import time
 
 from qtpy.QtCore import QTimer, Signal
-from qtpy.QtWidgets import QComboBox, QFormLayout, QHBoxLayout, QLabel, QPushButton, QSpinBox, QWidget
+from qtpy.QtWidgets import QComboBox, QFormLayout, QHBoxLayout, QPushButton, QSpinBox, QWidget
 
-from .qt_widgets import error_label, group, panel_layout, slider
+from .qt_widgets import error_label, group, labelled_row, panel_layout, slider_row
 
 MODES = {"rotate": "Rotate in a plane", "tour": "Grand tour (smooth path through projections)",
          "slice": "Sweep the slice window"}
@@ -48,11 +48,9 @@ class QtAnimationPanel(QWidget):
         pf.addRow("animation", self.mode_combo)
         self.plane_combo = QComboBox()
         self.plane_combo.setToolTip("the plane of the rotation")
-        self.plane_label = QLabel("plane")
-        pf.addRow(self.plane_label, self.plane_combo)
-        self.speed_slider = slider(1, 100, 20, "speed: 1 = a tenth of the normal speed, 100 = five times")
-        self.speed_label = QLabel("speed 1.0\u00d7")
-        pf.addRow(self.speed_label, self.speed_slider)
+        self.plane_label = labelled_row(pf, "plane", self.plane_combo)
+        self.speed_slider, self.speed_label = slider_row(pf, "speed 1\u00d7", 1, 100, 20,
+                                                         "speed: 1 = a twentieth of the normal speed, 100 = five times")
         self.play_button = QPushButton("Play")
         self.play_button.setCheckable(True)
         self.play_button.setToolTip("start or pause the animation (Space)")

@@ -21,7 +21,7 @@ from qtpy.QtWidgets import (
 )
 
 from . import inputs
-from .qt_widgets import error_label, group, panel_layout
+from .qt_widgets import clear_layout, error_label, group, panel_layout
 from .worker import Job
 
 N_MAX = 12
@@ -234,13 +234,7 @@ class QtFormulaPanel(QWidget):
             # formulas: k fields (k may be invalid, show at least 1 and at most n_max)
             kk = max(1, min(k, N_MAX))
             texts = [e.text() for e in self.formula_edits]
-            while self.formula_layout.count():
-                it = self.formula_layout.takeAt(0)
-                w = it.widget()
-                if w is not None:
-                    w.hide()
-                    w.setParent(None)
-                    w.deleteLater()
+            clear_layout(self.formula_layout)
             self.formula_edits, self.formula_errors, self.formula_labels = [], [], []
             for i in range(kk):
                 roww = QWidget()

@@ -204,7 +204,7 @@ class QtMainWindow(QMainWindow):
         self.run_button.clicked.connect(self.run)
         self.cancel_button.clicked.connect(self.cancel)
         self.formula_panel.validityChanged.connect(self._update_buttons)
-        self.projection_panel.projectionChanged.connect(self._on_projection)
+        self.projection_panel.projectionChanged.connect(self._on_projection)  # points in place
         self.projection_panel.baseChanged.connect(self._on_base)
         self.projection_panel.styleChanged.connect(self._on_style)
         self.projection_panel.sliceChanged.connect(self._on_slice)

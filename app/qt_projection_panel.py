@@ -24,7 +24,7 @@ from qtpy.QtWidgets import (
 )
 
 from .projection import KIND_LABELS, KINDS, MAPPING_LABELS, MAPPINGS, ProjectionModel, default_axes
-from .qt_widgets import error_label, group, panel_layout, slider
+from .qt_widgets import clear_layout, connect_all, error_label, group, panel_layout, slider, slider_row
 from .slicing import SliceWindow
 
 SOLID = "(solid colour)"
@@ -79,9 +79,8 @@ class QtProjectionPanel(QWidget):
             self.mapping_combo.addItem(MAPPING_LABELS[k], k)
         self.mapping_combo.setToolTip("how R^n goes to 3D; perspective and stereographic need n >= 4")
         form.addRow("mapping", self.mapping_combo)
-        self.distance_slider = slider(11, 100, 30, "perspective: the eye's distance, in radii of the object")
-        self.distance_label = QLabel("eye distance 3.0")
-        form.addRow(self.distance_label, self.distance_slider)
+        self.distance_slider, self.distance_label = slider_row(
+            form, "eye distance 3.0", 11, 100, 30, "perspective: the eye's distance, in radii of the object")
         self.mapping_error = error_label()
         form.addRow(self.mapping_error)
         bl.addLayout(form)
@@ -110,12 +109,10 @@ class QtProjectionPanel(QWidget):
         self.slice_combo = QComboBox()
         self.slice_combo.setToolTip("a coordinate, or a direction the current projection hides")
         slf.addRow("along", self.slice_combo)
-        self.slice_c = slider(0, 1000, 500, "centre of the window (across the whole range)")
-        self.slice_c_label = QLabel("centre")
-        slf.addRow(self.slice_c_label, self.slice_c)
-        self.slice_w = slider(1, 500, 40, "half-width of the window (thousandths of the range)")
-        self.slice_w_label = QLabel("width")
-        slf.addRow(self.slice_w_label, self.slice_w)
+        self.slice_c, self.slice_c_label = slider_row(slf, "centre", 0, 1000, 500,
+                                                      "centre of the window (across the whole range)")
+        self.slice_w, self.slice_w_label = slider_row(slf, "width", 1, 500, 40,
+                                                      "half-width of the window (thousandths of the range)")
         self.slice_info = QLabel("")
         self.slice_info.setStyleSheet("color: #666; font-size: 11px;")
         slf.addRow(self.slice_info)
@@ -142,17 +139,13 @@ class QtProjectionPanel(QWidget):
             c.currentIndexChanged.connect(self._on_axes)
         self.seed_spin.valueChanged.connect(self._on_seed)
         self.reset_button.clicked.connect(self.reset)
-        self.color_combo.currentIndexChanged.connect(self._on_style)
-        self.opacity_slider.valueChanged.connect(self._on_style)
-        self.edges_check.toggled.connect(self._on_style)
-        for c in (self.two_sided_check, self.boundary_check, self.grid_check):
-            c.toggled.connect(self._on_style)
+        connect_all((self.color_combo.currentIndexChanged, self.opacity_slider.valueChanged,
+                     self.edges_check.toggled, self.two_sided_check.toggled, self.boundary_check.toggled,
+                     self.grid_check.toggled), self._on_style)
         self.mapping_combo.currentIndexChanged.connect(self._on_mapping)
         self.distance_slider.valueChanged.connect(self._on_distance)
-        self.slice_box.toggled.connect(self._on_slice)
-        self.slice_combo.currentIndexChanged.connect(self._on_slice)
-        self.slice_c.valueChanged.connect(self._on_slice)
-        self.slice_w.valueChanged.connect(self._on_slice)
+        connect_all((self.slice_box.toggled, self.slice_combo.currentIndexChanged, self.slice_c.valueChanged,
+                     self.slice_w.valueChanged), self._on_slice)
         self.set_variables(self.names)
 
     # ------------------------------------------------------------ building
@@ -207,13 +200,7 @@ class QtProjectionPanel(QWidget):
             self._updating = False
 
     def _build_sliders(self) -> None:
-        while self.slider_grid.count():
-            it = self.slider_grid.takeAt(0)
-            w = it.widget()
-            if w is not None:
-                w.hide()
-                w.setParent(None)
-                w.deleteLater()
+        clear_layout(self.slider_grid)
         for r in range(self.slider_grid.rowCount()):
             self.slider_grid.setRowStretch(r, 0)
         self.sliders, self.slider_labels, self.value_labels = [], [], []

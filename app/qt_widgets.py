@@ -38,3 +38,32 @@ def slider(lo: int, hi: int, value: int, tip: str = "") -> QSlider:
     s.setValue(value)
     s.setToolTip(tip)
     return s
+
+
+def labelled_row(form, text: str, field):
+    """Add ``field`` to a QFormLayout under a label the caller can change or hide; returns the label."""
+    lab = QLabel(text)
+    form.addRow(lab, field)
+    return lab
+
+
+def slider_row(form, text: str, lo: int, hi: int, value: int, tip: str = ""):
+    """A labelled horizontal slider row in a QFormLayout: (slider, label)."""
+    s = slider(lo, hi, value, tip)
+    return s, labelled_row(form, text, s)
+
+
+def connect_all(signals, slot) -> None:
+    """Connect every signal in ``signals`` to ``slot``."""
+    for sig in signals:
+        sig.connect(slot)
+
+
+def clear_layout(layout) -> None:
+    """Remove and delete every widget of ``layout`` (hidden first, so nothing flashes as a top-level window)."""
+    while layout.count():
+        w = layout.takeAt(0).widget()
+        if w is not None:
+            w.hide()
+            w.setParent(None)
+            w.deleteLater()
