@@ -13,7 +13,9 @@
 Every run is a fresh child process (so its peak memory is its own) that first loads
 the cached kernels on a tiny grid, then reports the best of `--repeat` runs (one run
 when a run takes more than a third of `--limit`).  A series (one method of one table)
-stops once a run passes `--limit` seconds: larger divisions are marked "skipped".
+stops once a run passes `--limit` seconds, or before a run predicted (from the last one,
+time ~ div^n for a sweep, div^(n-k) for continuation) to take more than 3 x `--limit`:
+larger divisions are marked "skipped" with the reason.
 Speed is measured here, never asserted in tests; on a shared machine compare peers of
 the same run (the ratios), not absolute times.
 """
@@ -174,18 +176,25 @@ class Runner:
         self.results[key] = res
         return res
 
-    def series(self, table: str, example: str, method: str, divs, **extra) -> None:
-        over = None
+    def series(self, table: str, example: str, method: str, divs, growth: float, **extra) -> None:
+        """Runs div by div; stops after a run over the limit, or before one predicted to take
+        more than 3 x the limit (time ~ div^growth: n for a full sweep, n - k for continuation)."""
+        why, last = None, None
         for div in divs:
             if self.max_div is not None and div > self.max_div:
                 continue
-            if over is not None:
-                self.results[(table, method, div)] = dict(skipped=f"div {over} took > {self.limit:g} s")
+            if why is None and last is not None:
+                predicted = last[1] * (div / last[0]) ** growth
+                if predicted > 3 * self.limit:
+                    why = f"predicted {predicted:.0f} s"
+            if why is not None:
+                self.results[(table, method, div)] = dict(skipped=why)
                 continue
             res = self.run((table, method, div), dict(example=example, method=method, div=div, **extra))
             print(f"  {table} {method} div {div}: {_secs(res)}", file=sys.stderr, flush=True)
-            if res.get("seconds", float("inf")) > self.limit:
-                over = div
+            last = (div, res.get("seconds", float("inf")))
+            if last[1] > self.limit:
+                why = f"div {div} took > {self.limit:g} s"
 
 
 def _secs(r: dict | None) -> str:
@@ -310,7 +319,8 @@ def _machine() -> str:
                     break
     except OSError:
         pass
-    return f"{cpu}, {os.cpu_count()} cores, Python {platform.python_version()}"
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    return f"{cpu}, {cores} cores, Python {platform.python_version()}"
 
 
 def main(argv=None) -> int:
@@ -335,20 +345,20 @@ def main(argv=None) -> int:
     t0 = time.perf_counter()
     if "table1" in tables or "table2" in tables:
         for m in ("cms", "gcmh", "ccs", "gcch"):
-            R.series("table1", "complex-cosine", m, TABLE1_DIVS)
+            R.series("table1", "complex-cosine", m, TABLE1_DIVS, growth=2 if m in ("gcch", "ccs") else 4)
     if "table3" in tables:
         for m in ("gcmh", "gcch"):
-            R.series("table3", "three-torus", m, TABLE3_DIVS)
+            R.series("table3", "three-torus", m, TABLE3_DIVS, growth=3 if m == "gcch" else 6)
     if "sphere" in tables:
         small = R.max_div is not None and R.max_div < SPHERE_DIVS[0]
-        R.series("sphere", "sphere", "gcmh", SPHERE_DIVS_SMALL if small else SPHERE_DIVS, peers=True)
+        R.series("sphere", "sphere", "gcmh", SPHERE_DIVS_SMALL if small else SPHERE_DIVS, growth=3, peers=True)
     if "engine" in tables:
         for m in ("gcmh", "gcch"):
             R.run(("engine", f"klein-{m}", 0), dict(example="klein-bottle", method=m, div=[40, 40, 20, 40, 40]))
         R.run(("engine", "fresh", 0), dict(example="complex-cosine", method="gcmh", div=10, fresh=True))
     print(f"Measured {date.today().isoformat()} on {_machine()} (paper: {PAPER_MACHINE}); "
           f"best of {args.repeat} warm runs, each in a fresh process (peak = its max RSS, Python and numba included); "
-          f"a series stops after a run over {args.limit:g} s. Total {time.perf_counter() - t0:.0f} s.\n")
+          f"a series stops after a run over {args.limit:g} s or before one predicted over {3 * args.limit:g} s. Total {time.perf_counter() - t0:.0f} s.\n")
     if "table1" in tables:
         print_table1(R)
     if "table1" in tables or "table2" in tables:

@@ -15,22 +15,18 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
-import resource
 import subprocess
 import sys
 import time
 from datetime import datetime, timezone
+
+from .bench import _machine, _peak_mb
 
 CASES = {
     # name: (example, div)
     "cosine-160": ("complex-cosine", 160),
     "three-torus-12": ("three-torus", 12),
 }
-
-
-def _peak_mb() -> float:
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
 def _digest(cx) -> str:
@@ -91,20 +87,6 @@ def _child(case: str, mode: str, workers: int) -> dict:
     out.update(counts=cx.counts(), euler=cx.euler_characteristic(), digest=_digest(cx),
                cubes=cx.meta["cubes"], candidates=cx.meta["candidate_cubes"], peak_mb=_peak_mb())
     return out
-
-
-def _machine() -> str:
-    cpu = platform.processor() or platform.machine()
-    try:
-        with open("/proc/cpuinfo") as fh:
-            for line in fh:
-                if line.startswith("model name"):
-                    cpu = line.split(":", 1)[1].strip()
-                    break
-    except OSError:
-        pass
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    return f"{cpu}, {cores} cores, Python {platform.python_version()}"
 
 
 def _load() -> str:

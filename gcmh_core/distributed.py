@@ -51,7 +51,7 @@ from numbers import Integral
 import numpy as np
 
 from .errors import Cancelled, InputError
-from .extract import CONTINUATION_METHODS, _Grid, _run_gcch, block_values
+from .extract import CONTINUATION_METHODS, _Grid, _run_gcch, block_values, per_axis_ints
 
 # Default block: at most this many vertices (bounds a worker's memory, see the module doc) ...
 BLOCK_VERTICES = 1 << 21
@@ -147,21 +147,7 @@ def _check_scheduler(scheduler) -> str:
 
 
 def _check_block(block, n: int) -> np.ndarray | None:
-    if block is None:
-        return None
-    if isinstance(block, (Integral, np.integer)) and not isinstance(block, bool):
-        block = [int(block)] * n
-    if isinstance(block, (str, bytes)) or not hasattr(block, "__len__"):
-        raise InputError(f"block must be a positive integer or one per axis, got {block!r}")
-    values = list(block)
-    if any(isinstance(b, bool) or not isinstance(b, (Integral, np.integer)) for b in values):
-        raise InputError(f"block must be a positive integer or one per axis, got {block!r}")
-    if len(values) != n:
-        raise InputError(f"block has {len(values)} entries but there are n = {n} axes")
-    for a, b in enumerate(values):
-        if b < 1:
-            raise InputError(f"block must be at least 1 cube on every axis (axis {a + 1} has {b})")
-    return np.array(values, np.int64)
+    return None if block is None else per_axis_ints(block, n, "block")
 
 
 # ----------------------------------------------------------------------------- the cluster

@@ -32,21 +32,30 @@ _SLAB_VERTICES = 1 << 22
 
 
 # ----------------------------------------------------------------------------- validation
-def _as_div(div, n: int) -> np.ndarray:
-    if isinstance(div, (Integral, np.integer)) and not isinstance(div, bool):
-        div = [int(div)] * n
+def per_axis_ints(value, n: int, what: str) -> np.ndarray:
+    """(n,) int64 from one positive integer (the same on every axis) or one per axis;
+    a clear InputError naming `what` otherwise (bools, fractions, strings, wrong length)."""
+    if isinstance(value, (Integral, np.integer)) and not isinstance(value, bool):
+        value = [int(value)] * n
     try:
-        arr = [int(d) for d in div]
-        if any(float(d) != int(d) for d in div):
+        if isinstance(value, (str, bytes)):
+            raise TypeError
+        items = list(value)
+        if any(isinstance(v, bool) for v in items) or any(float(v) != int(v) for v in items):
             raise ValueError
-    except (TypeError, ValueError):
-        raise InputError(f"div must be a positive integer or one per axis, got {div!r}") from None
+        arr = [int(v) for v in items]
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{what} must be a positive integer or one per axis, got {value!r}") from None
     if len(arr) != n:
-        raise InputError(f"div has {len(arr)} entries but there are n = {n} axes")
+        raise InputError(f"{what} has {len(arr)} entries but there are n = {n} axes")
     for a, d in enumerate(arr):
         if d < 1:
-            raise InputError(f"div must be at least 1 on every axis (axis {a + 1} has {d})")
+            raise InputError(f"{what} must be at least 1 cube on every axis (axis {a + 1} has {d})")
     return np.array(arr, np.int64)
+
+
+def _as_div(div, n: int) -> np.ndarray:
+    return per_axis_ints(div, n, "div")
 
 
 def _number(x, what: str) -> float:
