@@ -371,7 +371,11 @@ def test_session_save_and_open_restores_state(qtbot, window, tmp_path):
     with qtbot.waitSignal(window.runFinished, timeout=60_000):
         window.run()
     pp.sliders[2].setValue(33)
+    pp.set_mapping("perspective")       # issue 5: mapping, slice and two-sided colours are part of the view
+    pp.set_slice("u", 0.4, 0.05)
+    pp.two_sided_check.setChecked(True)
     state = window.session()
+    assert state["view"]["mapping"] == "perspective" and state["view"]["slice"]["along"] == "u"
     path = tmp_path / "s.json"
     window.save_session(path)
     d = json.loads(path.read_text())
@@ -389,6 +393,7 @@ def test_session_save_and_open_restores_state(qtbot, window, tmp_path):
         s2 = w2.session()
         assert s2["system"] == state["system"]
         assert s2["view"] == state["view"]
+        assert w2.scene.slice is not None and w2.scene.view.mapping == "perspective" and w2.scene.style.two_sided
         np.testing.assert_allclose(s2["camera"]["position"], state["camera"]["position"], rtol=1e-6)
         np.testing.assert_allclose(w2.scene.mesh.points, points, atol=1e-5)
         assert w2.projection_panel.color_by() == "u"
