@@ -487,6 +487,8 @@ class QtMainWindow(QMainWindow):
         pp.set_variables(names, keep=(names == prev_names))
         pp.model.set_vertices(cx.vertices)
         self.animation_panel.set_variables(names)
+        if names != prev_names:
+            self.animation_panel.set_plane(self._telling_plane())
         if prev_dim is None or (prev_dim <= 2) != (cx.dim <= 2):
             pp.set_style_defaults(cx.dim)
         if view:
@@ -663,6 +665,9 @@ class QtMainWindow(QMainWindow):
         self._anim_t = 0.0
         self._anim_a0 = self.projection_panel.model.angles.copy()
         ap = self.animation_panel
+        plane = ap.plane()
+        still = (on and ap.mode() == "rotate" and plane is not None and self.projection_panel.model.mapping ==
+                 "orthographic" and np.allclose(self.projection_panel.model.matrix()[:, list(plane)], 0.0))
         if on and ap.mode() == "slice" and self.projection_panel.slice_window() is None:
             ap.show_message("Turn the slice on in the View tab first.")
             ap.set_playing(False)
@@ -670,7 +675,8 @@ class QtMainWindow(QMainWindow):
             ap.show_message("Nothing to animate yet: run first.")
             ap.set_playing(False)
         elif on:
-            ap.show_message("")
+            ap.show_message("Both axes of this plane are hidden: turning it moves nothing on screen. "
+                            "Pick a plane with a shown axis." if still else "")
             if ap.mode() == "slice":   # start the sweep where the slider is
                 c0 = self.projection_panel.slice_fractions()[0]
                 self._anim_t = np.arccos(np.clip(1 - 2 * c0, -1, 1)) / (2 * np.pi)
@@ -695,6 +701,17 @@ class QtMainWindow(QMainWindow):
         else:
             self._anim_t += dt / SLICE_PERIOD
             pp.set_slice_center(0.5 * (1 - np.cos(2 * np.pi * self._anim_t)))
+
+    def _telling_plane(self) -> tuple[int, int]:
+        """A plane whose rotation changes the picture: the last shown axis with the first hidden one."""
+        P = self.projection_panel.model.matrix()
+        n = P.shape[1]
+        shown = [i for i in range(n) if np.any(np.abs(P[:, i]) > 1e-9)]
+        hidden = [i for i in range(n) if i not in shown]
+        if not shown or not hidden:
+            return (0, 1) if n >= 2 else (0, 0)
+        a, b = shown[-1], hidden[0]
+        return (min(a, b), max(a, b))
 
     def animation_frames(self, n_frames: int, model=None):
         """Frames of the animation chosen in the Animate tab (from the current view) and the slice to use."""

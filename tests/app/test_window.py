@@ -673,10 +673,12 @@ def test_mapping_kinds_keep_the_rotation(qtbot, window):
 def test_animation_play_tour_rotate_and_sweep(qtbot, window):
     _klein(qtbot, window)
     ap, pp = window.animation_panel, window.projection_panel
+    assert ap.plane() == (2, 3)         # by default a plane that turns a hidden axis (s) into view (z)
     ap.set_mode("rotate")
     ap.set_plane((3, 4))
     row = pp.model.planes.index((3, 4))
     window._on_anim_playing(True)
+    assert "hidden" in ap.message.text()   # s-t: both hidden, said so (the angle still turns)
     window._on_anim_tick(1.5)           # 1.5 s at speed 1: 45 degrees
     assert pp.model.angles[row] == pytest.approx(45.0)
     assert pp.sliders[row].value() == 45
