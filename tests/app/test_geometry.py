@@ -126,3 +126,43 @@ def test_mesh_normals_of_a_stereographic_sphere_point_outward():
     cos = np.einsum("ij,ij->i", c, N) / (np.linalg.norm(c, axis=1) * np.linalg.norm(N, axis=1))
     assert np.all(np.abs(cos) > 0.9)
     assert abs(np.mean(np.sign(cos))) == 1.0      # one side everywhere: oriented loops
+
+
+def test_klein_seam_swaps_the_sides():
+    """Oriented loops (gcmh_core.analysis.orient_2cells when present) of the Klein sheet: where its s = 0 and
+    s = 2 pi edges meet in (x, y, z), the faces on the two sides have opposite normals -- the swap of colours
+    that two-sided colouring shows."""
+    from gcmh_core.examples import load_example
+
+    from app.geometry import Geometry
+    from app.worker import Job, run_job
+
+    ex = load_example("klein-bottle")
+    cx = run_job(Job(formulas=list(ex.formulas), variables=list(ex.variables),
+                     bounds=[tuple(b) for b in ex.bounds], div=[16, 16, 8, 20, 20]))
+    geo = Geometry.build(cx)
+    X = cx.vertices
+    off, vids = geo.offsets, geo.vids
+    F = len(off) - 1
+    cent = np.add.reduceat(X[vids], off[:-1], axis=0) / np.diff(off)[:, None]
+    # Newell normals of the loops in (x, y, z)
+    P = X[:, :3]
+    nxt = np.arange(1, len(vids) + 1)
+    nxt[off[1:] - 1] = off[:-1]
+    N = np.add.reduceat(np.cross(P[vids], P[vids[nxt]]), off[:-1], axis=0)
+    N /= np.linalg.norm(N, axis=1)[:, None]
+    two_pi = 2 * np.pi
+    lo = np.flatnonzero(cent[:, 3] < 0.25)
+    hi = np.flatnonzero(cent[:, 3] > two_pi - 0.25)
+    assert len(lo) > 10 and len(hi) > 10
+    d = np.linalg.norm(cent[lo, None, :3] - cent[None, hi, :3], axis=2)
+    match = hi[np.argmin(d, axis=1)]
+    close = d.min(axis=1) < 0.6
+    dots = np.einsum("ij,ij->i", N[lo[close]], N[match[close]])
+    assert close.sum() > 10
+    assert np.mean(dots < 0) > 0.9, dots
+    # away from the seam, neighbours agree (the loops are coherently oriented)
+    mid = np.flatnonzero(np.abs(cent[:, 3] - np.pi) < 0.3)
+    dm = np.linalg.norm(cent[mid, None, :3] - cent[None, mid, :3], axis=2) + np.eye(len(mid)) * 9
+    nb = np.argmin(dm, axis=1)
+    assert np.mean(np.einsum("ij,ij->i", N[mid], N[mid[nb]]) > 0) > 0.9
