@@ -138,3 +138,21 @@ def test_headless_animate_bad_spec_exits_2_with_one_line(args):
     assert r.returncode == 2
     lines = [ln for ln in r.stderr.splitlines() if ln.strip()]
     assert len(lines) == 1 and lines[0].startswith("gcmh-app:"), r.stderr
+
+
+def test_headless_screenshot_with_slice_mapping_and_two_sides(tmp_path):
+    import imageio.v3 as iio
+
+    full, cut = tmp_path / "full.png", tmp_path / "cut.png"
+    common = ["--example", "klein-bottle", "--div", "10,10,6,12,12", "--size", "200x150", "--two-sided"]
+    assert _run_app(*common, "--screenshot", str(full)).returncode == 0
+    r = _run_app(*common, "--slice", "s=3", "--slice-width", "0.3", "--mapping", "perspective", "--screenshot", str(cut))
+    assert r.returncode == 0, r.stderr
+    a, b = iio.imread(full)[..., :3].astype(int), iio.imread(cut)[..., :3].astype(int)
+    assert np.abs(a - b).mean() > 1.0
+    blue = lambda img: np.sum(img[..., 2] > img[..., 0] + 60)  # noqa: E731
+    assert blue(a) > 100                      # the back side shows
+    bad = _run_app("--example", "sphere", "--mapping", "stereographic", "--screenshot", str(tmp_path / "x.png"))
+    assert bad.returncode == 2 and "n >= 4" in bad.stderr
+    bad = _run_app("--example", "klein-bottle", "--slice", "q=1", "--screenshot", str(tmp_path / "x.png"))
+    assert bad.returncode == 2 and "--slice" in bad.stderr
