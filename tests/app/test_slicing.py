@@ -117,3 +117,26 @@ def test_window_range_and_bad_input():
         clip_polygons(X, np.array([0]), np.array([], int), [1, 0, 0], 0, 1)
     with pytest.raises(ValueError, match="half-width"):
         clip_polygons(X, np.array([0]), np.array([], int), [1, 0], 0, -1)
+
+
+def test_any_n_along_a_hidden_direction():
+    """A flat torus in R^10, sliced along a direction a generic view hides."""
+    from app.bench_view import torus_complex
+    from app.projection import ProjectionModel
+    from app.slicing import SliceWindow
+
+    cx = torus_complex(30, 10)
+    off, vids = cx.polygons()
+    m = ProjectionModel(n=10, kind="generic", seed=5)
+    m.angles[:] = 11.0
+    sw = SliceWindow(6, hidden=True)
+    u = sw.direction(m.frame())
+    assert np.isclose(np.linalg.norm(u), 1) and np.allclose(m.matrix() @ u, 0, atol=1e-12)
+    lo, hi = window_range(cx.vertices, u)
+    c, w = 0.5 * (lo + hi), 0.05 * (hi - lo)
+    s = clip_polygons(cx.vertices, off, vids, u, c, w)
+    h = s.vertices @ u
+    assert s.n_cells > 0 and np.all(h >= c - w - 1e-9) and np.all(h <= c + w + 1e-9)
+    assert np.all(np.isclose(h[s.source < 0], c - w) | np.isclose(h[s.source < 0], c + w))
+    with pytest.raises(ValueError, match="hidden direction 8"):
+        SliceWindow(7, hidden=True).direction(m.frame())
