@@ -133,11 +133,9 @@ def _clip_half(face, vk, hv, ea, eb, level, keep_above, key_offset=0):
     return o_face, o_vk, o_h, o_ea, o_eb, na, nb
 
 
-def _close_loops(face, n_faces):
-    """Drop loops with fewer than 3 corners: (keep mask over corners, kept face ids)."""
-    cnt = np.bincount(face, minlength=n_faces)
-    good = cnt >= 3
-    return good[face], np.flatnonzero(good)
+def _proper_loops(face, n_faces):
+    """Mask over corners keeping the loops with at least 3 corners (a clip can leave slivers of 1 or 2)."""
+    return (np.bincount(face, minlength=n_faces) >= 3)[face]
 
 
 def _finish(X, h, vk, new_lists):
@@ -206,10 +204,10 @@ def clip_polygons(vertices, offsets, vids, direction, c: float, w: float) -> Sli
         nxt[ends] = start
     ea, eb = vk.copy(), vk[nxt]
     f1, k1, h1, a1, b1, na1, nb1 = _clip_half(face, vk, hv, ea, eb, lo, True)
-    ok, _ = _close_loops(f1, F)
+    ok = _proper_loops(f1, F)
     f1, k1, h1, a1, b1 = f1[ok], k1[ok], h1[ok], a1[ok], b1[ok]
     f2, k2, h2, a2, b2, na2, nb2 = _clip_half(f1, k1, h1, a1, b1, hi, False, key_offset=len(na1))
-    ok, _ = _close_loops(f2, F)
+    ok = _proper_loops(f2, F)
     f2, k2 = f2[ok], k2[ok]
     if len(f2) == 0:
         n = X.shape[1]
