@@ -642,3 +642,57 @@ def simplices_kernel(
             write, counts, offsets, vk_out, vp_out, e_out, c_out, i_out,
         )
     return degenerate.sum()
+
+
+# ----------------------------------------------------------------------------- the candidate pass
+# Which cubes can hold a piece of M_A: every component of F has a value >= 0 and one < 0
+# among the cube's corners, and no corner value is NaN or infinite.  A per-vertex code
+# (bit 2j: F_j >= 0, bit 2j+1: F_j < 0, bit 2k: not finite) OR-ed over the corners is
+# separable: one in-place pass per axis instead of 2^n gathers per cube.
+
+_BLOCK = 4096  # contiguous run of one OR pass given to one thread
+
+
+@nb.njit(**PARALLEL_JIT)
+def vertex_sign_codes(vals, code):
+    """vals (NV, k) float64 -> code (NV,) unsigned (uint8 .. uint64, wide enough for 2k + 1 bits)."""
+    nv, k = vals.shape
+    bad = np.uint64(1) << np.uint64(2 * k)
+    for v in prange(nv):
+        c = np.uint64(0)
+        for j in range(k):
+            x = vals[v, j]
+            if not np.isfinite(x):
+                c = bad
+                break
+            c |= np.uint64(1 if x >= 0.0 else 2) << np.uint64(2 * j)
+        code[v] = c
+
+
+@nb.njit(**PARALLEL_JIT)
+def or_with_next_along_axis(code, n_outer, length, stride):
+    """code viewed as (n_outer, length, stride): code[o, i] |= code[o, i + 1] for i < length - 1.
+
+    In increasing i, so code[o, i + 1] is still the original when it is read.
+    """
+    nblk = (stride + _BLOCK - 1) // _BLOCK
+    for t in prange(n_outer * nblk):
+        o = t // nblk
+        j0 = (t % nblk) * _BLOCK
+        j1 = min(j0 + _BLOCK, stride)
+        base = o * length * stride
+        for i in range(length - 1):
+            row = base + i * stride
+            for j in range(j0, j1):
+                code[row + j] |= code[row + stride + j]
+
+
+@nb.njit(**PARALLEL_JIT)
+def codes_to_candidates(code, k, out):
+    """out[v] = every component has both signs at the cube's corners and all are finite."""
+    full = np.uint64(0)
+    for j in range(k):
+        full |= np.uint64(3) << np.uint64(2 * j)
+    mask = full | (np.uint64(1) << np.uint64(2 * k))
+    for v in prange(code.shape[0]):
+        out[v] = (code[v] & mask) == full

@@ -26,6 +26,7 @@ from pathlib import Path
 from typing import Sequence
 
 from .errors import InputError
+from .extract import CONTINUATION_METHODS, METHODS
 
 PROG = "gcmh"
 
@@ -104,7 +105,11 @@ def _build_parser() -> _Parser:
     grid = p.add_argument_group("grid and method")
     grid.add_argument("--div", metavar="D|D1,...,DN", help="divisions per axis (default: the example's, else 10)")
     grid.add_argument("--seed", metavar="S", default="0", help="seed of the grid perturbation (default 0)")
-    grid.add_argument("--method", default="gcmh", help="extraction method (default gcmh)")
+    grid.add_argument(
+        "--method", default="gcmh", metavar="|".join(METHODS),
+        help="gcmh: every grid cube (default); gcch: continuation from --start; "
+        "cms, ccs: the paper's simplicial baselines (whole grid, continuation)",
+    )
     grid.add_argument("--start", metavar="X1,...,XN|auto", help="start point on M (continuation methods), or auto")
     dist = p.add_argument_group("on a dask cluster (pip install gcmh[cluster])")
     dist.add_argument(
@@ -271,7 +276,7 @@ def _job_from_args(args) -> dict:
         if bounds is None:
             bounds = list(ex.bounds)
         div = ex.div
-        start = ex.start if args.method.strip().lower() != "gcmh" else None
+        start = ex.start if args.method.strip().lower() in CONTINUATION_METHODS else None
         name = ex.name
     else:
         formulas = list(args.formulas)

@@ -389,8 +389,9 @@ class _Grid:
         values = np.ascontiguousarray(values, np.float64)
         t = time.perf_counter()
         # a vertex is counted by the block below it, unless it is on the grid's last layer
-        owned = tuple(slice(None) if hi[a] == self.dims[a] - 1 else slice(None, -1) for a in range(self.n))
-        self.stats["nonfinite_vertices"] += int(np.count_nonzero(~np.isfinite(values[owned]).all(axis=-1)))
+        if not np.isfinite(values).all():  # (a contiguous pass; the count below is the slow one)
+            owned = tuple(slice(None) if hi[a] == self.dims[a] - 1 else slice(None, -1) for a in range(self.n))
+            self.stats["nonfinite_vertices"] += int(np.count_nonzero(~np.isfinite(values[owned]).all(axis=-1)))
         local = np.nonzero(candidate_cubes(values))
         self.timings["candidates"] += time.perf_counter() - t
         if len(local[0]) == 0:

@@ -63,17 +63,22 @@ def candidate_cubes(values: np.ndarray) -> np.ndarray:
     """Boolean (d0, ..., d_{n-1}) mask of cubes where every component has both signs.
 
     values (d0+1, ..., d_{n-1}+1, k).  A cube with a non-finite corner is never a
-    candidate.  The OR over a cube's 2^n corners is separable, so it costs n
-    cheap passes over the grid instead of 2^n gathers per cube.
+    candidate.  The OR of the corners' sign codes is separable, so it costs one
+    parallel in-place pass per axis (numba) instead of 2^n gathers per cube.
     """
+    from . import _kernels  # noqa: PLC0415  (numba compiles on first use, not on import)
+
+    values = np.ascontiguousarray(values, np.float64)
+    dims = values.shape[:-1]
     k = values.shape[-1]
-    code = sign_codes(values)
-    for axis in range(code.ndim):
-        lo = [slice(None)] * code.ndim
-        hi = [slice(None)] * code.ndim
-        lo[axis] = slice(None, -1)
-        hi[axis] = slice(1, None)
-        code = code[tuple(lo)] | code[tuple(hi)]
-    full = code.dtype.type(sum(3 << (2 * j) for j in range(k)))
-    mask = full | code.dtype.type(1 << (2 * k))
-    return (code & mask) == full
+    code = np.empty(int(np.prod(dims)), _code_dtype(k))  # the narrowest: the OR passes are memory-bound
+    _kernels.vertex_sign_codes(values.reshape(-1, k), code)
+    stride = 1
+    for axis in range(len(dims) - 1, -1, -1):
+        length = dims[axis]
+        if length > 1:
+            _kernels.or_with_next_along_axis(code, code.size // (length * stride), length, stride)
+        stride *= length
+    out = np.empty(code.size, np.bool_)
+    _kernels.codes_to_candidates(code, k, out)
+    return out.reshape(dims)[tuple(slice(0, d - 1) for d in dims)]

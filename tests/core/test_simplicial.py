@@ -87,3 +87,14 @@ def test_cms_on_sampled_data_and_bad_arguments():
         extract("x1^2 + x2^2 + x3^2 + x4^2 + x5^2 + x6^2 + x7^2 + x8^2 - 1", (-2, 2), 2, method="cms")
     with pytest.raises(InputError, match="unknown method"):
         extract("x^2 + y^2 - 1", (-2, 2), 4, variables="x,y", method="marching")
+
+
+@pytest.mark.parametrize("method", ["cms", "ccs"])
+def test_command_line_runs_the_baselines(method, capsys):
+    import json
+
+    from gcmh_core.cli import main
+
+    assert main(["extract", "--example", "complex-cosine", "--div", "6", "--method", method, "--json", "--quiet"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["method"] == method and out["euler_characteristic"] == 1
