@@ -9,7 +9,7 @@ Smooth shading of a projected surface: the area-weighted normal of a triangle
 (a, b) after projection is ``Pa x Pb = sum_{i<j} (a_i b_j - a_j b_i) (P_i x P_j)``
 (``P_i`` = column i of ``P``), linear in the bivector ``a ^ b``. So each vertex
 keeps the sum of its faces' bivectors in R^n (computed once, from polygons
-oriented coherently by a BFS; where a surface is not orientable the signs are
+oriented coherently by gcmh_core.analysis.orient_2cells; where a surface is not orientable the signs are
 also aligned with one neighbour), and a slider step gets every vertex normal
 with one more small matmul.
 
@@ -63,113 +63,16 @@ def _wedge(a: np.ndarray, b: np.ndarray, pairs) -> np.ndarray:
     return a[:, I] * b[:, J] - a[:, J] * b[:, I]
 
 
-def _orientation_flips(face_of, vids, nxt, n_faces: int) -> np.ndarray:
-    """Flip bits that orient the polygons coherently (BFS over faces sharing an edge).
-
-    Two faces sharing an edge agree when they run through it in opposite
-    directions. On a non-orientable piece the first assignment wins and a seam
-    remains. Returns (n_faces,) bool.
-    """
-    a = vids
-    b = vids[nxt]
-    lo = np.minimum(a, b)
-    hi = np.maximum(a, b)
-    fwd = a < b
-    V = int(vids.max()) + 1 if len(vids) else 1
-    key = lo * V + hi
-    order = np.argsort(key, kind="stable")
-    ks = key[order]
-    same = np.flatnonzero(ks[1:] == ks[:-1])        # consecutive corners on one edge
-    c1, c2 = order[same], order[same + 1]
-    f1, f2 = face_of[c1], face_of[c2]
-    rel = (fwd[c1] == fwd[c2]).astype(np.int8)       # 1: must differ in flip
-    ok = f1 != f2
-    f1, f2, rel = f1[ok], f2[ok], rel[ok]
-    # CSR adjacency, both directions
-    src = np.concatenate([f1, f2])
-    dst = np.concatenate([f2, f1])
-    rr = np.concatenate([rel, rel])
-    o = np.argsort(src, kind="stable")
-    src, dst, rr = src[o], dst[o], rr[o]
-    ptr = np.zeros(n_faces + 1, dtype=np.int64)
-    np.cumsum(np.bincount(src, minlength=n_faces), out=ptr[1:])
-    return _bfs_flips(ptr, dst.astype(np.int64), rr, n_faces)
-
-
-def _bfs_flips(ptr, dst, rel, n_faces):
-    try:
-        from numba import njit
-    except ImportError:  # pragma: no cover - numba is a dependency of gcmh_core
-        njit = None
-    global _BFS
-    if _BFS is None:
-        def bfs(ptr, dst, rel, n_faces):
-            flip = np.zeros(n_faces, dtype=np.bool_)
-            seen = np.zeros(n_faces, dtype=np.bool_)
-            queue = np.empty(n_faces, dtype=np.int64)
-            for s in range(n_faces):
-                if seen[s]:
-                    continue
-                seen[s] = True
-                head = 0
-                tail = 1
-                queue[0] = s
-                while head < tail:
-                    f = queue[head]
-                    head += 1
-                    for e in range(ptr[f], ptr[f + 1]):
-                        g = dst[e]
-                        if not seen[g]:
-                            seen[g] = True
-                            flip[g] = flip[f] ^ (rel[e] == 1)
-                            queue[tail] = g
-                            tail += 1
-            return flip
-        _BFS = njit(cache=True, nogil=True)(bfs) if njit is not None else bfs
-    return _BFS(ptr, dst, rel, n_faces)
-
-
-_BFS = None
-
-
-def orient_polygons(offsets: np.ndarray, vids: np.ndarray) -> np.ndarray:
-    """The loops with some reversed so that neighbouring polygons wind the same way."""
-    offsets = np.asarray(offsets, dtype=np.int64)
-    vids = np.asarray(vids, dtype=np.int64)
-    N = len(offsets) - 1
-    if N == 0:
-        return vids
-    sizes = np.diff(offsets)
-    face_of = np.repeat(np.arange(N), sizes)
-    pos = np.arange(len(vids))
-    nxt = pos + 1
-    nxt[offsets[1:] - 1] = offsets[:-1]
-    flip = _orientation_flips(face_of, vids, nxt, N)
-    if not flip.any():
-        return vids
-    # reverse flipped loops: position p in face f -> offsets[f] + (offsets[f+1] - 1 - p)
-    src = pos.copy()
-    fl = flip[face_of]
-    src[fl] = offsets[face_of[fl]] + offsets[face_of[fl] + 1] - 1 - pos[fl]
-    return vids[src]
-
-
 def oriented_loops(cx, offsets, vids, cell_ids) -> np.ndarray:
-    """The 2-cells' loops (``offsets``, ``vids`` for cells ``cell_ids``) coherently oriented.
+    """The 2-cells' loops (``offsets``, ``vids`` for cells ``cell_ids``) coherently oriented
+    by ``gcmh_core.analysis.orient_2cells`` (one orientation for the whole project)."""
+    from gcmh_core.analysis import orient_2cells
 
-    Uses ``gcmh_core.analysis.orient_2cells`` (one orientation for the whole
-    project) when the library has it, else the BFS of :func:`orient_polygons`.
-    """
-    try:
-        from gcmh_core.analysis import orient_2cells
-    except ImportError:
-        return orient_polygons(offsets, vids)
     o = orient_2cells(cx)
     oo, ov = np.asarray(o.offsets, dtype=np.int64), np.asarray(o.vertices, dtype=np.int64)
-    sizes = np.diff(oo)
-    if len(sizes) <= (cell_ids.max() if len(cell_ids) else -1) or not np.array_equal(sizes[cell_ids], np.diff(offsets)):
-        return orient_polygons(offsets, vids)   # not the loops we draw: keep ours
-    sz = sizes[cell_ids]
+    sz = np.diff(oo)[cell_ids]
+    if not np.array_equal(sz, np.diff(offsets)):
+        raise ValueError("the loops to orient are not the complex's 2-cells")
     first = np.cumsum(sz) - sz
     take = np.repeat(oo[cell_ids] - first, sz) + np.arange(int(sz.sum()))
     return ov[take]
@@ -178,7 +81,7 @@ def oriented_loops(cx, offsets, vids, cell_ids) -> np.ndarray:
 def vertex_bivectors(vertices: np.ndarray, offsets: np.ndarray, vids: np.ndarray, return_signs: bool = False):
     """Per-vertex sum of the area bivectors of its polygons (V, n(n-1)/2) float64.
 
-    Pass loops oriented by :func:`orient_polygons`; where orientation fails (a
+    Pass loops oriented by :func:`oriented_loops`; where orientation fails (a
     non-orientable seam) each face's sign is also aligned with one reference
     face at the vertex, so normals never cancel. Order of components: planes().
     With ``return_signs``, also the (corners,) float64 sign used at each corner.
@@ -534,23 +437,26 @@ GRID_EDGE_LIMIT = 400_000
 def grid_cube_lines(cx):
     """Edges of the grid cubes the result passes through, as segments in R^n: (corners (m, n), edges (E, 2)).
 
-    The engine reports how many cubes it visited, not which: the cubes are
-    recomputed as those holding the centroid of a top-dimensional cell (for
-    a continuation run, the cubes M_A passes through). Corners are the
-    unperturbed grid points.
+    After continuation these are the cubes it processed (``cx.processed_cubes``, its
+    path: M_A's cubes and the neighbours it looked at); otherwise (a full sweep, or a
+    complex loaded from a file) the cubes holding the centroid of a top-dimensional
+    cell, i.e. the cubes M_A passes through. Corners are the unperturbed grid points.
     """
     lo, h, div = _grid_of(cx)
     n = cx.n
     dim = cx.dim
     V = np.asarray(cx.vertices)
-    if dim == 1:
-        E = np.asarray(cx.edges, dtype=np.int64).reshape(-1, 2)
-        cent = 0.5 * (V[E[:, 0]] + V[E[:, 1]])
+    if getattr(cx, "processed_cubes", None) is not None:
+        cubes = np.asarray(cx.processed_cubes, dtype=np.int64).reshape(-1, n)
     else:
-        off, vids = (np.asarray(a, dtype=np.int64) for a in cx.cell_vertices(dim))
-        sizes = np.maximum(np.diff(off), 1)
-        cent = np.add.reduceat(V[vids], off[:-1], axis=0) / sizes[:, None] if len(vids) else np.zeros((0, n))
-    cubes = np.unique(cell_cubes(cx, cent), axis=0)
+        if dim == 1:
+            E = np.asarray(cx.edges, dtype=np.int64).reshape(-1, 2)
+            cent = 0.5 * (V[E[:, 0]] + V[E[:, 1]])
+        else:
+            off, vids = (np.asarray(a, dtype=np.int64) for a in cx.cell_vertices(dim))
+            sizes = np.maximum(np.diff(off), 1)
+            cent = np.add.reduceat(V[vids], off[:-1], axis=0) / sizes[:, None] if len(vids) else np.zeros((0, n))
+        cubes = np.unique(cell_cubes(cx, cent), axis=0)
     per = n * 2 ** (n - 1)
     if len(cubes) * per > GRID_EDGE_LIMIT:
         raise ValueError(f"{len(cubes):,} cubes with {per} edges each are too many to draw; use a smaller div")

@@ -17,7 +17,7 @@ import numpy as np
 
 from . import _kernels
 from ._tables import cube_tables, simplex_tables
-from .complex import CellComplex
+from .complex import CellComplex, _frozen
 from .errors import Cancelled, InputError
 from .grid import PERTURBATION, candidate_cubes, perturbed_axes, sign_codes
 
@@ -227,7 +227,9 @@ def extract(
 
     Returns
     -------
-    CellComplex with vertices (V, n) float64 and cells of every dimension 1..n-k.
+    CellComplex with vertices (V, n) float64 and cells of every dimension 1..n-k; `meta`
+    holds timings and counts.  After continuation, `processed_cubes` (m, n) int64 are the
+    grid indices of every cube it visited (not saved by `save`).
 
     Examples
     --------
@@ -646,7 +648,11 @@ def _run_gcch(n, k, axes, bounds, system, sampled, starts, progress, cancel, gri
     grid.stats["nonfinite_vertices"] = int(len(_unique_inverse(np.concatenate(nonfinite))[0])) if nonfinite else 0
     grid.stats["visited_cubes"] = len(visited)
     grid.stats["waves"] = n_waves
-    return grid.assemble()
+    cx = grid.assemble()
+    # the continuation's path, for showing how it went (an attribute: not saved with the complex)
+    processed = np.array(sorted(visited), np.int64)
+    cx.processed_cubes = _frozen(np.stack(np.unravel_index(processed, tuple(div)), axis=1).astype(np.int64).reshape(-1, n))
+    return cx
 
 
 # ----------------------------------------------------------------------------- assembly

@@ -3,8 +3,7 @@
 import numpy as np
 import pytest
 
-from app.geometry import (Geometry, NormalField, cross_table, orient_polygons, polygon_faces,
-                          vertex_bivectors)
+from app.geometry import Geometry, NormalField, cross_table, polygon_faces, vertex_bivectors
 from app.projection import ProjectionModel, generic_basis
 
 
@@ -25,9 +24,11 @@ def test_polygon_faces_layout():
 def test_sphere_polygons_are_coherently_oriented():
     from gcmh_core import extract
 
+    from gcmh_core.analysis import orient_2cells
+
     cx = extract("x^2 + y^2 + z^2 - 1", (-1.5, 1.5), 8, variables="x,y,z")
-    off, vids = cx.polygons()
-    oriented = orient_polygons(off, vids)
+    o = orient_2cells(cx)
+    off, oriented = o.offsets, o.vertices
     directed = _edges_directed(off, oriented)
     # a closed oriented surface: every edge is run once in each direction
     assert len(set(directed)) == len(directed)

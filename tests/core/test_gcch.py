@@ -76,3 +76,20 @@ def test_sampled_start_outside_M_says_so():
     values = (x**2 + y**2 + z**2 - 1)[..., None]
     with pytest.raises(InputError, match="start cube"):
         extract(values, bounds=(-1.5, 1.5), method="gcch", start=(0.0, 0.0, 0.0))
+
+
+def test_processed_cubes_are_the_continuation_path():
+    ex = load_example("sphere")
+    full = extract(ex.formulas, ex.bounds, 12, variables=ex.variables)
+    cont = extract(ex.formulas, ex.bounds, 12, variables=ex.variables, method="gcch", start=ex.start)
+    cubes = cont.processed_cubes
+    assert cubes.shape == (cont.meta["visited_cubes"], 3)
+    assert len(np.unique(cubes, axis=0)) == len(cubes) and cubes.min() >= 0 and cubes.max() < 12
+    # every cube holding a vertex of M_A was processed, and the path is a thin shell around M
+    lo, h = -1.5, 3.0 / 12
+    held = np.unique(np.clip(np.floor((full.vertices - lo) / h).astype(int), 0, 11), axis=0)
+    done = {tuple(c) for c in cubes}
+    assert sum(tuple(c) in done for c in held) >= 0.95 * len(held)
+    radius = np.linalg.norm(lo + (cubes + 0.5) * h, axis=1)
+    assert np.all(np.abs(radius - 1) < 2 * np.sqrt(3) * h)
+    assert not hasattr(full, "processed_cubes") or full.processed_cubes is None
