@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .complex import CellComplex
+from .complex import CellComplex, _component_roots
 from .errors import InputError
 
 __all__ = ["Orientation", "boundary_components", "graph_components", "orient_2cells", "refine_vertices",
@@ -61,27 +61,6 @@ def graph_components(n_nodes, a, b):
     is_root = root == np.arange(n_nodes)
     number = np.cumsum(is_root) - 1
     return number[root].astype(np.int64), int(is_root.sum())
-
-
-def _component_roots(n_nodes, a, b):
-    """(n_nodes,) int64: the smallest node id of each node's component."""
-    label = np.arange(n_nodes, dtype=np.int64)
-    while a.size:
-        la, lb = label[a], label[b]
-        differ = la != lb
-        if not differ.any():
-            break
-        la, lb = la[differ], lb[differ]
-        lo = np.minimum(la, lb)
-        hi = np.maximum(la, lb)
-        # labels are roots here, so this hooks a root under a smaller one: no cycles
-        np.minimum.at(label, hi, lo)
-        while True:  # pointer jumping until every node points at its root
-            nxt = label[label]
-            if np.array_equal(nxt, label):
-                break
-            label = nxt
-    return label
 
 
 # ----------------------------------------------------------------------------

@@ -92,6 +92,28 @@ def _int_array(value, name, ndim):
     return np.ascontiguousarray(arr, dtype=np.int64)
 
 
+def _component_roots(n_nodes, a, b):
+    """(n_nodes,) int64: the smallest node id of each node's component."""
+    label = np.arange(n_nodes, dtype=np.int64)
+    while a.size:
+        la, lb = label[a], label[b]
+        differ = la != lb
+        if not differ.any():
+            break
+        la, lb = la[differ], lb[differ]
+        a, b = a[differ], b[differ]  # joined ends stay joined: drop those edges
+        lo = np.minimum(la, lb)
+        hi = np.maximum(la, lb)
+        # labels are roots here, so this hooks a root under a smaller one: no cycles
+        np.minimum.at(label, hi, lo)
+        while True:  # pointer jumping until every node points at its root
+            nxt = label[label]
+            if np.array_equal(nxt, label):
+                break
+            label = nxt
+    return label
+
+
 def _frozen(arr):
     """A read-only view (the caller's array itself stays writable)."""
     view = arr.view()
@@ -484,23 +506,7 @@ class CellComplex:
         key = ("component_labels",)
         if key in self._cache:
             return self._cache[key]
-        labels = np.arange(self.count(0), dtype=np.int64)
-        u, v = self.edges[:, 0], self.edges[:, 1]
-        while u.size:
-            lu, lv = labels[u], labels[v]
-            differ = lu != lv
-            if not differ.any():
-                break
-            lu, lv = lu[differ], lv[differ]
-            # Hook roots onto smaller roots (labels[x] <= x always: no cycles) ...
-            labels[np.maximum(lu, lv)] = np.minimum(lu, lv)
-            # ... then flatten every tree completely (pointer jumping).
-            while True:
-                up = labels[labels]
-                if np.array_equal(up, labels):
-                    break
-                labels = up
-            u, v = u[differ], v[differ]
+        labels = _component_roots(self.count(0), self.edges[:, 0], self.edges[:, 1])
         labels = _frozen(labels)
         self._cache[key] = labels
         return labels
