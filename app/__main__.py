@@ -96,6 +96,7 @@ def _headless_prepare(args):
     """Load the example, check every option against its variables, extract. Returns a dict or an exit code."""
     from gcmh_core.errors import InputError
     from gcmh_core.examples import load_example
+    from gcmh_core.extract import CONTINUATION_METHODS
 
     from .animation import parse_spec
     from .projection import ProjectionModel
@@ -154,7 +155,7 @@ def _headless_prepare(args):
         return _fail("--slice-width must be > 0")
     job = Job(formulas=list(ex.formulas), variables=list(ex.variables), bounds=[tuple(b) for b in ex.bounds],
               div=args.div if args.div is not None else ex.div, seed=args.seed, method=args.method,
-              start=(list(ex.start) if ex.start else "auto") if args.method == "gcch" else None)
+              start=(list(ex.start) if ex.start else "auto") if args.method in CONTINUATION_METHODS else None)
     try:
         cx = run_job(job)
     except InputError as e:

@@ -32,6 +32,29 @@ METHOD_LABELS = {"gcmh": "GCMH (whole grid)", "gcch": "GCCH (continuation from a
                  "cms": "CMS (baseline)", "ccs": "CCS (baseline)"}
 
 
+def continuation_methods() -> tuple[str, ...]:
+    """The methods that start from points and follow M (they take a start point)."""
+    try:
+        from gcmh_core import CONTINUATION_METHODS
+        return tuple(CONTINUATION_METHODS)
+    except ImportError:
+        return ("gcch",)
+
+
+def check_scheduler(text: str) -> tuple[str | None, str | None]:
+    """(error message or None, scheduler or None for this process) from the "run on" field."""
+    text = text.strip()
+    if not text or text.lower() in ("this computer", "here"):
+        return None, None
+    try:
+        from gcmh_core.distributed import check_scheduler as check
+        return None, check(text)
+    except ImportError:
+        return "the cluster support (gcmh_core.distributed) is not installed", None
+    except Exception as e:  # noqa: BLE001 - InputError with the reason
+        return str(e), None
+
+
 def engine_methods() -> tuple[str, ...]:
     """The extraction methods the installed engine supports."""
     try:
@@ -168,6 +191,13 @@ class QtFormulaPanel(QWidget):
         ml.addRow(self.start_label, self.start_edit)
         self.start_error = _error_label()
         ml.addRow(self.start_error)
+        self.scheduler_edit = QLineEdit("")
+        self.scheduler_edit.setPlaceholderText("this computer")
+        self.scheduler_edit.setToolTip("empty: run here; 'local': a Dask cluster of one process per core on this "
+                                       "machine; tcp://host:port: a running `dask scheduler` (pip install gcmh[cluster])")
+        ml.addRow("run on", self.scheduler_edit)
+        self.scheduler_error = _error_label()
+        ml.addRow(self.scheduler_error)
         self.seed_spin = QSpinBox()
         self.seed_spin.setRange(0, 2**31 - 1)
         self.seed_spin.setToolTip("seed of the grid perturbation: same seed, same result")
@@ -189,6 +219,7 @@ class QtFormulaPanel(QWidget):
         self.per_axis.toggled.connect(self._on_per_axis)
         self.method_combo.currentIndexChanged.connect(self._on_method)
         self.start_edit.textChanged.connect(self._validate)
+        self.scheduler_edit.textChanged.connect(self._validate)
         self.seed_spin.valueChanged.connect(lambda *_: self.changed.emit())
 
         self._rebuild(3, 1)
@@ -290,10 +321,14 @@ class QtFormulaPanel(QWidget):
         self._validate()
 
     def _on_method(self, *_):
-        gcch = self.method() == "gcch"
-        self.start_edit.setVisible(gcch)
-        self.start_label.setVisible(gcch)
+        cont = self.continuation()
+        self.start_edit.setVisible(cont)
+        self.start_label.setVisible(cont)
         self._validate()
+
+    def continuation(self) -> bool:
+        """Does the chosen method start from points (GCCH, CCS)?"""
+        return self.method() in continuation_methods()
 
     def method(self) -> str:
         return self.method_combo.currentData() or "gcmh"
@@ -380,13 +415,18 @@ class QtFormulaPanel(QWidget):
         else:
             _mark(self.div_edit, self.div_error, None)
 
-        if self.method() == "gcch":
+        if self.continuation():
             m, _ = inputs.check_start(self.start_edit.text(), n)
             _mark(self.start_edit, self.start_error, m)
             if m:
                 errs["start"] = m
         else:
             _mark(self.start_edit, self.start_error, None)
+
+        m, _ = check_scheduler(self.scheduler_edit.text())
+        _mark(self.scheduler_edit, self.scheduler_error, m)
+        if m:
+            errs["run on"] = m
 
         self.errors = errs
         valid = not errs
@@ -435,7 +475,7 @@ class QtFormulaPanel(QWidget):
         return list(d) if isinstance(d, list) else [d] * self.n
 
     def start(self):
-        if self.method() != "gcch":
+        if not self.continuation():
             return None
         return inputs.check_start(self.start_edit.text(), self.n)[1]
 
@@ -446,7 +486,8 @@ class QtFormulaPanel(QWidget):
         if not self._validate():
             raise ValueError("; ".join(self.errors.values()))
         return Job(formulas=self.formulas(), variables=self.variables(), bounds=self.bounds(),
-                   div=self.div(), method=self.method(), seed=self.seed_spin.value(), start=self.start())
+                   div=self.div(), method=self.method(), seed=self.seed_spin.value(), start=self.start(),
+                   scheduler=check_scheduler(self.scheduler_edit.text())[1])
 
     def estimate(self) -> dict | None:
         d = self.div_list()
@@ -470,7 +511,7 @@ class QtFormulaPanel(QWidget):
             cubes = int(est.get("cubes", 0))
             text = f"work: {cubes:,} cubes, about {inputs.human_bytes(est.get('bytes', 0))} peak memory"
             avail = inputs.available_memory()
-            if self.method() == "gcch":
+            if self.continuation():
                 text = f"full grid: {cubes:,} cubes; continuation visits only those M passes through"
                 self.estimate_label.setStyleSheet("color: #555;")
             elif avail and est.get("bytes", 0) > 0.8 * avail:
@@ -491,6 +532,7 @@ class QtFormulaPanel(QWidget):
                     if self.per_axis.isChecked() else self.div_edit.text()),
             "method": self.method(), "seed": self.seed_spin.value(),
             "start": self.start_edit.text(),
+            "scheduler": self.scheduler_edit.text().strip(),
         }
 
     def set_state(self, d: dict) -> None:
@@ -539,6 +581,7 @@ class QtFormulaPanel(QWidget):
             if isinstance(start, (list, tuple)):
                 start = ", ".join(format_number(v) for v in start)
             self.start_edit.setText(start or "")
+            self.scheduler_edit.setText(str(d.get("scheduler") or ""))
         finally:
             self._building = False
         self.table.setColumnHidden(2, not self.per_axis.isChecked())

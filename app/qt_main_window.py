@@ -367,7 +367,7 @@ class QtMainWindow(QMainWindow):
             return False
         est = self.formula_panel.estimate()
         avail = inputs.available_memory()
-        if self.formula_panel.method() != "gcch" and est and avail and est.get("bytes", 0) > 0.8 * avail:
+        if not self.formula_panel.continuation() and est and avail and est.get("bytes", 0) > 0.8 * avail:
             answer = self.confirm_big_run(est, avail)
             if answer == "gcch":
                 self.formula_panel.set_method("gcch")

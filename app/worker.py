@@ -31,6 +31,7 @@ class Job:
     method: str = "gcmh"
     seed: int = 0
     start: list | str | None = None   # for continuation: a point, or "auto"
+    scheduler: str | None = None      # None: this process; "local" or "tcp://host:port": a Dask cluster
     extra: dict = field(default_factory=dict)
 
     def kwargs(self) -> dict:
@@ -38,6 +39,8 @@ class Job:
                   seed=int(self.seed), method=self.method)
         if self.start is not None:
             kw["start"] = self.start if isinstance(self.start, str) else list(self.start)
+        if self.scheduler:
+            kw["scheduler"] = self.scheduler
         kw.update(self.extra)
         return kw
 

@@ -8,7 +8,7 @@ Imports numpy, numba and sympy only; never Qt, VTK or pyvista.
 
 from .complex import CellComplex
 from .errors import Cancelled, InputError
-from .extract import METHODS, estimate_work, extract
+from .extract import CONTINUATION_METHODS, METHODS, estimate_work, extract
 
-__all__ = ["CellComplex", "Cancelled", "InputError", "METHODS", "estimate_work", "extract"]
+__all__ = ["CONTINUATION_METHODS", "CellComplex", "Cancelled", "InputError", "METHODS", "estimate_work", "extract"]
 __version__ = "0.1.0"

@@ -82,7 +82,7 @@ def run_distributed(method, n, k, axes, bounds, system, sampled, starts, schedul
     block : None (default size, see the module doc), an int, or n ints: cubes per block per axis.
     progress(phase, fraction), cancel() -> bool : as in `extract`.
     """
-    address = _check_scheduler(scheduler)
+    address = check_scheduler(scheduler)
     div = np.array([len(a) - 1 for a in axes], np.int64)
     block_ = _check_block(block, n)
     if block_ is not None and method in CONTINUATION_METHODS:
@@ -132,7 +132,7 @@ def default_block(div, workers: int) -> np.ndarray:
 
 
 # ----------------------------------------------------------------------------- validation
-def _check_scheduler(scheduler) -> str:
+def check_scheduler(scheduler) -> str:
     if not isinstance(scheduler, str):
         raise InputError(f"scheduler must be 'local' or an address 'tcp://host:port', got {scheduler!r}")
     text = scheduler.strip()

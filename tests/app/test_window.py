@@ -556,6 +556,47 @@ def test_continuation_from_the_panel(qtbot, window):
     assert window.result.counts() == full
 
 
+def test_ccs_takes_a_start_point_and_a_bad_cluster_address_is_marked(qtbot, window):
+    p = window.formula_panel
+    set_system(qtbot, window, 3, 1, ["x1^2 + x2^2 + x3^2 - 1"], div="8")
+    assert p.set_method("ccs")
+    assert p.start_edit.isVisibleTo(p)      # CCS is a continuation method too
+    p.start_edit.setText("0, 0, 1")
+    assert p.is_valid()
+    p.scheduler_edit.setText("somewhere")   # neither 'local' nor tcp://host:port
+    assert not p.is_valid() and "scheduler" in p.scheduler_error.text()
+    assert not window.run_button.isEnabled()
+    p.scheduler_edit.setText("tcp://localhost:8786")
+    assert p.is_valid() and p.job().scheduler == "tcp://localhost:8786"
+    p.scheduler_edit.setText("")
+    assert p.is_valid() and p.job().scheduler is None
+    assert p.state()["scheduler"] == ""
+    assert run_and_wait(qtbot, window) == "done"
+    assert window.result.euler_characteristic() == 2 and window.result.meta["method"] == "ccs"
+
+
+def test_run_on_a_local_cluster_shows_blocks(qtbot, window):
+    pytest.importorskip("dask.distributed")
+    p = window.formula_panel
+    set_system(qtbot, window, 3, 1, ["x1^2 + x2^2 + x3^2 - 1"], div="12")
+    assert run_and_wait(qtbot, window) == "done"
+    here = window.result
+    p.scheduler_edit.setText("local")
+    phases = []
+    shown = window._on_progress
+
+    def record(phase, fraction, seconds):  # the progress bar's text, as the window receives it
+        phases.append(phase)
+        shown(phase, fraction, seconds)
+
+    window._on_progress = record
+    assert run_and_wait(qtbot, window, timeout=180_000) == "done"
+    assert any("blocks" in ph for ph in phases), phases
+    there = window.result
+    assert np.array_equal(here.vertices, there.vertices) and np.array_equal(here.edges, there.edges)
+    assert there.meta.get("blocks", 0) >= 1
+
+
 def test_own_system_after_an_example_drops_the_example_title(qtbot, window):
     with qtbot.waitSignal(window.runFinished, timeout=60_000):
         window.load_example("torus")
