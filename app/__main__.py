@@ -60,8 +60,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--project", metavar="A,B,C", help="show these three variables as X, Y, Z")
     p.add_argument("--rotate", metavar="I-J=DEG", action="append", default=[],
                    help="rotate in the plane of variables I and J by DEG degrees (repeatable), e.g. s-x=30")
-    p.add_argument("--mapping", choices=MAPPINGS, default="orthographic",
-                   help="how R^n goes to 3D: orthographic (default), perspective or stereographic (n >= 4)")
+    p.add_argument("--mapping", choices=MAPPINGS, default=None,
+                   help="how R^n goes to 3D: orthographic, perspective or stereographic (n >= 4); "
+                        "default: the example's own (mostly orthographic)")
     p.add_argument("--distance", type=float, default=3.0,
                    help="perspective eye distance, in radii of the object (> 1, default 3)")
     p.add_argument("--slice", metavar="VAR=C", help="show only |VAR - C| <= --slice-width (screenshots)")
@@ -112,6 +113,7 @@ def _headless_prepare(args):
     view = dict(ex.view or {})
     project = args.project.split(",") if args.project else view.get("project", names[:3])
     color = args.color or view.get("color")
+    args.mapping = args.mapping or view.get("mapping", "orthographic")
     spec = None
     if args.animate:
         try:

@@ -363,7 +363,8 @@ class QtProjectionPanel(QWidget):
         return True
 
     def apply_view(self, view: dict) -> None:
-        """An example's suggested view, silently (the caller redraws): project=[3 names], color=name."""
+        """An example's suggested view, silently (the caller redraws): project=[3 names], color=name,
+        mapping=orthographic|perspective|stereographic."""
         self._updating = True
         try:
             names = view.get("project")
@@ -381,6 +382,12 @@ class QtProjectionPanel(QWidget):
                     self._sync_kind_widgets()
             if "color" in view:
                 self.set_color_by(view.get("color"))
+            mapping = view.get("mapping")
+            if mapping in MAPPING_LABELS and (mapping == "orthographic" or self.model.n >= 4):
+                self.model.mapping = mapping
+                self.mapping_combo.setCurrentIndex(self.mapping_combo.findData(mapping))
+                self.mapping_error.setVisible(False)
+                self._sync_kind_widgets()
         finally:
             self._updating = False
 

@@ -158,12 +158,16 @@ def _walk(node: ast.AST, src: str) -> float:
 # --------------------------------------------------------------------------
 
 
+# How the viewer maps R^n to 3D by default (the app's projection kinds).
+VIEW_MAPPINGS = ("orthographic", "perspective", "stereographic")
+
+
 @dataclass
 class Example:
     """One example manifold M = F^-1(0), F: R^n -> R^k.
 
     bounds: list of n (lo, hi) float pairs; div: int or list of n ints;
-    start: a point of M (list of n floats); view: dict(project=[3 variable
+    start: a point of M (list of n floats); view: dict(mapping=orthographic|perspective|stereographic, project=[3 variable
     names], color=variable name).
     """
 
@@ -312,7 +316,12 @@ def _from_dict(name: str, data: dict, path: Path | None = None) -> Example:
     color = view.get("color", variables[-1])
     if color not in variables:
         raise fail(f"view.color must be one of {variables}")
-    view = {"project": list(project), "color": color}
+    mapping = view.get("mapping", "orthographic")
+    if mapping not in VIEW_MAPPINGS:
+        raise fail(f"view.mapping must be one of {', '.join(VIEW_MAPPINGS)}, got {mapping!r}")
+    if mapping != "orthographic" and n < 4:
+        raise fail(f"view.mapping {mapping!r} needs n >= 4: nothing is hidden in R^{n}")
+    view = {"project": list(project), "color": color, "mapping": mapping}
 
     return Example(
         name=name,

@@ -597,6 +597,17 @@ def test_run_on_a_local_cluster_shows_blocks(qtbot, window):
     assert there.meta.get("blocks", 0) >= 1
 
 
+def test_an_example_opens_in_its_own_mapping(qtbot, window):
+    with qtbot.waitSignal(window.runFinished, timeout=60_000):
+        window.load_example("hopf-tori")
+    pp = window.projection_panel
+    assert pp.model.mapping == "stereographic" and window.scene.view.mapping == "stereographic"
+    assert pp.mapping_combo.currentData() == "stereographic"
+    with qtbot.waitSignal(window.runFinished, timeout=60_000):
+        window.load_example("sphere")     # the next example brings its own (orthographic) view
+    assert pp.model.mapping == "orthographic" and window.scene.view.mapping == "orthographic"
+
+
 def test_own_system_after_an_example_drops_the_example_title(qtbot, window):
     with qtbot.waitSignal(window.runFinished, timeout=60_000):
         window.load_example("torus")

@@ -260,3 +260,17 @@ def test_every_example_has_a_gallery_thumbnail():
         assert png.is_file(), f"run python -m app.make_gallery to draw {png.name}"
         data = png.read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) < 100_000
+
+
+def test_view_mapping_is_checked(tmp_path, monkeypatch):
+    assert load_example("hopf-tori").view["mapping"] == "stereographic"
+    assert load_example("sphere").view["mapping"] == "orthographic"
+    monkeypatch.setenv("GCMH_EXAMPLES_DIR", str(tmp_path))
+    head = ('title = "t"\ndescription = "d. e."\nn = 3\nk = 1\nvariables = ["x", "y", "z"]\n'
+            'formulas = ["x^2 + y^2 + z^2 - 1"]\nbounds = [[-2, 2]]\ndiv = 4\nstart = [0, 0, 1]\n[view]\n')
+    (tmp_path / "bad.toml").write_text(head + 'mapping = "fisheye"\n')
+    with pytest.raises(InputError, match="view.mapping must be one of"):
+        load_example("bad")
+    (tmp_path / "bad.toml").write_text(head + 'mapping = "stereographic"\n')
+    with pytest.raises(InputError, match="needs n >= 4"):
+        load_example("bad")
