@@ -149,35 +149,27 @@ def _parse_int(text: str, what: str, minimum: int | None = None) -> int:
     return value
 
 
-def _parse_div(text: str, n: int | None) -> int | list[int]:
-    parts = [s for s in str(text).split(",")]
-    if any(not s.strip() for s in parts):
-        raise InputError(f"--div: expected D or D1,...,Dn, got {text!r}")
-    divs = [_parse_int(s, "--div", minimum=1) for s in parts]
-    if len(divs) == 1:
-        return divs[0]
-    if n is not None and len(divs) != n:
-        raise InputError(f"--div: got {len(divs)} values for n = {n} variables")
-    return divs
-
-
-def _parse_block(text: str, n: int) -> int | list[int]:
+def _parse_per_axis(text: str, flag: str, n: int | None) -> int | list[int]:
+    """`flag D` or `flag D1,...,Dn`: one positive integer, or one per axis."""
     parts = str(text).split(",")
     if any(not s.strip() for s in parts):
-        raise InputError(f"--block: expected B or B1,...,Bn, got {text!r}")
-    blocks = [_parse_int(s, "--block", minimum=1) for s in parts]
-    if len(blocks) == 1:
-        return blocks[0]
-    if len(blocks) != n:
-        raise InputError(f"--block: got {len(blocks)} values for n = {n} variables (give 1 or {n})")
-    return blocks
+        letter = flag.lstrip("-")[0].upper()
+        raise InputError(f"{flag}: expected {letter} or {letter}1,...,{letter}n, got {text!r}")
+    values = [_parse_int(s, flag, minimum=1) for s in parts]
+    if len(values) == 1:
+        return values[0]
+    if n is not None and len(values) != n:
+        raise InputError(f"{flag}: got {len(values)} values for n = {n} variables (give 1 or {n})")
+    return values
 
 
 def _parse_scheduler(text: str) -> str:
-    text = str(text).strip()
-    if text.lower() == "local" or text.startswith("tcp://"):
-        return text  # the address itself is checked by gcmh_core.distributed
-    raise InputError(f"--scheduler: expected local or tcp://HOST:PORT, got {text!r}")
+    from .distributed import check_scheduler  # noqa: PLC0415  (dask itself is imported only to run)
+
+    try:
+        return check_scheduler(text)
+    except InputError as err:
+        raise InputError(f"--scheduler: {err}") from None
 
 
 def _parse_bounds(text: str) -> list[tuple[float, float]]:
@@ -306,13 +298,13 @@ def _job_from_args(args) -> dict:
     if len(formulas) > n:
         raise InputError(f"{len(formulas)} formulas for n = {n} variables: need k <= n")
     if args.div is not None:
-        div = _parse_div(args.div, n)
+        div = _parse_per_axis(args.div, "--div", n)
     if args.start is not None:
         start = _parse_start(args.start, n)
     seed = _parse_int(args.seed, "--seed", minimum=0)
     method = args.method.strip().lower()
     scheduler = _parse_scheduler(args.scheduler) if args.scheduler is not None else None
-    block = _parse_block(args.block, n) if args.block is not None else None
+    block = _parse_per_axis(args.block, "--block", n) if args.block is not None else None
     if block is not None and scheduler is None:
         raise InputError("--block is the block size of a cluster run: give --scheduler too")
 
