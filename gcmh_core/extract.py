@@ -19,7 +19,7 @@ from . import _kernels
 from ._tables import cube_tables, simplex_tables
 from .complex import CellComplex, _frozen
 from .errors import Cancelled, InputError
-from .grid import PERTURBATION, candidate_cubes, perturbed_axes, sign_codes
+from .grid import PERTURBATION, candidate_corner_sets, candidate_cubes, perturbed_axes
 
 METHODS = ("gcmh", "gcch", "cms", "ccs")
 # continuation methods start from points and follow M; the others sweep the whole grid
@@ -429,9 +429,7 @@ class _Grid:
         values = np.ascontiguousarray(uvals[inverse], np.float64)
         self.timings["evaluate"] += time.perf_counter() - t
         t = time.perf_counter()
-        code = np.bitwise_or.reduce(sign_codes(values).reshape(len(origins), 1 << n), axis=1)
-        full = code.dtype.type(sum(3 << (2 * j) for j in range(k)))
-        cand = (code & (full | code.dtype.type(1 << (2 * k)))) == full
+        cand = candidate_corner_sets(values, 1 << n)
         self.timings["candidates"] += time.perf_counter() - t
         idx = np.nonzero(cand)[0]
         masks = np.zeros(len(origins), np.int64)

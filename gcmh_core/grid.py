@@ -44,21 +44,6 @@ def _code_dtype(k: int):
     raise ValueError("k too large")
 
 
-def sign_codes(values: np.ndarray) -> np.ndarray:
-    """Per-vertex sign code: bit 2j set if F_j >= 0, bit 2j+1 if F_j < 0, bit 2k if any value is not finite."""
-    k = values.shape[-1]
-    dt = _code_dtype(k)
-    code = np.zeros(values.shape[:-1], dt)
-    finite = np.ones(values.shape[:-1], bool)
-    for j in range(k):
-        comp = values[..., j]
-        pos = comp >= 0
-        code |= np.where(pos, dt(1 << (2 * j)), dt(2 << (2 * j)))
-        finite &= np.isfinite(comp)
-    code[~finite] = dt(1 << (2 * k))
-    return code
-
-
 def candidate_cubes(values: np.ndarray) -> np.ndarray:
     """Boolean (d0, ..., d_{n-1}) mask of cubes where every component has both signs.
 
@@ -82,3 +67,22 @@ def candidate_cubes(values: np.ndarray) -> np.ndarray:
     out = np.empty(code.size, np.bool_)
     _kernels.codes_to_candidates(code, k, out)
     return out.reshape(dims)[tuple(slice(0, d - 1) for d in dims)]
+
+
+def candidate_corner_sets(corner_values: np.ndarray, n_corners: int) -> np.ndarray:
+    """(m,) bool: the same test as `candidate_cubes` for m cubes given corner by corner.
+
+    corner_values (m * n_corners, k): each cube's corner values, one cube after the
+    other (continuation gathers them so for a wave of scattered cubes).
+    """
+    from . import _kernels  # noqa: PLC0415
+
+    values = np.ascontiguousarray(corner_values, np.float64)
+    k = values.shape[-1]
+    code = np.empty(len(values), _code_dtype(k))
+    _kernels.vertex_sign_codes(values, code)
+    code = np.ascontiguousarray(np.bitwise_or.reduce(code.reshape(-1, n_corners), axis=1))
+    out = np.empty(len(code), np.bool_)
+    _kernels.codes_to_candidates(code, k, out)
+    return out
+
