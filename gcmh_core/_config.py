@@ -7,9 +7,10 @@ cache: kernels compile once per machine, not once per process (and never per F:
 
 JIT = dict(nogil=True, cache=True, fastmath=False, error_model="numpy")
 PARALLEL_JIT = dict(JIT, parallel=True)
-# Small helpers called per simplex (simplex_crosses, _find, _face_key, ...) are
-# inlined: a call would increment and decrement the reference count of every
-# array argument, and those atomic counters are shared by all threads.  The
-# per-cube functions are plain calls (numba refuses to inline them), made once
-# per cube from a chunk loop that owns its scratch buffers.
+# Small helpers called in a kernel's inner loops (_face_key, _face_in_face, ...) are
+# inlined and take scalars.  Array arguments of an inlined call get reference-count
+# updates (atomic, shared by all threads) that numba does not prune in functions
+# as large as the chunk kernels (LLVM's refprune gives up past 1,000 basic blocks):
+# they cost more than a cube's work.  The loop over cubes runs inside one kernel
+# function per chunk (`_kernels.cubes_chunk`), with scratch buffers it owns.
 INLINE_JIT = dict(JIT, inline="always")

@@ -11,9 +11,8 @@ Everything is emitted with global keys computed from grid indices alone, so
 the same vertex, edge or cell produced by two neighbouring cubes is recognised
 in the global assembly (`extract._assemble`).
 
-The kernel runs twice on the same cubes: once to count what each cube emits,
-once to write it at prefix-summed offsets.  Output order is therefore the cube
-order, whatever the number of threads.
+A chunk of cubes returns its records in cube order, and chunks are joined in
+order: the output does not depend on the number of threads.
 """
 
 import numba as nb
@@ -32,30 +31,33 @@ CELL_COLS = 2  # r, cell key
 INC_COLS = 3  # r, key of the r-cell X, key of its (r-1)-face Y
 
 
-@nb.njit(**INLINE_JIT)
-def simplex_crosses(vals, o, value_off, corners, k, pos_mask, full, mat, rhs, lam):
-    """Does the Kuhn simplex with cube corners `corners` (chain order) hold a zero?
+@nb.njit(**JIT)
+def simplex_crosses(vals, o, value_off, table, s, k, pos_mask, full, mat, rhs, lam):
+    """Does the Kuhn simplex with cube corners table[s, 0..k] (chain order) hold a zero?
 
     vals (NV, k) values; corner c of the cube is row o + value_off[c]; lam (k+1,) receives the
     barycentric coordinates.  Sign prune first: every component needs a value >= 0
     and one < 0 among the simplex's corners, else there is no solve at all.
+    The simplex comes as a table and a row, not as the row itself: a slice made per
+    simplex costs reference counting that was once most of a cube's work.  Kernels
+    prune in their own loops first and call this for the few simplices that pass.
     """
-    m = corners.shape[0]
+    m = k + 1
     any_pos = 0
     all_pos = full
     for i in range(m):
-        p = pos_mask[corners[i]]
+        p = pos_mask[table[s, i]]
         any_pos |= p
         all_pos &= p
     if any_pos != full or all_pos != 0:
         return False
     # Solve sum_{i>=1} lam_i (F(v_i) - F(v_0)) = -F(v_0), a k x k system.
-    r0 = o + value_off[corners[0]]
+    r0 = o + value_off[table[s, 0]]
     for j in range(k):
         f0 = vals[r0, j]
         rhs[j] = -f0
         for i in range(1, m):
-            mat[j, i - 1] = vals[o + value_off[corners[i]], j] - f0
+            mat[j, i - 1] = vals[o + value_off[table[s, i]], j] - f0
     scale = 0.0
     for j in range(k):
         for i in range(k):
@@ -112,10 +114,9 @@ def _find(parent, v):
 
 
 @nb.njit(**INLINE_JIT)
-def _face_in_face(face_free, face_fixed, g, f):
-    """Is cube face g contained in cube face f?"""
-    ff = face_free[f]
-    return (face_free[g] & ~ff) == 0 and (face_fixed[g] & ~ff) == face_fixed[f]
+def _face_in_face(g_free, g_fixed, f_free, f_fixed):
+    """Is the cube face (g_free, g_fixed) contained in the face (f_free, f_fixed)?"""
+    return (g_free & ~f_free) == 0 and (g_fixed & ~f_free) == f_fixed
 
 
 @nb.njit(**INLINE_JIT)
@@ -141,290 +142,64 @@ def _local_code(f_free, g_free, g_fixed, perm, k, kfact, binom):
 
 
 @nb.njit(**INLINE_JIT)
-def _face_key(g_lin, corner_off, face_fixed, face_rank, n_subsets, f, dim):
-    return (g_lin + corner_off[face_fixed[f]]) * n_subsets[dim] + face_rank[f]
+def _face_key(face_corner, n_subsets_dim, rank):
+    """Global key of a cube face: its first corner's grid vertex, then its axes' rank."""
+    return face_corner * n_subsets_dim + rank
+
+
+# A helper inlined into a kernel loop takes scalars, not arrays: in functions as large
+# as the chunk kernels numba leaves the reference counts of array arguments of an
+# inlined call unpruned, and those atomic updates cost more than the work.
 
 
 @nb.njit(**JIT)
-def _process_cube(
-    vals, o, g_lin, origin, axes, value_off, corner_off, n, k,
-    face_start, face_free, face_fixed, face_rank, n_subsets,
-    ks_corners, ks_face, ks_perm, kfact, binom, n_codes,
-    t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp,
-    simp_vertex, pos_mask, mat, rhs, lam, corners_buf, link0, link1, memo, found, paired,
-    vsimp, vface, vkey, ea, eb, ef, parent, comp_of_root, comps_a, comps_b,
-    write, vk_out, vp_out, e_out, c_out, i_out, offs, counts,
-):
-    """One cube: count (write=False) or write (write=True) everything it emits.
-
-    Returns the number of degenerate events met (an ambiguous walk that did not
-    close up); zero on generic input.
-    """
-    ncorner = 1 << n
-    full = (np.int64(1) << k) - 1
-    for c in range(ncorner):
-        p = np.int64(0)
-        r0 = o + value_off[c]
-        for j in range(k):
-            if vals[r0, j] >= 0.0:
-                p |= np.int64(1) << j
-        pos_mask[c] = p
-    degenerate = 0
-
-    # 1. vertices on k-simplices of k-faces
-    ns = ks_corners.shape[0]
-    kf0 = face_start[k]
-    nv = 0
-    for s in range(ns):
-        simp_vertex[s] = -1
-        if simplex_crosses(vals, o, value_off, ks_corners[s], k, pos_mask, full, mat, rhs, lam):
-            simp_vertex[s] = nv
-            vsimp[nv] = s
-            if write:
-                row = offs[0] + nv
-                f = kf0 + ks_face[s]
-                vk_out[row] = _face_key(g_lin, corner_off, face_fixed, face_rank, n_subsets, f, k) * kfact + ks_perm[s]
-                for a in range(n):
-                    x = 0.0
-                    for i in range(k + 1):
-                        x += lam[i] * axes[a, origin[a] + ((ks_corners[s, i] >> a) & 1)]
-                    vp_out[row, a] = x
-            nv += 1
-    counts[0] = nv
-    # facets of the cube that M_A crosses (bit 2a + side): where continuation goes next
-    facets = np.int64(0)
-    for v in range(nv):
-        f = kf0 + ks_face[vsimp[v]]
-        for a in range(n):
-            if not (face_free[f] >> a) & 1:
-                facets |= np.int64(1) << (2 * a + ((face_fixed[f] >> a) & 1))
-    counts[4] = facets
-    if nv == 0:
-        counts[1] = 0
-        counts[2] = 0
-        counts[3] = 0
-        return degenerate
-    for v in range(nv):
-        s = vsimp[v]
-        f = kf0 + ks_face[s]
-        vface[v] = f
-        vkey[v] = _face_key(g_lin, corner_off, face_fixed, face_rank, n_subsets, f, k) * kfact + ks_perm[s]
-
-    # 2. edges on (k+1)-faces
-    k1 = k + 1
-    f10 = face_start[k1]
-    nk1 = face_start[k1 + 1] - f10
-    ne = 0
-    n_int = t_interior.shape[0]
-    for fi in range(nk1):
-        cnt = 0
-        for b in range(nb_nodes):
-            if simp_vertex[w_bsimp[fi, b]] >= 0:
-                found[cnt] = b
-                cnt += 1
-        if cnt == 0:
-            continue
-        if cnt == 2:
-            ea[ne] = simp_vertex[w_bsimp[fi, found[0]]]
-            eb[ne] = simp_vertex[w_bsimp[fi, found[1]]]
-            ef[ne] = f10 + fi
-            ne += 1
-            continue
-        # The walk (paper 3.1.1): link crossing facets of the face's Kuhn (k+1)-simplices.
-        for i in range(nb_nodes + n_int):
-            link0[i] = -1
-            link1[i] = -1
-        for i in range(n_int):
-            memo[i] = -1
-        for t in range(t_corners.shape[0]):
-            any_pos = 0
-            all_pos = full
-            for j in range(k1 + 1):
-                p = pos_mask[w_cmap[fi, t_corners[t, j]]]
-                any_pos |= p
-                all_pos &= p
-            if any_pos != full or all_pos != 0:
-                continue
-            nc = 0
-            n_a = -1
-            n_b = -1
-            for j in range(k1 + 1):
-                node = t_facets[t, j]
-                if node < nb_nodes:
-                    cr = simp_vertex[w_bsimp[fi, node]] >= 0
-                else:
-                    ii = node - nb_nodes
-                    if memo[ii] < 0:
-                        for q in range(k + 1):
-                            corners_buf[q] = w_cmap[fi, t_interior[ii, q]]
-                        memo[ii] = 1 if simplex_crosses(vals, o, value_off, corners_buf, k, pos_mask, full, mat, rhs, lam) else 0
-                    cr = memo[ii] == 1
-                if cr:
-                    if nc == 0:
-                        n_a = node
-                    elif nc == 1:
-                        n_b = node
-                    nc += 1
-            if nc == 2:
-                for pair in range(2):
-                    u = n_a if pair == 0 else n_b
-                    w = n_b if pair == 0 else n_a
-                    if link0[u] < 0:
-                        link0[u] = w
-                    elif link1[u] < 0:
-                        link1[u] = w
-                    else:
-                        degenerate += 1
-            elif nc != 0:
-                degenerate += 1
-        for q in range(cnt):
-            paired[q] = 0
-        for q in range(cnt):
-            if paired[q]:
-                continue
-            start = found[q]
-            prev = -1
-            cur = start
-            end = -1
-            for _step in range(nb_nodes + n_int + 1):
-                nxt = link0[cur] if link0[cur] != prev else link1[cur]
-                if nxt < 0:
-                    break
-                prev = cur
-                cur = nxt
-                if cur < nb_nodes:
-                    end = cur
-                    break
-            if end < 0 or end == start:
-                degenerate += 1
-                paired[q] = 1
-                continue
-            for q2 in range(cnt):
-                if found[q2] == end:
-                    paired[q2] = 1
-            paired[q] = 1
-            ea[ne] = simp_vertex[w_bsimp[fi, start]]
-            eb[ne] = simp_vertex[w_bsimp[fi, end]]
-            ef[ne] = f10 + fi
-            ne += 1
-    counts[1] = ne
-
-    # 3. r-cells, r = 1..n-k: connected pieces of the vertex-edge graph inside each
-    # (r+k)-face; for r = 1 they are the edges themselves.  Rows of prev/cur:
-    # (face, a vertex of the piece, key); the two buffers swap roles per level.
-    prev = comps_a
-    cur = comps_b
-    if prev.shape[0] < ne:
-        prev = np.empty((ne, 3), np.int64)
-    for e in range(ne):
-        f = ef[e]
-        ca = _local_code(face_free[f], face_free[vface[ea[e]]], face_fixed[vface[ea[e]]], ks_perm[vsimp[ea[e]]], k, kfact, binom)
-        cb = _local_code(face_free[f], face_free[vface[eb[e]]], face_fixed[vface[eb[e]]], ks_perm[vsimp[eb[e]]], k, kfact, binom)
-        prev[e, 0] = f
-        prev[e, 1] = ea[e]
-        prev[e, 2] = _face_key(g_lin, corner_off, face_fixed, face_rank, n_subsets, f, k1) * n_codes[k1] + min(ca, cb)
-        if write:
-            row = offs[1] + e
-            e_out[row, 0] = prev[e, 2]
-            e_out[row, 1] = vkey[ea[e]]
-            e_out[row, 2] = vkey[eb[e]]
-    nprev = ne
-    ncell = 0
-    ninc = 0
-    for r in range(2, n - k + 1):
-        dim = r + k
-        fs = face_start[dim]
-        nf = face_start[dim + 1] - fs
-        ncur = 0
-        for fl in range(nf):
-            f = fs + fl
-            nin = 0
-            for v in range(nv):
-                if _face_in_face(face_free, face_fixed, vface[v], f):
-                    parent[v] = v
-                    nin += 1
-                else:
-                    parent[v] = -1
-            if nin == 0:
-                continue
-            has_edge = False
-            for e in range(ne):
-                if _face_in_face(face_free, face_fixed, ef[e], f):
-                    has_edge = True
-                    ra = _find(parent, ea[e])
-                    rb = _find(parent, eb[e])
-                    if ra != rb:
-                        parent[max(ra, rb)] = min(ra, rb)
-            if not has_edge:
-                continue
-            # a piece needs an edge: a vertex left alone in f (degenerate data) is no r-cell
-            for v in range(nv):
-                comp_of_root[v] = -1
-            for e in range(ne):
-                if _face_in_face(face_free, face_fixed, ef[e], f):
-                    comp_of_root[_find(parent, ea[e])] = -2
-            if cur.shape[0] < ncur + nin:  # rare: grow the buffer
-                grown = np.empty((2 * (ncur + nin), 3), np.int64)
-                grown[:ncur] = cur[:ncur]
-                cur = grown
-            first = ncur
-            ff = face_free[f]
-            for v in range(nv):  # a root is its piece's smallest vertex index: it comes first
-                if parent[v] >= 0:
-                    root = _find(parent, v)
-                    code = _local_code(ff, face_free[vface[v]], face_fixed[vface[v]], ks_perm[vsimp[v]], k, kfact, binom)
-                    if root == v:
-                        if comp_of_root[v] != -2:
-                            continue
-                        comp_of_root[v] = ncur
-                        cur[ncur, 0] = f
-                        cur[ncur, 1] = v
-                        cur[ncur, 2] = code
-                        ncur += 1
-                    else:
-                        c = comp_of_root[root]
-                        if c >= 0 and code < cur[c, 2]:
-                            cur[c, 2] = code
-            fkey = _face_key(g_lin, corner_off, face_fixed, face_rank, n_subsets, f, dim) * n_codes[dim]
-            for c in range(first, ncur):
-                cur[c, 2] += fkey
-                if write:
-                    row = offs[2] + ncell + c
-                    c_out[row, 0] = r
-                    c_out[row, 1] = cur[c, 2]
-            # incidences: each previous-level piece in a face g of f lies in one piece of f
-            for y in range(nprev):
-                if not _face_in_face(face_free, face_fixed, prev[y, 0], f):
-                    continue
-                rep = prev[y, 1]
-                if parent[rep] < 0:
-                    degenerate += 1
-                    continue
-                if write:
-                    row = offs[3] + ninc
-                    i_out[row, 0] = r
-                    i_out[row, 1] = cur[comp_of_root[_find(parent, rep)], 2]
-                    i_out[row, 2] = prev[y, 2]
-                ninc += 1
-        ncell += ncur
-        swap = prev
-        prev = cur
-        cur = swap
-        nprev = ncur
-    counts[2] = ncell
-    counts[3] = ninc
-    return degenerate
+def _new_records(rows, n):
+    return (
+        np.empty(rows, np.int64),
+        np.empty((rows, n), np.float64),
+        np.empty((rows, EDGE_COLS), np.int64),
+        np.empty((rows, CELL_COLS), np.int64),
+        np.empty((rows, INC_COLS), np.int64),
+    )
 
 
 @nb.njit(**JIT)
-def _process_chunk(
+def _grown_keys(a, used):
+    """a's first `used` entries in an array twice as long."""
+    b = np.empty(2 * a.shape[0] + 1, a.dtype)
+    b[:used] = a[:used]
+    return b
+
+
+@nb.njit(**JIT)
+def _grown_rows(a, used):
+    """a's first `used` rows in an array with twice the rows."""
+    b = np.empty((2 * a.shape[0] + 1, a.shape[1]), a.dtype)
+    b[:used] = a[:used]
+    return b
+
+
+@nb.njit(**JIT)
+def _records_upto(vk, vp, e, c, i, used_v, used_e, used_c, used_i):
+    """The written rows, copied out of the (up to twice too long) growing arrays."""
+    return vk[:used_v].copy(), vp[:used_v].copy(), e[:used_e].copy(), c[:used_c].copy(), i[:used_i].copy()
+
+
+@nb.njit(**JIT)
+def cubes_chunk(
     lo, hi, vals, cube_lin, cube_origin, cube_key, axes, value_off, corner_off, n, k,
     face_start, face_free, face_fixed, face_rank, n_subsets,
     ks_corners, ks_face, ks_perm, kfact, binom, n_codes,
     t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp,
-    write, counts, offsets, vk_out, vp_out, e_out, c_out, i_out,
 ):
-    """Cubes lo..hi-1 in one thread, with one set of scratch buffers."""
+    """GCMH on cubes lo..hi-1, in the calling thread, with one set of scratch buffers.
+
+    vals (NV, k) float64: F at grid vertices; corner c of cube i is row cube_lin[i] + value_off[c];
+    cube_origin (m, n) global multi-index of each cube's origin; cube_key (m,) its global
+    linear vertex index (corner c adds corner_off[c]; keys come from these, never from rows).
+    Returns (vertex keys, vertex points, edges, cells, incidences) records in cube order,
+    each cube's crossed-facet mask, and the number of degenerate events.
+    """
     ns = ks_corners.shape[0]
     n_nodes = nb_nodes + t_interior.shape[0]
     simp_vertex = np.empty(ns, np.int64)
@@ -432,7 +207,7 @@ def _process_chunk(
     mat = np.empty((k, k), np.float64)
     rhs = np.empty(k, np.float64)
     lam = np.empty(k + 1, np.float64)
-    corners_buf = np.empty(k + 1, np.int64)
+    corners_buf = np.empty((1, k + 1), np.int64)  # one simplex, as a table
     link0 = np.empty(n_nodes, np.int64)
     link1 = np.empty(n_nodes, np.int64)
     memo = np.empty(max(t_interior.shape[0], 1), np.int8)
@@ -449,52 +224,278 @@ def _process_chunk(
     comp_of_root = np.empty(ns, np.int64)
     comps_a = np.empty((4 * ns, 3), np.int64)
     comps_b = np.empty((4 * ns, 3), np.int64)
-    dg = 0
+    vk_out, vp_out, e_out, c_out, i_out = _new_records(8 * (hi - lo) + 16, n)
+    used_v = used_e = used_c = used_i = 0  # rows written
+    masks = np.zeros(hi - lo, np.int64)
+    ncorner = 1 << n
+    full = (np.int64(1) << k) - 1
+    degenerate = 0
     for ci in range(lo, hi):
         o = cube_lin[ci]
-        dg += _process_cube(
-            vals, o, cube_key[ci], cube_origin[ci], axes, value_off, corner_off, n, k,
-            face_start, face_free, face_fixed, face_rank, n_subsets,
-            ks_corners, ks_face, ks_perm, kfact, binom, n_codes,
-            t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp,
-            simp_vertex, pos_mask, mat, rhs, lam, corners_buf, link0, link1, memo, found, paired,
-            vsimp, vface, vkey, ea, eb, ef, parent, comp_of_root, comps_a, comps_b,
-            write, vk_out, vp_out, e_out, c_out, i_out, offsets[ci], counts[ci],
-        )
-    return dg
+        g_lin = cube_key[ci]
+        for c in range(ncorner):
+            p = np.int64(0)
+            r0 = o + value_off[c]
+            for j in range(k):
+                if vals[r0, j] >= 0.0:
+                    p |= np.int64(1) << j
+            pos_mask[c] = p
 
+        # 1. vertices on k-simplices of k-faces
+        ns = ks_corners.shape[0]
+        kf0 = face_start[k]
+        nv = 0
+        for s in range(ns):
+            simp_vertex[s] = -1
+            # the sign prune, written out (an inlined call would cost more; see _face_key):
+            # most simplices stop here
+            any_pos = 0
+            all_pos = full
+            for i in range(k + 1):
+                p = pos_mask[ks_corners[s, i]]
+                any_pos |= p
+                all_pos &= p
+            if any_pos != full or all_pos != 0:
+                continue
+            if simplex_crosses(vals, o, value_off, ks_corners, s, k, pos_mask, full, mat, rhs, lam):
+                simp_vertex[s] = nv
+                vsimp[nv] = s
+                row = used_v + nv
+                if row >= vk_out.shape[0]:
+                    vk_out = _grown_keys(vk_out, row)
+                    vp_out = _grown_rows(vp_out, row)
+                f = kf0 + ks_face[s]
+                vk_out[row] = _face_key(g_lin + corner_off[face_fixed[f]], n_subsets[k], face_rank[f]) * kfact + ks_perm[s]
+                for a in range(n):
+                    x = 0.0
+                    for i in range(k + 1):
+                        x += lam[i] * axes[a, cube_origin[ci, a] + ((ks_corners[s, i] >> a) & 1)]
+                    vp_out[row, a] = x
+                nv += 1
+        # facets of the cube that M_A crosses (bit 2a + side): where continuation goes next
+        facets = np.int64(0)
+        for v in range(nv):
+            f = kf0 + ks_face[vsimp[v]]
+            for a in range(n):
+                if not (face_free[f] >> a) & 1:
+                    facets |= np.int64(1) << (2 * a + ((face_fixed[f] >> a) & 1))
+        masks[ci - lo] = facets
+        if nv == 0:
+            continue
+        for v in range(nv):
+            s = vsimp[v]
+            f = kf0 + ks_face[s]
+            vface[v] = f
+            vkey[v] = _face_key(g_lin + corner_off[face_fixed[f]], n_subsets[k], face_rank[f]) * kfact + ks_perm[s]
 
-@nb.njit(**PARALLEL_JIT)
-def cubes_kernel(
-    vals, cube_lin, cube_origin, cube_key, axes, value_off, corner_off, n, k,
-    face_start, face_free, face_fixed, face_rank, n_subsets,
-    ks_corners, ks_face, ks_perm, kfact, binom, n_codes,
-    t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp,
-    write, counts, offsets, vk_out, vp_out, e_out, c_out, i_out, nchunks,
-):
-    """Run `_process_cube` on every candidate cube, in parallel chunks.
+        # 2. edges on (k+1)-faces
+        k1 = k + 1
+        f10 = face_start[k1]
+        nk1 = face_start[k1 + 1] - f10
+        ne = 0
+        n_int = t_interior.shape[0]
+        for fi in range(nk1):
+            cnt = 0
+            for b in range(nb_nodes):
+                if simp_vertex[w_bsimp[fi, b]] >= 0:
+                    found[cnt] = b
+                    cnt += 1
+            if cnt == 0:
+                continue
+            if cnt == 2:
+                ea[ne] = simp_vertex[w_bsimp[fi, found[0]]]
+                eb[ne] = simp_vertex[w_bsimp[fi, found[1]]]
+                ef[ne] = f10 + fi
+                ne += 1
+                continue
+            # The walk (paper 3.1.1): link crossing facets of the face's Kuhn (k+1)-simplices.
+            for i in range(nb_nodes + n_int):
+                link0[i] = -1
+                link1[i] = -1
+            for i in range(n_int):
+                memo[i] = -1
+            for t in range(t_corners.shape[0]):
+                any_pos = 0
+                all_pos = full
+                for j in range(k1 + 1):
+                    p = pos_mask[w_cmap[fi, t_corners[t, j]]]
+                    any_pos |= p
+                    all_pos &= p
+                if any_pos != full or all_pos != 0:
+                    continue
+                nc = 0
+                n_a = -1
+                n_b = -1
+                for j in range(k1 + 1):
+                    node = t_facets[t, j]
+                    if node < nb_nodes:
+                        cr = simp_vertex[w_bsimp[fi, node]] >= 0
+                    else:
+                        ii = node - nb_nodes
+                        if memo[ii] < 0:
+                            for q in range(k + 1):
+                                corners_buf[0, q] = w_cmap[fi, t_interior[ii, q]]
+                            memo[ii] = 1 if simplex_crosses(vals, o, value_off, corners_buf, 0, k, pos_mask, full, mat, rhs, lam) else 0
+                        cr = memo[ii] == 1
+                    if cr:
+                        if nc == 0:
+                            n_a = node
+                        elif nc == 1:
+                            n_b = node
+                        nc += 1
+                if nc == 2:
+                    for pair in range(2):
+                        u = n_a if pair == 0 else n_b
+                        w = n_b if pair == 0 else n_a
+                        if link0[u] < 0:
+                            link0[u] = w
+                        elif link1[u] < 0:
+                            link1[u] = w
+                        else:
+                            degenerate += 1
+                elif nc != 0:
+                    degenerate += 1
+            for q in range(cnt):
+                paired[q] = 0
+            for q in range(cnt):
+                if paired[q]:
+                    continue
+                start = found[q]
+                prev = -1
+                cur = start
+                end = -1
+                for _step in range(nb_nodes + n_int + 1):
+                    nxt = link0[cur] if link0[cur] != prev else link1[cur]
+                    if nxt < 0:
+                        break
+                    prev = cur
+                    cur = nxt
+                    if cur < nb_nodes:
+                        end = cur
+                        break
+                if end < 0 or end == start:
+                    degenerate += 1
+                    paired[q] = 1
+                    continue
+                for q2 in range(cnt):
+                    if found[q2] == end:
+                        paired[q2] = 1
+                paired[q] = 1
+                ea[ne] = simp_vertex[w_bsimp[fi, start]]
+                eb[ne] = simp_vertex[w_bsimp[fi, end]]
+                ef[ne] = f10 + fi
+                ne += 1
 
-    vals (NV, k) float64: F at grid vertices; corner c of cube i is row cube_lin[i] + value_off[c];
-    cube_origin (m, n) global multi-index of each cube's origin; cube_key (m,) its global
-    linear vertex index (corner c adds corner_off[c]; keys come from these, never from rows);
-    counts/offsets (m, 5) int64 (vertices, edges, cells, incidences, crossed-facet mask);
-    nchunks: how many pieces to cut the cubes into (a few per thread).
-    Returns the number of degenerate events.
-    """
-    m = cube_lin.shape[0]
-    if m == 0:
-        return 0
-    nchunks = min(m, nchunks)
-    degenerate = np.zeros(nchunks, np.int64)
-    for ch in prange(nchunks):
-        degenerate[ch] = _process_chunk(
-            ch * m // nchunks, (ch + 1) * m // nchunks, vals, cube_lin, cube_origin, cube_key, axes, value_off, corner_off, n, k,
-            face_start, face_free, face_fixed, face_rank, n_subsets,
-            ks_corners, ks_face, ks_perm, kfact, binom, n_codes,
-            t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp,
-            write, counts, offsets, vk_out, vp_out, e_out, c_out, i_out,
-        )
-    return degenerate.sum()
+        # 3. r-cells, r = 1..n-k: connected pieces of the vertex-edge graph inside each
+        # (r+k)-face; for r = 1 they are the edges themselves.  Rows of prev/cur:
+        # (face, a vertex of the piece, key); the two buffers swap roles per level.
+        prev = comps_a
+        cur = comps_b
+        if prev.shape[0] < ne:
+            prev = np.empty((ne, 3), np.int64)
+        for e in range(ne):
+            f = ef[e]
+            ca = _local_code(face_free[f], face_free[vface[ea[e]]], face_fixed[vface[ea[e]]], ks_perm[vsimp[ea[e]]], k, kfact, binom)
+            cb = _local_code(face_free[f], face_free[vface[eb[e]]], face_fixed[vface[eb[e]]], ks_perm[vsimp[eb[e]]], k, kfact, binom)
+            prev[e, 0] = f
+            prev[e, 1] = ea[e]
+            prev[e, 2] = _face_key(g_lin + corner_off[face_fixed[f]], n_subsets[k1], face_rank[f]) * n_codes[k1] + min(ca, cb)
+            row = used_e + e
+            if row >= e_out.shape[0]:
+                e_out = _grown_rows(e_out, row)
+            e_out[row, 0] = prev[e, 2]
+            e_out[row, 1] = vkey[ea[e]]
+            e_out[row, 2] = vkey[eb[e]]
+        nprev = ne
+        ncell = 0
+        ninc = 0
+        for r in range(2, n - k + 1):
+            dim = r + k
+            fs = face_start[dim]
+            nf = face_start[dim + 1] - fs
+            ncur = 0
+            for fl in range(nf):
+                f = fs + fl
+                nin = 0
+                for v in range(nv):
+                    if _face_in_face(face_free[vface[v]], face_fixed[vface[v]], face_free[f], face_fixed[f]):
+                        parent[v] = v
+                        nin += 1
+                    else:
+                        parent[v] = -1
+                if nin == 0:
+                    continue
+                has_edge = False
+                for e in range(ne):
+                    if _face_in_face(face_free[ef[e]], face_fixed[ef[e]], face_free[f], face_fixed[f]):
+                        has_edge = True
+                        ra = _find(parent, ea[e])
+                        rb = _find(parent, eb[e])
+                        if ra != rb:
+                            parent[max(ra, rb)] = min(ra, rb)
+                if not has_edge:
+                    continue
+                # a piece needs an edge: a vertex left alone in f (degenerate data) is no r-cell
+                for v in range(nv):
+                    comp_of_root[v] = -1
+                for e in range(ne):
+                    if _face_in_face(face_free[ef[e]], face_fixed[ef[e]], face_free[f], face_fixed[f]):
+                        comp_of_root[_find(parent, ea[e])] = -2
+                if cur.shape[0] < ncur + nin:  # rare: grow the buffer
+                    grown = np.empty((2 * (ncur + nin), 3), np.int64)
+                    grown[:ncur] = cur[:ncur]
+                    cur = grown
+                first = ncur
+                ff = face_free[f]
+                for v in range(nv):  # a root is its piece's smallest vertex index: it comes first
+                    if parent[v] >= 0:
+                        root = _find(parent, v)
+                        code = _local_code(ff, face_free[vface[v]], face_fixed[vface[v]], ks_perm[vsimp[v]], k, kfact, binom)
+                        if root == v:
+                            if comp_of_root[v] != -2:
+                                continue
+                            comp_of_root[v] = ncur
+                            cur[ncur, 0] = f
+                            cur[ncur, 1] = v
+                            cur[ncur, 2] = code
+                            ncur += 1
+                        else:
+                            c = comp_of_root[root]
+                            if c >= 0 and code < cur[c, 2]:
+                                cur[c, 2] = code
+                fkey = _face_key(g_lin + corner_off[face_fixed[f]], n_subsets[dim], face_rank[f]) * n_codes[dim]
+                for c in range(first, ncur):
+                    cur[c, 2] += fkey
+                    row = used_c + ncell + c
+                    if row >= c_out.shape[0]:
+                        c_out = _grown_rows(c_out, row)
+                    c_out[row, 0] = r
+                    c_out[row, 1] = cur[c, 2]
+                # incidences: each previous-level piece in a face g of f lies in one piece of f
+                for y in range(nprev):
+                    if not _face_in_face(face_free[prev[y, 0]], face_fixed[prev[y, 0]], face_free[f], face_fixed[f]):
+                        continue
+                    rep = prev[y, 1]
+                    if parent[rep] < 0:
+                        degenerate += 1
+                        continue
+                    row = used_i + ninc
+                    if row >= i_out.shape[0]:
+                        i_out = _grown_rows(i_out, row)
+                    i_out[row, 0] = r
+                    i_out[row, 1] = cur[comp_of_root[_find(parent, rep)], 2]
+                    i_out[row, 2] = prev[y, 2]
+                    ninc += 1
+            ncell += ncur
+            swap = prev
+            prev = cur
+            cur = swap
+            nprev = ncur
+        used_v += nv
+        used_e += ne
+        used_c += ncell
+        used_i += ninc
+    return _records_upto(vk_out, vp_out, e_out, c_out, i_out, used_v, used_e, used_c, used_i), masks, degenerate
 
 
 # ----------------------------------------------------------------------------- simplicial baselines (CMS, CCS)
@@ -512,136 +513,106 @@ def _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, s):
 
 
 @nb.njit(**JIT)
-def _process_cube_simplicial(
-    vals, o, g_lin, origin, axes, value_off, corner_off, n, k,
-    s_start, s_corners, s_c0, s_code, s_facets, s_cube_facets, key_base,
-    alive, pos_mask, mat, rhs, lam,
-    write, vk_out, vp_out, e_out, c_out, i_out, offs, counts,
-):
-    """One cube: count (write=False) or write (write=True) the simplices M_A crosses.
-
-    alive (NS,) scratch: 1 where the simplex holds a cell of M_A.  Returns the number
-    of degenerate simplices met (crossed facets that can't bound a convex polytope).
-    """
-    full = (np.int64(1) << k) - 1
-    for c in range(1 << n):
-        p = np.int64(0)
-        r0 = o + value_off[c]
-        for j in range(k):
-            if vals[r0, j] >= 0.0:
-                p |= np.int64(1) << j
-        pos_mask[c] = p
-    degenerate = 0
-    nv = 0
-    facets = np.int64(0)
-    for s in range(s_start[k], s_start[k + 1]):
-        alive[s] = 0
-        if simplex_crosses(vals, o, value_off, s_corners[s, : k + 1], k, pos_mask, full, mat, rhs, lam):
-            alive[s] = 1
-            facets |= s_cube_facets[s]
-            if write:
-                row = offs[0] + nv
-                vk_out[row] = _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, s)
-                for a in range(n):
-                    x = 0.0
-                    for i in range(k + 1):
-                        x += lam[i] * axes[a, origin[a] + ((s_corners[s, i] >> a) & 1)]
-                    vp_out[row, a] = x
-            nv += 1
-    counts[0] = nv
-    counts[4] = facets
-    ne = 0
-    ncell = 0
-    ninc = 0
-    for d in range(k + 1, n + 1):
-        r = d - k
-        for s in range(s_start[d], s_start[d + 1]):
-            alive[s] = 0
-            if nv == 0:
-                continue
-            nf = 0
-            for j in range(d + 1):
-                nf += alive[s_facets[s, j]]
-            if nf == 0:
-                continue
-            # a segment has 2 ends; an r-polytope (r >= 2) at least r + 1 facets
-            if (r == 1 and nf != 2) or nf < r + 1:
-                degenerate += 1
-                continue
-            alive[s] = 1
-            if r == 1:
-                if write:
-                    row = offs[1] + ne
-                    e_out[row, 0] = _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, s)
-                    q = 1
-                    for j in range(d + 1):
-                        f = s_facets[s, j]
-                        if alive[f]:
-                            e_out[row, q] = _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, f)
-                            q += 1
-                ne += 1
-                continue
-            key = _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, s)
-            if write:
-                c_out[offs[2] + ncell, 0] = r
-                c_out[offs[2] + ncell, 1] = key
-            ncell += 1
-            for j in range(d + 1):
-                f = s_facets[s, j]
-                if alive[f]:
-                    if write:
-                        row = offs[3] + ninc
-                        i_out[row, 0] = r
-                        i_out[row, 1] = key
-                        i_out[row, 2] = _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, f)
-                    ninc += 1
-    counts[1] = ne
-    counts[2] = ncell
-    counts[3] = ninc
-    return degenerate
-
-
-@nb.njit(**JIT)
-def _simplicial_chunk(
+def simplices_chunk(
     lo, hi, vals, cube_lin, cube_origin, cube_key, axes, value_off, corner_off, n, k,
     s_start, s_corners, s_c0, s_code, s_facets, s_cube_facets, key_base,
-    write, counts, offsets, vk_out, vp_out, e_out, c_out, i_out,
 ):
-    alive = np.empty(s_start[n + 1], np.int64)
+    """`cubes_chunk`'s twin for the simplicial baselines: same inputs, same records.
+
+    Every simplex of the cube's triangulation that M_A crosses is written; the
+    degenerate events are crossed facets that can't bound a convex polytope.
+    """
+    alive = np.empty(s_start[n + 1], np.int64)  # 1 where the simplex holds a cell of M_A
     pos_mask = np.empty(1 << n, np.int64)
     mat = np.empty((k, k), np.float64)
     rhs = np.empty(k, np.float64)
     lam = np.empty(k + 1, np.float64)
-    dg = 0
+    vk_out, vp_out, e_out, c_out, i_out = _new_records(16 * (hi - lo) + 16, n)
+    used_v = used_e = used_c = used_i = 0  # rows written
+    masks = np.zeros(hi - lo, np.int64)
+    full = (np.int64(1) << k) - 1
+    degenerate = 0
     for ci in range(lo, hi):
-        dg += _process_cube_simplicial(
-            vals, cube_lin[ci], cube_key[ci], cube_origin[ci], axes, value_off, corner_off, n, k,
-            s_start, s_corners, s_c0, s_code, s_facets, s_cube_facets, key_base,
-            alive, pos_mask, mat, rhs, lam,
-            write, vk_out, vp_out, e_out, c_out, i_out, offsets[ci], counts[ci],
-        )
-    return dg
-
-
-@nb.njit(**PARALLEL_JIT)
-def simplices_kernel(
-    vals, cube_lin, cube_origin, cube_key, axes, value_off, corner_off, n, k,
-    s_start, s_corners, s_c0, s_code, s_facets, s_cube_facets, key_base,
-    write, counts, offsets, vk_out, vp_out, e_out, c_out, i_out, nchunks,
-):
-    """`cubes_kernel`'s twin for the simplicial baselines: same inputs, same records."""
-    m = cube_lin.shape[0]
-    if m == 0:
-        return 0
-    nchunks = min(m, nchunks)
-    degenerate = np.zeros(nchunks, np.int64)
-    for ch in prange(nchunks):
-        degenerate[ch] = _simplicial_chunk(
-            ch * m // nchunks, (ch + 1) * m // nchunks, vals, cube_lin, cube_origin, cube_key, axes, value_off,
-            corner_off, n, k, s_start, s_corners, s_c0, s_code, s_facets, s_cube_facets, key_base,
-            write, counts, offsets, vk_out, vp_out, e_out, c_out, i_out,
-        )
-    return degenerate.sum()
+        o = cube_lin[ci]
+        g_lin = cube_key[ci]
+        for c in range(1 << n):
+            p = np.int64(0)
+            r0 = o + value_off[c]
+            for j in range(k):
+                if vals[r0, j] >= 0.0:
+                    p |= np.int64(1) << j
+            pos_mask[c] = p
+        nv = 0
+        facets = np.int64(0)
+        for s in range(s_start[k], s_start[k + 1]):
+            alive[s] = 0
+            any_pos = 0  # the sign prune, written out as in cubes_chunk
+            all_pos = full
+            for i in range(k + 1):
+                p = pos_mask[s_corners[s, i]]
+                any_pos |= p
+                all_pos &= p
+            if any_pos != full or all_pos != 0:
+                continue
+            if simplex_crosses(vals, o, value_off, s_corners, s, k, pos_mask, full, mat, rhs, lam):
+                alive[s] = 1
+                facets |= s_cube_facets[s]
+                if used_v >= vk_out.shape[0]:
+                    vk_out = _grown_keys(vk_out, used_v)
+                    vp_out = _grown_rows(vp_out, used_v)
+                vk_out[used_v] = _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, s)
+                for a in range(n):
+                    x = 0.0
+                    for i in range(k + 1):
+                        x += lam[i] * axes[a, cube_origin[ci, a] + ((s_corners[s, i] >> a) & 1)]
+                    vp_out[used_v, a] = x
+                used_v += 1
+                nv += 1
+        masks[ci - lo] = facets
+        if nv == 0:
+            continue
+        for d in range(k + 1, n + 1):
+            r = d - k
+            for s in range(s_start[d], s_start[d + 1]):
+                alive[s] = 0
+                nf = 0
+                for j in range(d + 1):
+                    nf += alive[s_facets[s, j]]
+                if nf == 0:
+                    continue
+                # a segment has 2 ends; an r-polytope (r >= 2) at least r + 1 facets
+                if (r == 1 and nf != 2) or nf < r + 1:
+                    degenerate += 1
+                    continue
+                alive[s] = 1
+                key = _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, s)
+                if r == 1:
+                    if used_e >= e_out.shape[0]:
+                        e_out = _grown_rows(e_out, used_e)
+                    e_out[used_e, 0] = key
+                    q = 1
+                    for j in range(d + 1):
+                        f = s_facets[s, j]
+                        if alive[f]:
+                            e_out[used_e, q] = _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, f)
+                            q += 1
+                    used_e += 1
+                    continue
+                if used_c >= c_out.shape[0]:
+                    c_out = _grown_rows(c_out, used_c)
+                c_out[used_c, 0] = r
+                c_out[used_c, 1] = key
+                used_c += 1
+                for j in range(d + 1):
+                    f = s_facets[s, j]
+                    if alive[f]:
+                        if used_i >= i_out.shape[0]:
+                            i_out = _grown_rows(i_out, used_i)
+                        i_out[used_i, 0] = r
+                        i_out[used_i, 1] = key
+                        i_out[used_i, 2] = _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, f)
+                        used_i += 1
+    return _records_upto(vk_out, vp_out, e_out, c_out, i_out, used_v, used_e, used_c, used_i), masks, degenerate
 
 
 # ----------------------------------------------------------------------------- the candidate pass

@@ -7,7 +7,9 @@ public function (validates every argument)  ->  `_run_gcmh` (slabs, assembly)
 from __future__ import annotations
 
 import re
+import threading
 import time
+from concurrent.futures import ThreadPoolExecutor
 from math import factorial
 from numbers import Integral, Real
 from typing import Callable, Sequence
@@ -279,18 +281,28 @@ def extract(
 # Below this many cubes a kernel run stays in the calling thread: waking the thread
 # pool costs milliseconds, which small continuation waves would pay hundreds of times.
 _SERIAL_CUBES = 256
+# Pieces a kernel run is cut into per thread (pieces of unequal cost even out).
+_CHUNKS_PER_THREAD = 2
 # Candidate cubes per kernel run: a run of the three-torus's costliest cubes takes
 # about 0.2 s, so a cancel is answered within that.
 _KERNEL_BATCH = 4096
 
 
-def _serial(chunk, m):
-    """A chunk function run over all m cubes, with the parallel kernel's signature."""
+_pool_lock = threading.Lock()
+_pool: tuple[int, ThreadPoolExecutor] | None = None  # (size, pool)
 
-    def run(*args):
-        return chunk(0, m, *args[:-1])  # the last argument is nchunks
 
-    return run
+def _kernel_pool() -> ThreadPoolExecutor:
+    """Threads that run kernel chunks side by side (the kernels release the GIL), one
+    per numba thread; rebuilt when the numba thread count changes."""
+    global _pool
+    with _pool_lock:
+        want = numba.get_num_threads()
+        if _pool is None or _pool[0] != want:
+            if _pool is not None:
+                _pool[1].shutdown(wait=False)
+            _pool = (want, ThreadPoolExecutor(max_workers=want, thread_name_prefix="gcmh-kernel"))
+        return _pool[1]
 
 
 class _Grid:
@@ -327,9 +339,20 @@ class _Grid:
         self.stats = dict(candidate_cubes=0, cubes=int(np.prod(self.dims - 1)), nonfinite_vertices=0, degenerate=0)
         self.parts = dict(vk=[], vp=[], e=[], c=[], i=[])
         self.corner_bits = np.array([[(c >> a) & 1 for a in range(n)] for c in range(1 << n)], np.int64)
+        if self.simplicial:
+            st = self.stab
+            self.simplex_args = (st.start, st.corners, st.c0, st.code, st.facets, st.cube_facets, st.key_base)
+        else:
+            tab = self.tab
+            self.cube_args = (
+                tab.face_start, tab.face_free, tab.face_fixed, tab.face_rank, tab.n_subsets,
+                tab.ksimp_corners, tab.ksimp_face, tab.ksimp_perm, factorial(k), tab.binom, tab.n_codes,
+                tab.tmpl_corners, tab.tmpl_facets, tab.tmpl_interior, tab.n_boundary_nodes,
+                tab.walk_corner_map, tab.walk_boundary_simplex,
+            )
 
     def run_kernel(self, values, cube_lin, origin, value_off) -> np.ndarray:
-        """Process candidate cubes: count, allocate, write; keep the records.
+        """Process candidate cubes (in pieces side by side on the kernel threads); keep the records.
 
         values (NV, k); corner c of cube i is row cube_lin[i] + value_off[c].
         Returns each cube's crossed-facet mask (bit 2a + side).
@@ -343,42 +366,25 @@ class _Grid:
         if self.cancel is not None and self.cancel():
             raise Cancelled("extraction cancelled")
         t = time.perf_counter()
-        n, k, tab = self.n, self.k, self.tab
         cube_key = origin @ self.strides
-        counts = np.zeros((m, 5), np.int64)
-        offsets = np.zeros((m, 5), np.int64)
-        common = (values, cube_lin, origin, cube_key, self.axes_arr, value_off, self.corner_off, n, k)
-        parallel = m >= _SERIAL_CUBES
-        if self.simplicial:
-            st = self.stab
-            kernel = _kernels.simplices_kernel if parallel else _serial(_kernels._simplicial_chunk, m)
-            args = common + (st.start, st.corners, st.c0, st.code, st.facets, st.cube_facets, st.key_base)
-        else:
-            kernel = _kernels.cubes_kernel if parallel else _serial(_kernels._process_chunk, m)
-            args = common + (
-                tab.face_start, tab.face_free, tab.face_fixed, tab.face_rank, tab.n_subsets,
-                tab.ksimp_corners, tab.ksimp_face, tab.ksimp_perm, factorial(k), tab.binom, tab.n_codes,
-                tab.tmpl_corners, tab.tmpl_facets, tab.tmpl_interior, tab.n_boundary_nodes,
-                tab.walk_corner_map, tab.walk_boundary_simplex,
-            )
-        empty_i = np.zeros((0, 1), np.int64)
-        nchunks = 64 * numba.get_num_threads()
-        kernel(*args, False, counts, offsets, np.zeros(0, np.int64), np.zeros((0, n)), empty_i, empty_i, empty_i, nchunks)
-        totals = counts[:, :4].sum(axis=0)
-        offsets[1:, :4] = np.cumsum(counts[:, :4], axis=0)[:-1]
-        out = dict(
-            vk=np.empty(totals[0], np.int64),
-            vp=np.empty((totals[0], n)),
-            e=np.empty((totals[1], _kernels.EDGE_COLS), np.int64),
-            c=np.empty((totals[2], _kernels.CELL_COLS), np.int64),
-            i=np.empty((totals[3], _kernels.INC_COLS), np.int64),
+        common = (values, cube_lin, origin, cube_key, self.axes_arr, value_off, self.corner_off, self.n, self.k)
+        chunk, tables = (
+            (_kernels.simplices_chunk, self.simplex_args) if self.simplicial else (_kernels.cubes_chunk, self.cube_args)
         )
-        self.stats["degenerate"] += int(kernel(*args, True, counts, offsets, *out.values(), nchunks))
-        for key, arr in out.items():
-            self.parts[key].append(arr)
+        threads = numba.get_num_threads()
+        pieces = 1 if m < _SERIAL_CUBES or threads == 1 else min(m, _CHUNKS_PER_THREAD * threads)
+        cuts = [i * m // pieces for i in range(pieces + 1)]
+        if pieces == 1:
+            results = [chunk(0, m, *common, *tables)]
+        else:
+            results = list(_kernel_pool().map(lambda lo, hi: chunk(lo, hi, *common, *tables), cuts[:-1], cuts[1:]))
+        for records, _, degenerate in results:
+            for key, arr in zip(self.parts, records):
+                self.parts[key].append(arr)
+            self.stats["degenerate"] += int(degenerate)
         self.stats["candidate_cubes"] += m
         self.timings["kernel"] += time.perf_counter() - t
-        return counts[:, 4]
+        return results[0][1] if pieces == 1 else np.concatenate([masks for _, masks, _ in results])
 
     def process_block(self, values, lo, hi) -> None:
         """The candidate cubes of the block of cubes lo..hi-1 (per axis, global indices).
