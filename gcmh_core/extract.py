@@ -18,6 +18,7 @@ import numba
 import numpy as np
 
 from . import _kernels
+from ._hashtable import IntTable
 from ._tables import cube_tables, simplex_tables
 from .complex import CellComplex, _frozen
 from .errors import Cancelled, InputError
@@ -424,14 +425,17 @@ class _Grid:
         """
         n, k = self.n, self.k
         t = time.perf_counter()
-        corners = (origins[:, None, :] + self.corner_bits[None]) @ self.strides  # (m, 2^n) global vertex ids
+        corners = (origins @ self.strides)[:, None] + self.corner_off[None]  # (m, 2^n) global vertex ids
         uniq, inverse = _unique_inverse(corners.reshape(-1))
         if sampled is not None:
             uvals = sampled.reshape(-1, k)[uniq]
         else:
-            multi = np.stack(np.unravel_index(uniq, tuple(self.dims)), axis=1)
-            uvals = system.evaluate_points(np.stack([self.axes[a][multi[:, a]] for a in range(n)], axis=1))
-        nonfinite = uniq[~np.isfinite(uvals).all(axis=1)]
+            multi = np.unravel_index(uniq, tuple(self.dims))
+            uvals = system.evaluate_points(np.stack([self.axes[a][multi[a]] for a in range(n)], axis=1))
+        if np.isfinite(uvals).all():  # (the common case, in one contiguous pass)
+            nonfinite = uniq[:0]
+        else:
+            nonfinite = uniq[~np.isfinite(uvals).all(axis=1)]
         values = np.ascontiguousarray(uvals[inverse], np.float64)
         self.timings["evaluate"] += time.perf_counter() - t
         t = time.perf_counter()
@@ -602,20 +606,19 @@ def _run_gcch(n, k, axes, bounds, system, sampled, starts, progress, cancel, gri
     cube_strides = np.ones(n, np.int64)
     for a in range(n - 2, -1, -1):
         cube_strides[a] = cube_strides[a + 1] * div[a + 1]
-    visited: set[int] = set()
+    visited = IntTable()
+
+    def unvisited(cubes):  # the cubes not seen before, each once; they count as seen now
+        cubes = cubes[np.all((cubes >= 0) & (cubes < div), axis=1)]
+        return cubes[visited.insert(cubes @ cube_strides)[1]]
+
     nonfinite = []
-    wave = _start_cubes(n, axes, bounds, system, sampled, starts)
+    wave = unvisited(_start_cubes(n, axes, bounds, system, sampled, starts))
     expanded_start = False
     n_waves = 0
     while len(wave):
         if cancel is not None and cancel():
             raise Cancelled("extraction cancelled")
-        lin = wave @ cube_strides
-        fresh = np.fromiter((c not in visited for c in lin.tolist()), bool, len(lin))
-        wave, lin = wave[fresh], lin[fresh]
-        if not len(wave):
-            break
-        visited.update(lin.tolist())
         n_waves += 1
         if progress is not None:
             progress(f"continuation: wave {n_waves}, {len(visited):,} cubes", min(0.99, 1 - 1 / (1 + 0.01 * n_waves)))
@@ -625,8 +628,7 @@ def _run_gcch(n, k, axes, bounds, system, sampled, starts, progress, cancel, gri
             # the start cube held no piece of M_A (M grazes it): try its neighbourhood once
             expanded_start = True
             around = np.array(np.meshgrid(*[[-1, 0, 1]] * n, indexing="ij")).reshape(n, -1).T
-            wave = (wave[:, None, :] + around[None]).reshape(-1, n)
-            wave = np.unique(wave[np.all((wave >= 0) & (wave < div), axis=1)], axis=0)
+            wave = unvisited((wave[:, None, :] + around[None]).reshape(-1, n))
             continue
         expanded_start = True
         nxt = []
@@ -636,10 +638,7 @@ def _run_gcch(n, k, axes, bounds, system, sampled, starts, progress, cancel, gri
                 nxt.append(wave[sel] + steps[f])
         if not nxt:
             break
-        wave = np.concatenate(nxt)
-        wave = wave[np.all((wave >= 0) & (wave < div), axis=1)]
-        # one row per cube, in increasing linear order (the output does not depend on it)
-        wave = np.stack(np.unravel_index(_unique_inverse(wave @ cube_strides)[0], tuple(div)), axis=1).astype(np.int64)
+        wave = unvisited(np.concatenate(nxt))  # (in any order: the output does not depend on it)
     if starts != "auto" and not any(len(v) for v in grid.parts["vk"]):
         # (with "auto" an empty result is an answer: M does not cross the domain)
         raise InputError(
@@ -654,7 +653,7 @@ def _run_gcch(n, k, axes, bounds, system, sampled, starts, progress, cancel, gri
     grid.stats["waves"] = n_waves
     cx = grid.assemble()
     # the continuation's path, for showing how it went (an attribute: not saved with the complex)
-    processed = np.array(sorted(visited), np.int64)
+    processed = np.sort(visited.keys())
     cx.processed_cubes = _frozen(np.stack(np.unravel_index(processed, tuple(div)), axis=1).astype(np.int64).reshape(-1, n))
     return cx
 

@@ -583,7 +583,16 @@ def parse_system(components: Sequence[str] | str, variables: Sequence[str] | str
     variables = _check_variables(variables)
     if n is not None and n != len(variables):
         raise FormulaError(f"n = {n} but {len(variables)} variables given: {', '.join(variables)}")
-    return System(comps, variables)
+    if all(isinstance(c, str) for c in comps):
+        return _cached_system(tuple(comps), tuple(variables))
+    return System(comps, variables)  # (raises the FormulaError that names the bad component)
+
+
+@functools.lru_cache(maxsize=64)
+def _cached_system(texts: tuple, variables: tuple) -> System:
+    """One System per formula text: parsing and compiling it (sympy's cse) took longer
+    than a whole small extraction, which the app and the benchmark repeat with a new div."""
+    return System(texts, variables)
 
 
 def check_component(text: str, variables: Sequence[str] | str, index: int = 0) -> None:

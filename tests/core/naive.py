@@ -487,3 +487,14 @@ def naive_cms(values, axes):
             cells[r].append((vs, ids))
         alive = {s: ("c", i) for s, i in index.items()}
     return {"vertices": np.array(vertices).reshape(-1, n), "cells": cells}
+
+
+def naive_insert(known: dict, keys):
+    """IntTable.insert's twin: a dict of key -> slot, slots in order of first sight."""
+    slots, is_new = [], []
+    for key in keys:
+        is_new.append(key not in known)
+        if key not in known:
+            known[key] = len(known)
+        slots.append(known[key])
+    return np.array(slots, np.int64), np.array(is_new, bool)
