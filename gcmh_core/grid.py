@@ -17,8 +17,13 @@ def perturbed_axes(bounds, div, seed: int = 0, amplitude: float = PERTURBATION) 
     """Coordinates of the grid lines, one (div[a] + 1,) float64 array per axis.
 
     bounds (n, 2) float64, div (n,) int.  Line j of axis a sits at
-    lo + j h (+ a seeded offset of at most amplitude*h); the domain's own
-    boundary lines are not moved, so the grid covers exactly the domain.
+    lo + j h (+ a seeded offset of at most amplitude*h).  The domain's own
+    boundary lines move too, inwards only (F is never evaluated outside the
+    box): left in place, a bound that is a "nice" number (0, 2 pi, the extent of
+    M) can make a component of F vanish at every vertex of a boundary face, and
+    then a zero of the interpolant lies on a (k-1)-face of the grid, which the
+    Kuhn simplices disagree about (degenerate events, a wrong complex).
+    Interior offsets don't depend on the boundary ones.
     Same (bounds, div, seed), same bits.
     """
     bounds = np.asarray(bounds, np.float64)
@@ -28,9 +33,12 @@ def perturbed_axes(bounds, div, seed: int = 0, amplitude: float = PERTURBATION) 
         h = (hi - lo) / d
         line = lo + h * np.arange(d + 1, dtype=np.float64)
         line[-1] = hi
-        if amplitude and d > 1:
+        if amplitude:
             rng = np.random.default_rng([int(seed) & 0xFFFFFFFF, a, 0x67636D68])
             line[1:-1] += amplitude * h * rng.uniform(-1.0, 1.0, d - 1)
+            inward = amplitude * h * rng.uniform(0.0, 1.0, 2)  # drawn after: interior lines unchanged
+            line[0] += inward[0]
+            line[-1] -= inward[1]
         axes.append(line)
     return axes
 

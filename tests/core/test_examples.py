@@ -226,6 +226,23 @@ def test_teaching_example_topology(name):
     assert f"{chi}" in ex.description  # the description tells the class the number
 
 
+@pytest.mark.parametrize("method", ["gcmh", "cms"])
+@pytest.mark.parametrize("div,seed", [([8, 8, 3, 8, 2], 0), (14, 1), (6, 3), (1, 0)])
+def test_moebius_strip_corner_on_the_domain_edge(method, div, seed):
+    # The strip reaches x = 1.5, the domain's bound, at its two corners, where three
+    # boundary faces of the box meet: with those grid lines left in place, F_1 was
+    # exactly 0 on a whole boundary face and the Kuhn simplices around the corner
+    # disagreed (a degenerate event and chi = 2).  These grids all failed so.
+    from gcmh_core import extract
+
+    ex = load_example("moebius-strip")
+    cx = extract(ex.formulas, ex.bounds, div, variables=ex.variables, method=method, seed=seed)
+    assert cx.meta["degenerate"] == 0
+    assert cx.euler_characteristic() == 1
+    facets = cx.boundary_facets()
+    assert len(facets) > 0
+
+
 def test_whitney_umbrella_at_and_near_its_critical_value():
     from gcmh_core import extract
 
