@@ -22,7 +22,7 @@ from ._hashtable import IntTable
 from ._tables import cube_tables, simplex_tables
 from .complex import CellComplex, _frozen
 from .errors import Cancelled, InputError
-from .grid import PERTURBATION, candidate_corner_sets, candidate_cubes, perturbed_axes
+from .grid import PERTURBATION, candidate_corner_sets, candidate_cubes, candidate_origins, perturbed_axes
 
 METHODS = ("gcmh", "gcch", "cms", "ccs")
 # continuation methods start from points and follow M; the others sweep the whole grid
@@ -401,9 +401,9 @@ class _Grid:
         if not np.isfinite(values).all():  # (a contiguous pass; the count below is the slow one)
             owned = tuple(slice(None) if hi[a] == self.dims[a] - 1 else slice(None, -1) for a in range(self.n))
             self.stats["nonfinite_vertices"] += int(np.count_nonzero(~np.isfinite(values[owned]).all(axis=-1)))
-        local = np.nonzero(candidate_cubes(values))
+        origin = candidate_origins(values)
         self.timings["candidates"] += time.perf_counter() - t
-        if len(local[0]) == 0:
+        if len(origin) == 0:
             return
         block_dims = np.array(values.shape[:-1], np.int64)
         block_strides = np.ones(self.n, np.int64)
@@ -412,7 +412,6 @@ class _Grid:
         value_off = np.array(
             [sum(int(block_strides[a]) for a in range(self.n) if c >> a & 1) for c in range(1 << self.n)], np.int64
         )
-        origin = np.stack(local, axis=1).astype(np.int64)
         cube_lin = origin @ block_strides
         origin += lo
         self.run_kernel(values.reshape(-1, self.k), cube_lin, origin, value_off)
@@ -561,7 +560,7 @@ def _start_cubes(n, axes, bounds, system, sampled, starts) -> np.ndarray:
     """Origins (m, n) of the cubes to start from."""
     if starts == "auto":
         if system is None:  # no Jacobian for sampled data: start from every cube that crosses M
-            return np.argwhere(candidate_cubes(sampled)).astype(np.int64)
+            return candidate_origins(sampled)
         # project a spread of points (a coarse 5^n lattice, capped) onto M
         per_axis = max(2, min(5, int(round(4096 ** (1.0 / n)))))
         lattice = np.stack(

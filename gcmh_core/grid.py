@@ -52,12 +52,12 @@ def _code_dtype(k: int):
     raise ValueError("k too large")
 
 
-def candidate_cubes(values: np.ndarray) -> np.ndarray:
-    """Boolean (d0, ..., d_{n-1}) mask of cubes where every component has both signs.
+def _candidate_flags(values: np.ndarray) -> np.ndarray:
+    """(d0+1, ..., d_{n-1}+1) bool: at vertex v, whether the cube with origin v is a
+    candidate (meaningless on each axis's last layer, where no cube starts).
 
-    values (d0+1, ..., d_{n-1}+1, k).  A cube with a non-finite corner is never a
-    candidate.  The OR of the corners' sign codes is separable, so it costs one
-    parallel in-place pass per axis (numba) instead of 2^n gathers per cube.
+    The OR of the corners' sign codes is separable, so it costs one parallel
+    in-place pass per axis (numba) instead of 2^n gathers per cube.
     """
     from . import _kernels  # noqa: PLC0415  (numba compiles on first use, not on import)
 
@@ -74,7 +74,27 @@ def candidate_cubes(values: np.ndarray) -> np.ndarray:
         stride *= length
     out = np.empty(code.size, np.bool_)
     _kernels.codes_to_candidates(code, k, out)
-    return out.reshape(dims)[tuple(slice(0, d - 1) for d in dims)]
+    return out.reshape(dims)
+
+
+def candidate_cubes(values: np.ndarray) -> np.ndarray:
+    """Boolean (d0, ..., d_{n-1}) mask of cubes where every component has both signs.
+
+    values (d0+1, ..., d_{n-1}+1, k).  A cube with a non-finite corner is never a
+    candidate.
+    """
+    flags = _candidate_flags(values)
+    return flags[tuple(slice(0, d - 1) for d in flags.shape)]
+
+
+def candidate_origins(values: np.ndarray) -> np.ndarray:
+    """(m, n) int64 origins of the candidate cubes, in C order: `candidate_cubes`'s
+    True entries, found on the contiguous flags (np.nonzero on the strided mask
+    took as long as the rest of the pass)."""
+    flags = _candidate_flags(values)
+    dims = flags.shape
+    origins = np.stack(np.unravel_index(np.flatnonzero(flags), dims), axis=1).astype(np.int64, copy=False)
+    return origins[np.all(origins < np.array(dims) - 1, axis=1)]
 
 
 def candidate_corner_sets(corner_values: np.ndarray, n_corners: int) -> np.ndarray:
