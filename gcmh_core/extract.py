@@ -387,11 +387,13 @@ class _Grid:
         self.timings["kernel"] += time.perf_counter() - t
         return results[0][1] if pieces == 1 else np.concatenate([masks for _, masks, _ in results])
 
-    def process_block(self, values, lo, hi) -> None:
+    def process_block(self, values, lo, hi, first_layer=None) -> np.ndarray:
         """The candidate cubes of the block of cubes lo..hi-1 (per axis, global indices).
 
         values (hi-lo+1 ..., k): F at the block's vertices.  Blocks may be processed in
         any order and on any machine: records carry global keys (see `_kernels`).
+        first_layer: when values[0] is the previous block's last layer (slabs along
+        axis 0), the codes this returned for it, so the candidate pass skips it.
         """
         lo = np.asarray(lo, np.int64)
         hi = np.asarray(hi, np.int64)
@@ -401,10 +403,10 @@ class _Grid:
         if not np.isfinite(values).all():  # (a contiguous pass; the count below is the slow one)
             owned = tuple(slice(None) if hi[a] == self.dims[a] - 1 else slice(None, -1) for a in range(self.n))
             self.stats["nonfinite_vertices"] += int(np.count_nonzero(~np.isfinite(values[owned]).all(axis=-1)))
-        origin = candidate_origins(values)
+        origin, last_layer = candidate_origins(values, first_layer)
         self.timings["candidates"] += time.perf_counter() - t
         if len(origin) == 0:
-            return
+            return last_layer
         block_dims = np.array(values.shape[:-1], np.int64)
         block_strides = np.ones(self.n, np.int64)
         for a in range(self.n - 2, -1, -1):
@@ -415,6 +417,7 @@ class _Grid:
         cube_lin = origin @ block_strides
         origin += lo
         self.run_kernel(values.reshape(-1, self.k), cube_lin, origin, value_off)
+        return last_layer
 
     def process_cubes(self, origins, system, sampled) -> tuple[np.ndarray, np.ndarray]:
         """The given cubes (m, n) alone: F at their corners only (one vectorised batch).
@@ -468,7 +471,11 @@ def _run_gcmh(n, k, axes, system, sampled, progress, cancel, grid=None) -> CellC
     dims = grid.dims
     layer = int(np.prod(dims[1:]))
     thickness = int(max(1, min(dims[0] - 1, _SLAB_VERTICES // max(layer * k, 1))))
-    prev_layer = None
+    # one buffer for every slab's values: a fresh array per slab cost more in page
+    # faults (first touch) than evaluating F into it
+    buffer = None if sampled is not None else np.empty((thickness + 1, *(int(d) for d in dims[1:]), k))
+    values = None
+    codes = None  # the candidate pass's codes of the slab's first layer (the last one's last)
     n_slabs = -(-(int(dims[0]) - 1) // thickness)
     lo = np.zeros(n, np.int64)
     hi = dims - 1
@@ -483,12 +490,13 @@ def _run_gcmh(n, k, axes, system, sampled, progress, cancel, grid=None) -> CellC
         if sampled is not None:
             values = sampled[i0 : i1 + 1]
         else:  # the slab's first layer is the previous slab's last: evaluate it once
-            first = i0 if prev_layer is None else i0 + 1
-            fresh = system.evaluate_grid([axes[0][first : i1 + 1]] + list(axes[1:]))
-            values = fresh if prev_layer is None else np.concatenate([prev_layer, fresh])
-            prev_layer = values[-1:].copy()
+            if values is not None:
+                buffer[0] = values[-1]
+            values = buffer[: i1 - i0 + 1]
+            first = 0 if si == 0 else 1
+            system.evaluate_grid([axes[0][i0 + first : i1 + 1]] + list(axes[1:]), out=values[first:])
         grid.timings["evaluate"] += time.perf_counter() - t
-        grid.process_block(values, lo, hi)
+        codes = grid.process_block(values, lo, hi, codes)
     if progress is not None:
         progress("assembling", 1.0)
     return grid.assemble()

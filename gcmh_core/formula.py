@@ -528,10 +528,12 @@ class System:
             out[:, j] = v  # broadcasts constant components
         return out
 
-    def evaluate_grid(self, axes: Sequence) -> np.ndarray:
+    def evaluate_grid(self, axes: Sequence, out: np.ndarray | None = None) -> np.ndarray:
         """F on the grid axes[0] x ... x axes[n-1] (n 1-D arrays of lengths d_a + 1):
-        returns (d_0+1, ..., d_{n-1}+1, k) float64. Each subexpression is evaluated on
-        the sub-grid of the variables it depends on (numpy broadcasting)."""
+        returns (d_0+1, ..., d_{n-1}+1, k) float64, written into `out` when given (a
+        reused buffer: first touching a fresh one cost more than evaluating).  Each
+        subexpression is evaluated on the sub-grid of the variables it depends on
+        (numpy broadcasting)."""
         if len(axes) != self.n:
             raise InputError(f"expected {self.n} grid axes, got {len(axes)}")
         cols = []
@@ -540,8 +542,11 @@ class System:
             if ax.ndim != 1:
                 raise InputError(f"grid axis {a} must be 1-D, got shape {ax.shape}")
             cols.append(ax.reshape([-1 if b == a else 1 for b in range(self.n)]))
-        shape = tuple(c.size for c in cols)
-        out = np.empty(shape + (self.k,))
+        shape = tuple(c.size for c in cols) + (self.k,)
+        if out is None:
+            out = np.empty(shape)
+        elif out.shape != shape or out.dtype != np.float64:
+            raise InputError(f"out must be a float64 array of shape {shape}, got {out.dtype} {out.shape}")
         for j, v in enumerate(self._program.run(cols)):
             out[..., j] = v  # broadcast to the full grid
         return out

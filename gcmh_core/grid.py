@@ -52,29 +52,40 @@ def _code_dtype(k: int):
     raise ValueError("k too large")
 
 
-def _candidate_flags(values: np.ndarray) -> np.ndarray:
+def _candidate_flags(values: np.ndarray, first_layer=None) -> tuple[np.ndarray, np.ndarray]:
     """(d0+1, ..., d_{n-1}+1) bool: at vertex v, whether the cube with origin v is a
-    candidate (meaningless on each axis's last layer, where no cube starts).
+    candidate (meaningless on each axis's last layer, where no cube starts); and the
+    sign codes of the last layer along axis 0, OR-ed along the other axes.
 
     The OR of the corners' sign codes is separable, so it costs one parallel
-    in-place pass per axis (numba) instead of 2^n gathers per cube.
+    in-place pass per axis (numba) instead of 2^n gathers per cube.  first_layer:
+    the previous slab's returned codes, when values[0] is that slab's last layer
+    (its codes are not computed again: with thin slabs that was half the work).
     """
     from . import _kernels  # noqa: PLC0415  (numba compiles on first use, not on import)
 
     values = np.ascontiguousarray(values, np.float64)
     dims = values.shape[:-1]
     k = values.shape[-1]
+    layer = int(np.prod(dims[1:]))
     code = np.empty(int(np.prod(dims)), _code_dtype(k))  # the narrowest: the OR passes are memory-bound
-    _kernels.vertex_sign_codes(values.reshape(-1, k), code)
+    skip = 0 if first_layer is None else layer
+    if skip:
+        code[:layer] = first_layer
+    fresh = code[skip:]
+    _kernels.vertex_sign_codes(values.reshape(-1, k)[skip:], fresh)
     stride = 1
-    for axis in range(len(dims) - 1, -1, -1):
+    for axis in range(len(dims) - 1, 0, -1):  # within each layer
         length = dims[axis]
         if length > 1:
-            _kernels.or_with_next_along_axis(code, code.size // (length * stride), length, stride)
+            _kernels.or_with_next_along_axis(fresh, fresh.size // (length * stride), length, stride)
         stride *= length
+    last = code[-layer:].copy()  # (the pass along axis 0 leaves the last layer as it is)
+    if dims[0] > 1:
+        _kernels.or_with_next_along_axis(code, 1, dims[0], layer)
     out = np.empty(code.size, np.bool_)
     _kernels.codes_to_candidates(code, k, out)
-    return out.reshape(dims)
+    return out.reshape(dims), last
 
 
 def candidate_cubes(values: np.ndarray) -> np.ndarray:
@@ -83,18 +94,19 @@ def candidate_cubes(values: np.ndarray) -> np.ndarray:
     values (d0+1, ..., d_{n-1}+1, k).  A cube with a non-finite corner is never a
     candidate.
     """
-    flags = _candidate_flags(values)
+    flags = _candidate_flags(values)[0]
     return flags[tuple(slice(0, d - 1) for d in flags.shape)]
 
 
-def candidate_origins(values: np.ndarray) -> np.ndarray:
-    """(m, n) int64 origins of the candidate cubes, in C order: `candidate_cubes`'s
-    True entries, found on the contiguous flags (np.nonzero on the strided mask
-    took as long as the rest of the pass)."""
-    flags = _candidate_flags(values)
+def candidate_origins(values: np.ndarray, first_layer=None) -> tuple[np.ndarray, np.ndarray]:
+    """(m, n) int64 origins of the candidate cubes, in C order (`candidate_cubes`'s
+    True entries, found on the contiguous flags: np.nonzero on the strided mask took
+    as long as the rest of the pass); and the codes to pass on as the next slab's
+    `first_layer` (see `_candidate_flags`)."""
+    flags, last = _candidate_flags(values, first_layer)
     dims = flags.shape
     origins = np.stack(np.unravel_index(np.flatnonzero(flags), dims), axis=1).astype(np.int64, copy=False)
-    return origins[np.all(origins < np.array(dims) - 1, axis=1)]
+    return origins[np.all(origins < np.array(dims) - 1, axis=1)], last
 
 
 def candidate_corner_sets(corner_values: np.ndarray, n_corners: int) -> np.ndarray:

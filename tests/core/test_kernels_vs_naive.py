@@ -557,9 +557,15 @@ def test_candidate_cubes_match_naive(n, k):
         assert mask.shape == tuple(s - 1 for s in shape[:-1])
         got = sorted(tuple(int(i) for i in ix) for ix in zip(*np.nonzero(mask)))
         assert got == naive_candidates(vals), (n, k, trial)
-        origins = candidate_origins(vals)  # the same cubes, as rows, in C order
+        origins, _ = candidate_origins(vals)  # the same cubes, as rows, in C order
         assert origins.dtype == np.int64 and origins.shape == (len(got), n)
         assert [tuple(int(i) for i in row) for row in origins] == got
+        # in two slabs along axis 0 that share a layer, the second given the first's codes
+        cut = int(rng.integers(1, shape[0] - 1)) if shape[0] > 2 else 1
+        first, carry = candidate_origins(vals[: cut + 1])
+        second, _ = candidate_origins(vals[cut:], carry)
+        second[:, 0] += cut
+        assert [tuple(int(i) for i in row) for row in np.concatenate([first, second])] == got
 
 
 @pytest.mark.parametrize("n,k", [(2, 1), (3, 1), (3, 2), (4, 2), (5, 3), (6, 3)])
