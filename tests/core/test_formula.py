@@ -296,3 +296,14 @@ def test_injection_is_rejected_without_running(tmp_path):
         with pytest.raises(FormulaError):
             check_component(text, ["x1"])
     assert not sentinel.exists()
+
+
+def test_evaluate_grid_into_a_reused_buffer():
+    s = parse_system(["x*y - z", "sin(x) + 0*y*z"], ["x", "y", "z"])
+    axes = [np.linspace(-1, 1, 4), np.linspace(0, 2, 5), np.linspace(-2, 0, 3)]
+    want = s.evaluate_grid(axes)
+    buf = np.full((2, 4, 5, 3, 2), np.nan)
+    got = s.evaluate_grid(axes, out=buf[1])
+    assert got.base is buf and np.array_equal(buf[1], want) and np.isnan(buf[0]).all()
+    with pytest.raises(InputError, match="out must be"):
+        s.evaluate_grid(axes, out=np.empty((4, 5, 3, 1)))
