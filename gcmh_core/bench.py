@@ -8,7 +8,8 @@
 * table3: three-torus in R^6, GCMH and GCCH, div 2 .. 7 and beyond (paper Table 3);
 * sphere: n = 3, k = 1 at div 64, 128, 256 against scikit-image's marching_cubes and
   VTK's flying edges (pyvista) on the same function and grid, sampling included;
-* engine: the Klein bottle at the authors' division, and a fresh process's overhead.
+* engine: the Klein bottle at the authors' division, the kernels' time per cube, and a
+  fresh process's overhead.
 
 Every run is a fresh child process (so its peak memory is its own) that first loads
 the cached kernels on a tiny grid, then reports the best of `--repeat` runs (one run
@@ -102,6 +103,7 @@ def _child(spec: dict, import_seconds: float = 0.0) -> dict:
             if dt > spec.get("limit", 60) / 3:
                 break
         out.update(seconds=best)
+    out.update(kernel_seconds=cx.meta["timings"]["kernel"], kernel_cubes=cx.meta.get("candidate_cubes", 0))
     out.update(counts=cx.counts(), euler=cx.euler_characteristic(), boundary=int(len(cx.boundary_facets())),
                visited=cx.meta.get("visited_cubes", cx.meta.get("candidate_cubes")), peak_mb=_peak_mb())
     if spec.get("peers"):
@@ -301,12 +303,25 @@ def print_engine(R: Runner) -> None:
         if r:
             print(f"| Klein bottle, authors' div 40x40x20x40x40, {m.upper()} | {_secs(r)} | {_mem(r)} | {_cells(r)} "
                   f"| {r.get('euler', '-')} | {'GCCH <= 3 s' if m == 'gcch' else '-'} |")
+    for m in ("gcmh", "cms"):  # the per-cube work, where the two methods differ
+        r = R.results.get(("engine", f"kernel-{m}", 0))
+        if r and r.get("kernel_cubes"):
+            us = 1e6 * r["kernel_seconds"] / r["kernel_cubes"]
+            print(f"| {m.upper()} kernel alone, complex cosine div 80: {us:.2f} us per candidate cube "
+                  f"({r['kernel_cubes']:,} cubes, {numba_threads()} threads, wall) | {_secs(r)} | {_mem(r)} | {_cells(r)} "
+                  f"| {r.get('euler', '-')} | - |")
     r = R.results.get(("engine", "fresh", 0))
     if r and "overhead_seconds" in r:
         print(f"| fresh process: import {r['import_seconds']:.2f} s + first run {r['first_seconds']:.2f} s vs "
               f"{r['seconds']:.3f} s warm (complex cosine div 10) | overhead {r['overhead_seconds']:.2f} s | {_mem(r)} "
               f"| {_cells(r)} | {r.get('euler', '-')} | overhead <= 3 s |")
     print()
+
+
+def numba_threads() -> int:
+    import numba  # noqa: PLC0415
+
+    return numba.get_num_threads()
 
 
 def _machine() -> str:
@@ -355,6 +370,8 @@ def main(argv=None) -> int:
     if "engine" in tables:
         for m in ("gcmh", "gcch"):
             R.run(("engine", f"klein-{m}", 0), dict(example="klein-bottle", method=m, div=[40, 40, 20, 40, 40]))
+        for m in ("gcmh", "cms"):
+            R.run(("engine", f"kernel-{m}", 0), dict(example="complex-cosine", method=m, div=80))
         R.run(("engine", "fresh", 0), dict(example="complex-cosine", method="gcmh", div=10, fresh=True))
     print(f"Measured {date.today().isoformat()} on {_machine()} (paper: {PAPER_MACHINE}); "
           f"best of {args.repeat} warm runs, each in a fresh process (peak = its max RSS, Python and numba included); "
