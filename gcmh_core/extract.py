@@ -428,7 +428,10 @@ class _Grid:
         n, k = self.n, self.k
         t = time.perf_counter()
         corners = (origins @ self.strides)[:, None] + self.corner_off[None]  # (m, 2^n) global vertex ids
-        uniq, inverse = _unique_inverse(corners.reshape(-1))
+        # each vertex once (a small hash table per wave: faster than sorting, any order will do)
+        ids = corners.reshape(-1)
+        inverse, first = IntTable(capacity=2 * len(ids)).insert(ids)
+        uniq = ids[first]
         if sampled is not None:
             uvals = sampled.reshape(-1, k)[uniq]
         else:
