@@ -1,7 +1,7 @@
 """`extract`: the public entry point of the engine (GCMH over the whole grid).
 
 public function (validates every argument)  ->  `_run_gcmh` (slabs, assembly)
-->  `_kernels.cubes_kernel` (numba, one compile for all F, n and k).
+->  `_kernels.cubes_chunk` (numba, one compile for all F, n and k; chunks side by side on threads).
 """
 
 from __future__ import annotations

@@ -476,7 +476,7 @@ def test_degenerate_sampled_data_gives_no_empty_cells(n, k, seed, div):
         assert not empty, (
             f"(n={n}, k={k}, seed={seed}, div={div}) engine has {len(empty)} of {len(sig[r])} "
             f"{r}-cells with no vertices/faces (naive: {len(ref['cells'][r])} cells, none empty); "
-            f"looks like _process_cube step 3 makes components of isolated vertices")
+            f"looks like cubes_chunk step 3 makes components of isolated vertices")
 
 
 # ---------------------------------------------------------------------------
