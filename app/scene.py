@@ -43,6 +43,20 @@ PICK_COLOR = "#40ff90"
 CMAP = "viridis"
 
 
+
+def colour_range(values) -> list[float]:
+    """The colour bar's range for these values: their min and max, widened by 1 when they
+    are all equal, and made symmetric when within 1% of it (the complex cosine's
+    -1.5701 .. 1.5698 put "-0.00" in the middle of the bar, under a teacher's eyes)."""
+    lo, hi = float(np.min(values)), float(np.max(values))
+    if hi <= lo:
+        return [lo, lo + 1.0]
+    if abs(lo + hi) <= 0.01 * (hi - lo):
+        m = max(-lo, hi)
+        return [-m, m]
+    return [lo, hi]
+
+
 @dataclass
 class Style:
     """How the mesh is drawn; everything a user can change without a new run."""
@@ -248,7 +262,7 @@ class Scene:
             col = np.asarray(self.complex.vertices)[:, self.names.index(color_by)]
             col = col[np.isfinite(col)]
             if len(col):
-                kw["clim"] = [float(col.min()), float(col.max()) if col.max() > col.min() else float(col.min()) + 1.0]
+                kw["clim"] = colour_range(col)
             kw.update(scalars=color_by, cmap=st.cmap, show_scalar_bar=st.scalar_bar,
                       scalar_bar_args=dict(title=color_by, vertical=True, title_font_size=self._font(36),
                                            label_font_size=self._font(26), n_labels=5, fmt="%.2f",

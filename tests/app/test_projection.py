@@ -196,3 +196,12 @@ def test_view_frame_and_projector_kinds():
     assert m2.mapping == "orthographic" and m2.distance == 2.0 and np.allclose(m2.angles, m.angles)
     with pytest.raises(ValueError, match="mapping"):
         ProjectionModel(n=4, mapping="fisheye")
+
+
+def test_colour_range_is_symmetric_when_nearly_so():
+    from app.scene import colour_range
+
+    assert colour_range(np.array([-1.5701, 0.2, 1.5698])) == [-1.5701, 1.5701]
+    assert colour_range(np.array([-1.0, 1.1])) == [-1.0, 1.1]  # 5% off: left as it is
+    assert colour_range(np.array([0.0, 2.0])) == [0.0, 2.0]
+    assert colour_range(np.array([3.0, 3.0])) == [3.0, 4.0]
