@@ -668,3 +668,26 @@ def codes_to_candidates(code, k, out):
     mask = full | (np.uint64(1) << np.uint64(2 * k))
     for v in prange(code.shape[0]):
         out[v] = (code[v] & mask) == full
+
+
+@nb.njit(**JIT)
+def corner_sets_to_candidates(vals, n_corners, out):
+    """out[i]: the candidate test of `codes_to_candidates` for cube i, whose corners are the
+    rows i * n_corners .. (i + 1) * n_corners - 1 of vals (continuation gathers them so).
+
+    Serial and fused: a wave is small, and two parallel launches per wave cost more
+    than the test.
+    """
+    k = vals.shape[1]
+    full = (np.int64(1) << (2 * k)) - 1
+    for i in range(out.shape[0]):
+        code = np.int64(0)
+        finite = True
+        for r in range(i * n_corners, (i + 1) * n_corners):
+            for j in range(k):
+                x = vals[r, j]
+                if not np.isfinite(x):
+                    finite = False
+                code |= np.int64(1 if x >= 0.0 else 2) << (2 * j)
+        out[i] = finite and code == full
+

@@ -118,11 +118,6 @@ def candidate_corner_sets(corner_values: np.ndarray, n_corners: int) -> np.ndarr
     from . import _kernels  # noqa: PLC0415
 
     values = np.ascontiguousarray(corner_values, np.float64)
-    k = values.shape[-1]
-    code = np.empty(len(values), _code_dtype(k))
-    _kernels.vertex_sign_codes(values, code)
-    code = np.ascontiguousarray(np.bitwise_or.reduce(code.reshape(-1, n_corners), axis=1))
-    out = np.empty(len(code), np.bool_)
-    _kernels.codes_to_candidates(code, k, out)
+    out = np.empty(len(values) // n_corners, np.bool_)
+    _kernels.corner_sets_to_candidates(values, n_corners, out)
     return out
-

@@ -542,7 +542,7 @@ def test_simplex_crosses_singular_and_offsets():
 
 @pytest.mark.parametrize("n,k", [(1, 1), (2, 1), (3, 1), (3, 2), (4, 2), (5, 3)])
 def test_candidate_cubes_match_naive(n, k):
-    from gcmh_core.grid import candidate_cubes, candidate_origins
+    from gcmh_core.grid import candidate_corner_sets, candidate_cubes, candidate_origins
     rng = np.random.default_rng(n * 10 + k)
     for trial in range(20):
         shape = tuple(int(s) for s in rng.integers(2, 5 if n < 5 else 4, n)) + (k,)
@@ -557,6 +557,10 @@ def test_candidate_cubes_match_naive(n, k):
         assert mask.shape == tuple(s - 1 for s in shape[:-1])
         got = sorted(tuple(int(i) for i in ix) for ix in zip(*np.nonzero(mask)))
         assert got == naive_candidates(vals), (n, k, trial)
+        # the same test on cubes given corner by corner (as continuation gathers them)
+        cubes = list(np.ndindex(*mask.shape))
+        corners = np.array([vals[tuple(np.add(c, bits))] for c in cubes for bits in np.ndindex(*(2,) * n)])
+        assert candidate_corner_sets(corners, 2**n).tolist() == [bool(mask[c]) for c in cubes], (n, k, trial)
         origins, _ = candidate_origins(vals)  # the same cubes, as rows, in C order
         assert origins.dtype == np.int64 and origins.shape == (len(got), n)
         assert [tuple(int(i) for i in row) for row in origins] == got
