@@ -290,20 +290,19 @@ _KERNEL_BATCH = 4096
 
 
 _pool_lock = threading.Lock()
-_pool: tuple[int, ThreadPoolExecutor] | None = None  # (size, pool)
+_pools: dict[int, ThreadPoolExecutor] = {}  # by size: numba's thread count is per thread
 
 
 def _kernel_pool() -> ThreadPoolExecutor:
-    """Threads that run kernel chunks side by side (the kernels release the GIL), one
-    per numba thread; rebuilt when the numba thread count changes."""
-    global _pool
+    """Threads that run kernel chunks side by side (the kernels release the GIL), as many
+    as numba may use in the calling thread.  Pools are kept, never shut down: another
+    thread may be mapping over one at any time."""
+    want = numba.get_num_threads()
     with _pool_lock:
-        want = numba.get_num_threads()
-        if _pool is None or _pool[0] != want:
-            if _pool is not None:
-                _pool[1].shutdown(wait=False)
-            _pool = (want, ThreadPoolExecutor(max_workers=want, thread_name_prefix="gcmh-kernel"))
-        return _pool[1]
+        pool = _pools.get(want)
+        if pool is None:
+            pool = _pools[want] = ThreadPoolExecutor(max_workers=want, thread_name_prefix="gcmh-kernel")
+        return pool
 
 
 class _Grid:

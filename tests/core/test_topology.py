@@ -133,6 +133,36 @@ def test_result_does_not_depend_on_slabs(monkeypatch):
     assert all(np.array_equal(one.cells[2][i], many.cells[2][i]) for i in range(2))
 
 
+def _same_complex(a, b):
+    return (a.vertices.tobytes() == b.vertices.tobytes() and np.array_equal(a.edges, b.edges)
+            and all(np.array_equal(x, y) for r in a.cells for x, y in zip(a.cells[r], b.cells[r])))
+
+
+@pytest.mark.parametrize("method", ["gcmh", "gcch", "cms"])
+def test_result_does_not_depend_on_threads(method):
+    # kernel chunks run on a pool of Python threads sized by numba's per-thread count;
+    # one thread, and two extractions at once from two threads, give the same bits
+    import threading
+
+    import numba
+
+    f = ["x^2 + y^2 + z^2 + w^2 - 1", "x + y - z*w"]
+    kw = dict(variables="x,y,z,w", method=method, start=[0.7, 0, 0.7, 0] if method == "gcch" else None)
+    want = extract(f, (-1.2, 1.2), 14, **kw)
+    results = {}
+
+    def run(name, threads):
+        numba.set_num_threads(threads)  # (this thread only)
+        results[name] = extract(f, (-1.2, 1.2), 14, **kw)
+
+    workers = [threading.Thread(target=run, args=(name, t)) for name, t in (("one", 1), ("all", numba.config.NUMBA_NUM_THREADS))]
+    for w in workers:
+        w.start()
+    for w in workers:
+        w.join()
+    assert _same_complex(want, results["one"]) and _same_complex(want, results["all"])
+
+
 def test_nonfinite_values_are_no_crossing_and_counted():
     # log of a negative number is NaN: the layer of vertices at x1 < 0 (the boundary
     # lines move inwards, so the grid never holds x1 = 0 exactly)
