@@ -27,8 +27,10 @@ finiteness masks, the OR over corners), F's full-size temporaries (8 V bytes
 each, t = 1 or 2 for usual formulas), and the records of the block's part of M
 (small next to the values unless M fills the block): about (9k + 8t + 6) V bytes,
 on top of a worker process with numpy, numba and the kernels loaded.  The
-default block keeps V <= BLOCK_VERTICES (2^21: ~70 MB at k = 2, ~90 MB at k = 3)
-and gives at least BLOCKS_PER_WORKER blocks per worker thread.
+default block keeps V <= BLOCK_VERTICES (2^23: ~270 MB at k = 2, ~400 MB at k = 3 by
+that count; a worker measured 100 MB over idle for the cosine's 6.1M-vertex blocks) and
+gives at least BLOCKS_PER_WORKER blocks per worker thread.  Smaller blocks (2^21) made
+four times as many tasks, and scheduling them cost more than the work saved.
 
 dask is imported here only, and only when a scheduler is asked for.
 """
@@ -54,7 +56,7 @@ from .errors import Cancelled, InputError
 from .extract import CONTINUATION_METHODS, _Grid, _run_gcch, block_values, per_axis_ints
 
 # Default block: at most this many vertices (bounds a worker's memory, see the module doc) ...
-BLOCK_VERTICES = 1 << 21
+BLOCK_VERTICES = 1 << 23
 # ... and at least this many blocks per worker thread (load balance as blocks finish unevenly).
 BLOCKS_PER_WORKER = 4
 # Continuation waves with fewer cubes than this run in the client process.
