@@ -570,7 +570,7 @@ def _start_cubes(n, axes, bounds, system, sampled, starts) -> np.ndarray:
     """Origins (m, n) of the cubes to start from."""
     if starts == "auto":
         if system is None:  # no Jacobian for sampled data: start from every cube that crosses M
-            return candidate_origins(sampled)
+            return candidate_origins(sampled)[0]
         # project a spread of points (a coarse 5^n lattice, capped) onto M
         per_axis = max(2, min(5, int(round(4096 ** (1.0 / n)))))
         lattice = np.stack(

@@ -56,6 +56,8 @@ def test_sampled_data_continues_from_a_crossing_cube():
     full = extract(values, bounds=(-1.5, 1.5))
     cont = extract(values, bounds=(-1.5, 1.5), method="gcch", start=(0.0, 0.0, 1.0))
     _same_complex(full, cont)
+    auto = extract(values, bounds=(-1.5, 1.5), method="gcch", start="auto")  # from every crossing cube
+    _same_complex(full, auto)
 
 
 def test_bad_start_points_say_why():
