@@ -22,7 +22,7 @@ from ._hashtable import IntTable
 from ._tables import cube_tables, simplex_tables
 from .complex import CellComplex, _frozen
 from .errors import Cancelled, InputError
-from .grid import PERTURBATION, candidate_corner_sets, candidate_cubes, candidate_origins, perturbed_axes
+from .grid import PERTURBATION, candidate_corner_sets, candidate_origins, perturbed_axes
 
 METHODS = ("gcmh", "gcch", "cms", "ccs")
 # continuation methods start from points and follow M; the others sweep the whole grid
@@ -338,7 +338,6 @@ class _Grid:
         self.timings = dict(evaluate=0.0, candidates=0.0, kernel=0.0, assemble=0.0)
         self.stats = dict(candidate_cubes=0, cubes=int(np.prod(self.dims - 1)), nonfinite_vertices=0, degenerate=0)
         self.parts = dict(vk=[], vp=[], e=[], c=[], i=[])
-        self.corner_bits = np.array([[(c >> a) & 1 for a in range(n)] for c in range(1 << n)], np.int64)
         if self.simplicial:
             st = self.stab
             self.simplex_args = (st.start, st.corners, st.c0, st.code, st.facets, st.cube_facets, st.key_base)
@@ -657,7 +656,7 @@ def _run_gcch(n, k, axes, bounds, system, sampled, starts, progress, cancel, gri
         )
     if progress is not None:
         progress("assembling", 1.0)
-    grid.stats["nonfinite_vertices"] = int(len(_unique_inverse(np.concatenate(nonfinite))[0])) if nonfinite else 0
+    grid.stats["nonfinite_vertices"] = len(_unique_first(np.concatenate(nonfinite))[0]) if nonfinite else 0
     grid.stats["visited_cubes"] = len(visited)
     grid.stats["waves"] = n_waves
     cx = grid.assemble()
@@ -668,18 +667,6 @@ def _run_gcch(n, k, axes, bounds, system, sampled, starts, progress, cancel, gri
 
 
 # ----------------------------------------------------------------------------- assembly
-def _unique_inverse(a: np.ndarray):
-    """Sorted unique values of a 1-D int64 array and, per entry, its index among them."""
-    order = np.argsort(a, kind="stable")
-    sa = a[order]
-    new = np.empty(len(sa), bool)
-    new[:1] = True
-    new[1:] = sa[1:] != sa[:-1]
-    inverse = np.empty(len(a), np.int64)
-    inverse[order] = np.cumsum(new) - 1
-    return sa[new], inverse
-
-
 def _unique_first(keys: np.ndarray):
     """Sorted unique keys and the index of each one's first occurrence (sort-based: fast on int64)."""
     order = np.argsort(keys, kind="stable")
