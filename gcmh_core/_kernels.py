@@ -242,7 +242,6 @@ def cubes_chunk(
             pos_mask[c] = p
 
         # 1. vertices on k-simplices of k-faces
-        ns = ks_corners.shape[0]
         kf0 = face_start[k]
         nv = 0
         for s in range(ns):

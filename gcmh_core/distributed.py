@@ -54,6 +54,7 @@ import numpy as np
 
 from .errors import Cancelled, InputError
 from .extract import CONTINUATION_METHODS, _Grid, _run_gcch, block_values, per_axis_ints
+from .formula import parse_system
 
 # Default block: at most this many vertices (bounds a worker's memory, see the module doc) ...
 BLOCK_VERTICES = 1 << 23
@@ -444,13 +445,6 @@ def _process_wave(session, method, system, sampled, cancel, grid, origins):
 _KERNEL_LOCK = threading.Lock()
 
 
-@functools.lru_cache(maxsize=8)
-def _worker_system(texts, variables):
-    from .formula import parse_system  # noqa: PLC0415
-
-    return parse_system(list(texts), list(variables))
-
-
 @functools.lru_cache(maxsize=4)
 def _worker_sampled(path):
     return np.load(path, mmap_mode="r")
@@ -504,7 +498,7 @@ def _block_task(n, k, method, axes, formula, data, lo, hi, threads) -> dict:
     _set_threads(threads)
     grid = _worker_grid(n, k, method, axes)
     t = time.perf_counter()
-    system = None if formula is None else _worker_system(*formula)
+    system = None if formula is None else parse_system(*formula)
     sampled = _sampled_array(data)
     if sampled is not None and not isinstance(data, tuple):  # a remote block's own slice
         values = sampled
@@ -520,7 +514,7 @@ def _cubes_task(n, k, method, axes, formula, data, origins, threads) -> dict:
     """One chunk of a continuation wave on a worker."""
     _set_threads(threads)
     grid = _worker_grid(n, k, method, axes)
-    system = None if formula is None else _worker_system(*formula)
+    system = None if formula is None else parse_system(*formula)
     with _KERNEL_LOCK:
         masks, nonfinite = grid.process_cubes(origins, system, _sampled_array(data))
     out = _packed(grid)
