@@ -33,6 +33,8 @@ import sys
 import time
 from datetime import date
 
+from .extract import CONTINUATION_METHODS
+
 PAPER_MACHINE = "MATLAB 2021b, 8-core i9"
 
 # paper Table 1 (seconds), Table 2 (top cells), Table 3 (seconds)
@@ -77,7 +79,7 @@ def _child(spec: dict, import_seconds: float = 0.0) -> dict:
     import_s = import_seconds
     ex = load_example(spec["example"])
     method = spec.get("method", "gcmh")
-    start = ex.start if method in ("gcch", "ccs") else None
+    start = ex.start if method in CONTINUATION_METHODS else None
     div = spec["div"]
 
     def run(d):
@@ -360,7 +362,7 @@ def main(argv=None) -> int:
     t0 = time.perf_counter()
     if "table1" in tables or "table2" in tables:
         for m in ("cms", "gcmh", "ccs", "gcch"):
-            R.series("table1", "complex-cosine", m, TABLE1_DIVS, growth=2 if m in ("gcch", "ccs") else 4)
+            R.series("table1", "complex-cosine", m, TABLE1_DIVS, growth=2 if m in CONTINUATION_METHODS else 4)
     if "table3" in tables:
         for m in ("gcmh", "gcch"):
             R.series("table3", "three-torus", m, TABLE3_DIVS, growth=3 if m == "gcch" else 6)
