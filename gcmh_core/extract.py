@@ -22,7 +22,7 @@ from ._hashtable import IntTable
 from ._tables import cube_tables, simplex_tables
 from .complex import CellComplex, _frozen
 from .errors import Cancelled, InputError
-from .grid import PERTURBATION, candidate_corner_sets, candidate_origins, perturbed_axes
+from .grid import PERTURBATION, candidate_corner_sets, candidate_origins, candidate_scan, perturbed_axes
 
 METHODS = ("gcmh", "gcch", "cms", "ccs")
 # continuation methods start from points and follow M; the others sweep the whole grid
@@ -397,11 +397,11 @@ class _Grid:
         hi = np.asarray(hi, np.int64)
         values = np.ascontiguousarray(values, np.float64)
         t = time.perf_counter()
-        # a vertex is counted by the block below it, unless it is on the grid's last layer
-        if not np.isfinite(values).all():  # (a contiguous pass; the count below is the slow one)
+        origin, last_layer, nonfinite = candidate_scan(values, first_layer)
+        if nonfinite:  # (rare: then count them; a vertex is counted by the block below it,
+            # unless it is on the grid's last layer)
             owned = tuple(slice(None) if hi[a] == self.dims[a] - 1 else slice(None, -1) for a in range(self.n))
             self.stats["nonfinite_vertices"] += int(np.count_nonzero(~np.isfinite(values[owned]).all(axis=-1)))
-        origin, last_layer = candidate_origins(values, first_layer)
         self.timings["candidates"] += time.perf_counter() - t
         if len(origin) == 0:
             return last_layer

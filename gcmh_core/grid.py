@@ -52,40 +52,57 @@ def _code_dtype(k: int):
     raise ValueError("k too large")
 
 
-def _candidate_flags(values: np.ndarray, first_layer=None) -> tuple[np.ndarray, np.ndarray]:
-    """(d0+1, ..., d_{n-1}+1) bool: at vertex v, whether the cube with origin v is a
-    candidate (meaningless on each axis's last layer, where no cube starts); and the
-    sign codes of the last layer along axis 0, OR-ed along the other axes.
+def candidate_scan(values: np.ndarray, first_layer=None) -> tuple[np.ndarray, np.ndarray, bool]:
+    """The candidate cubes of a block of vertices, and what the next block along axis 0 needs.
 
-    The OR of the corners' sign codes is separable, so it costs one parallel
-    in-place pass per axis (numba) instead of 2^n gathers per cube.  first_layer:
-    the previous slab's returned codes, when values[0] is that slab's last layer
-    (its codes are not computed again: with thin slabs that was half the work).
+    values (d0+1, ..., d_{n-1}+1, k).  Returns (origins (m, n) int64 in C order, the
+    codes of the last layer to pass on as the next block's `first_layer`, whether any
+    value is not finite).  first_layer: the previous block's returned codes, when
+    values[0] is that block's last layer (its codes are not computed again: with thin
+    slabs that was half the work).
     """
     from . import _kernels  # noqa: PLC0415  (numba compiles on first use, not on import)
 
     values = np.ascontiguousarray(values, np.float64)
     dims = values.shape[:-1]
-    k = values.shape[-1]
-    layer = int(np.prod(dims[1:]))
-    code = np.empty(int(np.prod(dims)), _code_dtype(k))  # the narrowest: the OR passes are memory-bound
-    skip = 0 if first_layer is None else layer
-    if skip:
-        code[:layer] = first_layer
-    fresh = code[skip:]
-    _kernels.vertex_sign_codes(values.reshape(-1, k)[skip:], fresh)
-    stride = 1
-    for axis in range(len(dims) - 1, 0, -1):  # within each layer
-        length = dims[axis]
-        if length > 1:
-            _kernels.or_with_next_along_axis(fresh, fresh.size // (length * stride), length, stride)
-        stride *= length
-    last = code[-layer:].copy()  # (the pass along axis 0 leaves the last layer as it is)
-    if dims[0] > 1:
-        _kernels.or_with_next_along_axis(code, 1, dims[0], layer)
-    out = np.empty(code.size, np.bool_)
-    _kernels.codes_to_candidates(code, k, out)
-    return out.reshape(dims), last
+    n, k = len(dims), values.shape[-1]
+    if n == 1:  # no plane axes: a cube is two neighbouring vertices
+        return _candidate_scan_1d(values, first_layer)
+    planes = values.reshape(dims[0] * dims[1], -1, k)
+    code = np.empty(planes.shape[:2], _code_dtype(k))  # the narrowest: the passes are memory-bound
+    first = 0
+    bad = _code_dtype(k)(1 << (2 * k))
+    carried_bad = False
+    if first_layer is not None:
+        first = dims[1]
+        code[:first] = np.reshape(first_layer, (first, -1))
+        carried_bad = bool(np.any(first_layer & bad))
+    inner = np.array(dims[2:], np.int64)
+    nonfinite = _kernels.plane_codes(planes, code, first, inner)
+    counts = np.zeros(max((dims[0] - 1) * (dims[1] - 1), 0), np.int64)
+    none = np.zeros((0, n), np.int64)
+    _kernels.scan_candidates(code, dims[0], dims[1], inner, k, counts, counts, none)
+    offsets = np.zeros(len(counts), np.int64)
+    np.cumsum(counts[:-1], out=offsets[1:])
+    origins = np.empty((int(counts.sum()), n), np.int64)
+    if len(origins):
+        _kernels.scan_candidates(code, dims[0], dims[1], inner, k, counts, offsets, origins)
+    return origins, code[-dims[1]:].reshape(dims[1:]).copy(), bool(nonfinite) or carried_bad
+
+
+def _candidate_scan_1d(values, first_layer):
+    """n = 1: cube i is the interval between vertices i and i + 1 (first_layer unused)."""
+    finite = np.isfinite(values).all(axis=1)
+    pos = values >= 0
+    both = finite[:-1] & finite[1:] & np.all(pos[:-1] != pos[1:], axis=1)
+    return np.flatnonzero(both).astype(np.int64)[:, None], np.zeros(0, np.uint8), not finite.all()
+
+
+def candidate_origins(values: np.ndarray, first_layer=None) -> tuple[np.ndarray, np.ndarray]:
+    """(m, n) int64 origins of the candidate cubes, in C order, and the codes to pass on
+    as the next slab's `first_layer` (see `candidate_scan`)."""
+    origins, last, _ = candidate_scan(values, first_layer)
+    return origins, last
 
 
 def candidate_cubes(values: np.ndarray) -> np.ndarray:
@@ -94,19 +111,9 @@ def candidate_cubes(values: np.ndarray) -> np.ndarray:
     values (d0+1, ..., d_{n-1}+1, k).  A cube with a non-finite corner is never a
     candidate.
     """
-    flags = _candidate_flags(values)[0]
-    return flags[tuple(slice(0, d - 1) for d in flags.shape)]
-
-
-def candidate_origins(values: np.ndarray, first_layer=None) -> tuple[np.ndarray, np.ndarray]:
-    """(m, n) int64 origins of the candidate cubes, in C order (`candidate_cubes`'s
-    True entries, found on the contiguous flags: np.nonzero on the strided mask took
-    as long as the rest of the pass); and the codes to pass on as the next slab's
-    `first_layer` (see `_candidate_flags`)."""
-    flags, last = _candidate_flags(values, first_layer)
-    dims = flags.shape
-    origins = np.stack(np.unravel_index(np.flatnonzero(flags), dims), axis=1).astype(np.int64, copy=False)
-    return origins[np.all(origins < np.array(dims) - 1, axis=1)], last
+    mask = np.zeros(tuple(s - 1 for s in np.shape(values)[:-1]), bool)
+    mask[tuple(candidate_origins(values)[0].T)] = True
+    return mask
 
 
 def candidate_corner_sets(corner_values: np.ndarray, n_corners: int) -> np.ndarray:

@@ -542,7 +542,7 @@ def test_simplex_crosses_singular_and_offsets():
 
 @pytest.mark.parametrize("n,k", [(1, 1), (2, 1), (3, 1), (3, 2), (4, 2), (5, 3)])
 def test_candidate_cubes_match_naive(n, k):
-    from gcmh_core.grid import candidate_corner_sets, candidate_cubes, candidate_origins
+    from gcmh_core.grid import candidate_corner_sets, candidate_cubes, candidate_origins, candidate_scan
     rng = np.random.default_rng(n * 10 + k)
     for trial in range(20):
         shape = tuple(int(s) for s in rng.integers(2, 5 if n < 5 else 4, n)) + (k,)
@@ -566,10 +566,13 @@ def test_candidate_cubes_match_naive(n, k):
         assert [tuple(int(i) for i in row) for row in origins] == got
         # in two slabs along axis 0 that share a layer, the second given the first's codes
         cut = int(rng.integers(1, shape[0] - 1)) if shape[0] > 2 else 1
-        first, carry = candidate_origins(vals[: cut + 1])
-        second, _ = candidate_origins(vals[cut:], carry)
+        first, carry, first_bad = candidate_scan(vals[: cut + 1])
+        second, _, second_bad = candidate_scan(vals[cut:], carry)
         second[:, 0] += cut
         assert [tuple(int(i) for i in row) for row in np.concatenate([first, second])] == got
+        # whether a value is not finite: in the second slab, also on the layer it was given
+        assert first_bad == (not np.isfinite(vals[: cut + 1]).all())
+        assert second_bad == (not np.isfinite(vals[cut:]).all()), (n, k, trial)
 
 
 @pytest.mark.parametrize("n,k", [(2, 1), (3, 1), (3, 2), (4, 2), (5, 3), (6, 3)])
