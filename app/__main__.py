@@ -51,8 +51,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--div", type=_div, metavar="N", help="override the example's grid divisions (N or N1,N2,...)")
     p.add_argument("--seed", type=int, default=0, help="grid perturbation seed (default 0)")
     p.add_argument("--method", default="gcmh", type=str.lower,
-                   help="extraction method: gcmh (whole grid) or, if the engine has it, gcch (continuation "
-                        "from the example's start point)")
+                   help="extraction method: gcmh (whole grid, the default), gcch (continuation from the "
+                        "example's start point), or the simplicial baselines cms and ccs")
     p.add_argument("--window-screenshot", metavar="PNG",
                    help="show the window, wait for the first result, save a picture of the whole window and exit")
     p.add_argument("--transparent", action="store_true", help="screenshot with a transparent background")
