@@ -732,3 +732,40 @@ def corner_sets_to_candidates(vals, n_corners, out):
                 code |= np.int64(1 if x >= 0.0 else 2) << (2 * j)
         out[i] = finite and code == full
 
+
+
+# ----------------------------------------------------------------------------- continuation
+@nb.njit(**JIT)
+def facet_neighbours(wave, masks, div, cube_strides):
+    """The cubes across the crossed facets of a wave's cubes, inside the grid.
+
+    wave (m, n) cube origins; masks (m,) crossed-facet bits (bit 2a + side: side 0 leads
+    to the cube below on axis a, side 1 above); div (n,) cubes per axis.  Returns
+    (cubes (M, n), their linear keys (M,) by cube_strides), cube by cube, facets in bit
+    order; a cube reached twice appears twice.
+    """
+    m, n = wave.shape
+    total = 0
+    for i in range(m):
+        for f in range(2 * n):
+            if masks[i] >> f & 1:
+                total += 1
+    cubes = np.empty((total, n), np.int64)
+    keys = np.empty(total, np.int64)
+    p = 0
+    for i in range(m):
+        for f in range(2 * n):
+            if not masks[i] >> f & 1:
+                continue
+            a = f // 2
+            to = wave[i, a] + (1 if f & 1 else -1)
+            if to < 0 or to >= div[a]:
+                continue
+            key = 0
+            for b in range(n):
+                x = to if b == a else wave[i, b]
+                cubes[p, b] = x
+                key += x * cube_strides[b]
+            keys[p] = key
+            p += 1
+    return cubes[:p], keys[:p]

@@ -607,10 +607,6 @@ def _run_gcch(n, k, axes, bounds, system, sampled, starts, progress, cancel, gri
         def process(g, origins):
             return g.process_cubes(origins, system, sampled)
     div = grid.dims - 1
-    steps = np.zeros((2 * n, n), np.int64)
-    for a in range(n):
-        steps[2 * a, a] = -1  # facet (a, side 0) leads to the cube below
-        steps[2 * a + 1, a] = 1
     cube_strides = np.ones(n, np.int64)
     for a in range(n - 2, -1, -1):
         cube_strides[a] = cube_strides[a + 1] * div[a + 1]
@@ -639,14 +635,8 @@ def _run_gcch(n, k, axes, bounds, system, sampled, starts, progress, cancel, gri
             wave = unvisited((wave[:, None, :] + around[None]).reshape(-1, n))
             continue
         expanded_start = True
-        nxt = []
-        for f in range(2 * n):
-            sel = (masks >> f) & 1 == 1
-            if sel.any():
-                nxt.append(wave[sel] + steps[f])
-        if not nxt:
-            break
-        wave = unvisited(np.concatenate(nxt))  # (in any order: the output does not depend on it)
+        cubes, keys = _kernels.facet_neighbours(wave, masks, div, cube_strides)
+        wave = cubes[visited.insert(keys)[1]]  # (in any order: the output does not depend on it)
     if starts != "auto" and not any(len(v) for v in grid.parts["vk"]):
         # (with "auto" an empty result is an answer: M does not cross the domain)
         raise InputError(

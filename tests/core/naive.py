@@ -498,3 +498,18 @@ def naive_insert(known: dict, keys):
             known[key] = len(known)
         slots.append(known[key])
     return np.array(slots, np.int64), np.array(is_new, bool)
+
+
+def naive_facet_neighbours(wave, masks, div):
+    """facet_neighbours' twin: for each cube, for each crossed facet (bit 2a + side) in
+    bit order, the cube across it, if inside the grid."""
+    out = []
+    for origin, mask in zip(wave.tolist(), masks.tolist()):
+        for f in range(2 * len(origin)):
+            if mask >> f & 1:
+                a, step = f // 2, (1 if f % 2 else -1)
+                cube = list(origin)
+                cube[a] += step
+                if 0 <= cube[a] < div[a]:
+                    out.append(tuple(cube))
+    return out

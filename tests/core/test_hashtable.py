@@ -1,4 +1,5 @@
-"""The continuation's table of visited cubes against a dict."""
+"""The continuation's bookkeeping against plain Python: the table of visited cubes
+against a dict, the step to the next wave against a loop."""
 
 import os
 import sys
@@ -9,7 +10,7 @@ import pytest
 from gcmh_core._hashtable import IntTable
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from naive import naive_insert  # noqa: E402
+from naive import naive_facet_neighbours, naive_insert  # noqa: E402
 
 
 @pytest.mark.parametrize("seed", range(5))
@@ -41,3 +42,20 @@ def test_grid_like_keys_and_empty_batches():
 def test_negative_keys_refused():
     with pytest.raises(ValueError):
         IntTable().insert(np.array([3, -1]))
+
+
+@pytest.mark.parametrize("n", [1, 2, 4, 6])
+def test_facet_neighbours_match_naive(n):
+    from gcmh_core._kernels import facet_neighbours
+
+    rng = np.random.default_rng(n)
+    for trial in range(20):
+        div = rng.integers(1, 5, n)
+        m = int(rng.integers(0, 30))
+        wave = np.stack([rng.integers(0, d, m) for d in div], axis=1).astype(np.int64).reshape(m, n)
+        masks = rng.integers(0, 1 << (2 * n), m).astype(np.int64)  # every facet, at the grid's edges too
+        strides = np.cumprod(np.r_[div[1:], 1][::-1])[::-1].astype(np.int64)
+        cubes, keys = facet_neighbours(wave, masks, div.astype(np.int64), strides)
+        want = naive_facet_neighbours(wave, masks, div.tolist())
+        assert [tuple(c) for c in cubes.tolist()] == want, (n, trial)
+        np.testing.assert_array_equal(keys, np.array([np.ravel_multi_index(c, div) for c in want], np.int64))
