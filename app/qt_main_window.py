@@ -40,7 +40,7 @@ from .scene import (
 )
 from .geometry import boundary_lines, cell_info, grid_cube_lines
 from .slicing import window_range
-from .worker import ExtractWorker
+from .worker import ExtractWorker, RefineWorker
 
 try:   # written alongside this window; the window works without them
     from .qt_topology_panel import QtTopologyPanel
@@ -106,16 +106,20 @@ class QtMainWindow(QMainWindow):
 
     resultChanged = Signal(object)
     runFinished = Signal(str)   # "done", "cancelled" or "failed"
+    refineFinished = Signal(str)  # "done", "failed" or "dropped" (the result changed meanwhile)
 
     def __init__(self, example: str | None = DEFAULT_EXAMPLE, parent=None, div=None, method: str = "gcmh"):
         super().__init__(parent)
         self.setWindowTitle("GCMH Studio")
         self.resize(1400, 900)
         self.result = None            # the CellComplex on screen
+        self.result_serial = 0        # counts the results shown (a refinement belongs to one)
         self.result_names: list[str] = []
         self.result_title = ""
         self.worker: ExtractWorker | None = None
-        self._old_workers: list[ExtractWorker] = []
+        self.refiner: RefineWorker | None = None
+        self._old_workers: list = []   # finished runs and refinements, until their threads end
+        self.last_refinement: dict | None = None  # max |F| before and after the last refinement shown
         self._pending_view: dict | None = None
         self._pending_title = ""
         self._title_system = None      # (formulas, variables) the pending title belongs to
@@ -481,6 +485,7 @@ class QtMainWindow(QMainWindow):
         prev_dim = self.result.dim if self.result is not None else None
         prev_names = self.result_names
         self.result = cx
+        self.result_serial += 1
         self.result_names = names
         self.result_title = title
         pp = self.projection_panel
@@ -830,24 +835,61 @@ class QtMainWindow(QMainWindow):
         except Exception as e:  # noqa: BLE001
             self.set_status(f"Topology report failed: {e}", error=True)
 
-    def refine_result(self) -> dict | None:
-        """Move the vertices closer to M (Gauss-Newton) and show the refined complex; returns the numbers."""
+    def refine_result(self) -> bool:
+        """Start moving the vertices closer to M (Gauss-Newton) in a worker thread; the
+        refined complex replaces the result when it is done (`refineFinished`).  False if
+        there is nothing to refine or a refinement already runs."""
         if self.result is None or getattr(self, "_job", None) is None:
             self.set_status("Nothing to refine yet: run first.", error=True)
-            return None
-        from gcmh_core.analysis import refine_vertices
+            return False
+        if self.refiner is not None:
+            self.set_status("A refinement is already running.", error=True)
+            return False
+        w = RefineWorker(self.result, self._job, self)
+        base = self.result_serial
+        w.done.connect(lambda cx, geometry, report, before, after, base=base:
+                       self._on_refined(base, cx, geometry, report, before, after))
+        w.failed.connect(self._on_refine_failed)
+        w.finished.connect(lambda w=w: self._on_thread_finished(w))
+        self.refiner = w
+        self._old_workers.append(w)  # (waited for on close)
+        if self.topology_panel is not None:
+            self.topology_panel.set_refine_enabled(False)
+        self.set_status("Refining the vertices onto M\u2026")
+        w.start()
+        return True
 
+    def _refine_ended(self) -> None:
+        self.refiner = None
+        if self.topology_panel is not None:
+            self.topology_panel.set_refine_enabled(True)
+
+    def _on_refined(self, base, cx, geometry, report, before: float, after: float) -> None:
+        self._refine_ended()
+        if self._closing:
+            return
+        if self.result_serial != base:  # a run (or a file) put another result on screen meanwhile
+            self.set_status("Refinement dropped: the result changed while it ran.")
+            self.refineFinished.emit("dropped")
+            return
         try:
-            cx, before, after = refine_vertices(self.result, self._system())
-        except Exception as e:  # noqa: BLE001
-            self.set_status(f"Refining failed: {e}", error=True)
-            return None
-        self.show_result(cx, self.result_names, title=self.result_title)
+            self.show_result(cx, self.result_names, title=self.result_title, geometry=geometry, report=report)
+        except Exception as e:  # noqa: BLE001 - a drawing problem must not take the window down
+            self.set_status(f"Could not draw the refined result: {type(e).__name__}: {e}", error=True)
+            self.refineFinished.emit("failed")
+            return
         self.result_label.setText(summarize(cx))
         if self.topology_panel is not None:
             self.topology_panel.show_refinement(before, after)
         self.set_status(f"Refined: max |F| at the vertices {before:.3g} \u2192 {after:.3g}")
-        return dict(before=before, after=after)
+        self.last_refinement = dict(before=before, after=after)
+        self.refineFinished.emit("done")
+
+    def _on_refine_failed(self, message: str) -> None:
+        self._refine_ended()
+        if not self._closing:
+            self.set_status(f"Refining failed: {message}", error=True)
+            self.refineFinished.emit("failed")
 
     def open_gallery(self):
         """Show the example gallery (window-modal, not blocking); choosing an example opens and runs it."""

@@ -75,6 +75,52 @@ def topology_of(cx, job: Job | None = None) -> dict | None:
         return None
 
 
+def view_data(cx, job: Job | None):
+    """What the GUI thread needs to show ``cx``, made beforehand in a worker: (its drawing
+    arrays, an app.geometry.Geometry or None; its topology report or None; the traceback
+    when the Geometry failed: the GUI thread then builds it, and reports, itself)."""
+    geometry, tb = None, None
+    try:
+        from .geometry import Geometry
+
+        geometry = Geometry.build(cx)
+    except Exception:  # noqa: BLE001
+        tb = traceback.format_exc()
+    return geometry, topology_of(cx, job), tb
+
+
+class RefineWorker(QThread):
+    """Gauss-Newton refinement of a result's vertices onto M, with its drawing arrays and
+    topology report, off the GUI thread.  Ends with ``done(complex, geometry, report,
+    before, after)`` (max |F| at the vertices before and after) or ``failed(message)``."""
+
+    done = Signal(object, object, object, float, float)
+    failed = Signal(str)
+
+    def __init__(self, cx, job: Job, parent=None):
+        super().__init__(parent)
+        self.cx, self.job = cx, job
+        self._cancel = threading.Event()
+
+    def cancel(self) -> None:  # (refinement is short: a cancelled one runs out and is dropped)
+        self._cancel.set()
+
+    def is_cancelled(self) -> bool:
+        return self._cancel.is_set()
+
+    def run(self) -> None:
+        try:
+            from gcmh_core.analysis import refine_vertices
+
+            cx, before, after = refine_vertices(self.cx, system_of(self.job))
+            geometry, report, _ = view_data(cx, self.job)
+        except Exception as e:  # noqa: BLE001 - to the status line
+            self.failed.emit(f"{type(e).__name__}: {e}")
+            return
+        if not self._cancel.is_set():
+            self.done.emit(cx, geometry, report, float(before), float(after))
+
+
 class ExtractWorker(QThread):
     """One extraction in a thread. Create a new worker per run."""
 
@@ -149,13 +195,8 @@ class ExtractWorker(QThread):
         geometry = None
         if cx.count(0):
             self.progress.emit("preparing the view", 1.0, time.perf_counter() - self._t0)
-            try:
-                from .geometry import Geometry
-
-                geometry = Geometry.build(cx)
-            except Exception:  # noqa: BLE001 - the GUI thread will build it (and report) instead
-                self.traceback = traceback.format_exc()
-            self.report = topology_of(cx, self.job)
+            geometry, self.report, tb = view_data(cx, self.job)
+            self.traceback = tb or self.traceback
         if self._cancel.is_set():
             self.cancelled.emit()
             return

@@ -843,11 +843,22 @@ def test_topology_tab_refine_and_shared_switches(qtbot, window):
     assert "grid" in window.scene.overlays
     # refinement moves the vertices onto M
     r0 = np.abs(np.linalg.norm(window.result.vertices, axis=1) - 1).max()
-    out = window.refine_result()
+    with qtbot.waitSignal(window.refineFinished, timeout=60_000) as sig:
+        assert window.refine_result()  # in a worker thread: the button waits meanwhile
+        assert not tp.refine_button.isEnabled() and not window.refine_result()
+    assert sig.args == ["done"] and tp.refine_button.isEnabled()
+    out = window.last_refinement
     assert out is not None and out["after"] < out["before"]
     r1 = np.abs(np.linalg.norm(window.result.vertices, axis=1) - 1).max()
     assert r1 < 0.1 * r0
     assert "\u2192" in window.last_status
+    # a refinement that ends after the result changed is dropped, not shown over the new one
+    base = window.result
+    with qtbot.waitSignal(window.refineFinished, timeout=60_000) as sig:
+        assert window.refine_result()
+        window.show_result(base, window.result_names)  # (the same complex, shown anew: a new result)
+        shown = window.result
+    assert sig.args == ["dropped"] and window.result is shown
 
 
 def test_geometry_uses_the_library_orientation(qtbot, window):
