@@ -190,7 +190,7 @@ def test_example_topology(name):
     assert cx.meta.get("nonfinite_vertices", 0) == 0
 
 
-# Teaching examples (issue 5): each extracts cleanly and fast at its default div, with
+# Teaching examples (issue 5): each extracts cleanly at its default div, with
 # the Euler characteristic its description promises.
 TEACHING = {
     # name: (Euler characteristic, connected components, boundary components, orientable)
@@ -204,16 +204,12 @@ TEACHING = {
 
 @pytest.mark.parametrize("name", sorted(TEACHING))
 def test_teaching_example_topology(name):
-    import time
-
     from gcmh_core import extract
     from gcmh_core.analysis import topology_report
     from gcmh_core.formula import parse_system
 
     ex = load_example(name)
-    t0 = time.perf_counter()
-    cx = extract(ex.formulas, ex.bounds, ex.div, variables=ex.variables)
-    assert time.perf_counter() - t0 < 2.0 * 3  # < 2 s on an idle machine; slack for shared cores
+    cx = extract(ex.formulas, ex.bounds, ex.div, variables=ex.variables)  # (its time: python -m gcmh_core.bench)
     rep = topology_report(cx, parse_system(ex.formulas, ex.variables))
     chi, components, boundary, orientable = TEACHING[name]
     assert rep["euler_characteristic"] == chi
@@ -263,9 +259,9 @@ def test_ambiguity_manifold_merges_at_the_authors_div():
     from gcmh_core import extract
 
     ex = load_example("ambiguity-manifold")
-    assert "div 5" in ex.description
-    assert extract(ex.formulas, ex.bounds, 5, variables=ex.variables).connected_components() == 1
-    assert extract(ex.formulas, ex.bounds, 6, variables=ex.variables).connected_components() == 8
+    assert "odd div" in ex.description and "even div" in ex.description
+    for div, pieces in ((5, 1), (6, 8), (11, 1), (12, 8)):  # as the description says
+        assert extract(ex.formulas, ex.bounds, div, variables=ex.variables).connected_components() == pieces, div
 
 
 def test_every_example_has_a_gallery_thumbnail():
