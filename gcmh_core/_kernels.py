@@ -190,7 +190,7 @@ def cubes_chunk(
     lo, hi, vals, cube_lin, cube_origin, cube_key, axes, value_off, corner_off, n, k,
     face_start, face_free, face_fixed, face_rank, n_subsets,
     ks_corners, ks_face, ks_perm, kfact, binom, n_codes,
-    t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp,
+    t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp, ks_cmask, kf_cmask, k1f_cmask,
 ):
     """GCMH on cubes lo..hi-1, in the calling thread, with one set of scratch buffers.
 
@@ -204,6 +204,8 @@ def cubes_chunk(
     n_nodes = nb_nodes + t_interior.shape[0]
     simp_vertex = np.empty(ns, np.int64)
     pos_mask = np.empty(1 << n, np.int64)
+    masked = ks_cmask.shape[0] == ns  # corner sets as bit masks (n <= 6)
+    pos_bits = np.zeros(k, np.int64)  # bit c: F_j >= 0 at corner c
     mat = np.empty((k, k), np.float64)
     rhs = np.empty(k, np.float64)
     lam = np.empty(k + 1, np.float64)
@@ -233,12 +235,15 @@ def cubes_chunk(
     for ci in range(lo, hi):
         o = cube_lin[ci]
         g_lin = cube_key[ci]
+        for j in range(k):
+            pos_bits[j] = 0
         for c in range(ncorner):
             p = np.int64(0)
             r0 = o + value_off[c]
             for j in range(k):
                 if vals[r0, j] >= 0.0:
                     p |= np.int64(1) << j
+                    pos_bits[j] |= np.int64(1) << c
             pos_mask[c] = p
 
         # 1. vertices on k-simplices of k-faces
@@ -246,32 +251,54 @@ def cubes_chunk(
         nv = 0
         for s in range(ns):
             simp_vertex[s] = -1
-            # the sign prune, written out: most simplices stop here.  (Shared with
-            # simplices_chunk as a helper it cost 1 us more per cube inlined, and doubled
-            # the kernel time as a plain call: see _face_key.)
-            any_pos = 0
-            all_pos = full
-            for i in range(k + 1):
-                p = pos_mask[ks_corners[s, i]]
-                any_pos |= p
-                all_pos &= p
-            if any_pos != full or all_pos != 0:
-                continue
-            if simplex_crosses(vals, o, value_off, ks_corners, s, k, pos_mask, full, mat, rhs, lam):
-                simp_vertex[s] = nv
-                vsimp[nv] = s
-                row = used_v + nv
-                if row >= vk_out.shape[0]:
-                    vk_out = _grown_keys(vk_out, row)
-                    vp_out = _grown_rows(vp_out, row)
-                f = kf0 + ks_face[s]
-                vk_out[row] = _face_key(g_lin + corner_off[face_fixed[f]], n_subsets[k], face_rank[f]) * kfact + ks_perm[s]
-                for a in range(n):
-                    x = 0.0
+        for fi in range(ns // kfact):  # a k-face's k! simplices lie one after the other
+            # the sign prune, written out: most faces and simplices stop here.  (Shared
+            # with simplices_chunk as a helper it cost 1 us more per cube inlined, and
+            # doubled the kernel time as a plain call: see _face_key.)  With bit masks
+            # a whole face is tested at once, and a simplex in 2k operations.
+            if masked:
+                m = kf_cmask[fi]
+                out = False
+                for j in range(k):
+                    on = pos_bits[j] & m
+                    if on == 0 or on == m:  # F_j has one sign on every corner
+                        out = True
+                if out:
+                    continue
+            for s in range(fi * kfact, (fi + 1) * kfact):
+                if masked:
+                    m = ks_cmask[s]
+                    out = False
+                    for j in range(k):
+                        on = pos_bits[j] & m
+                        if on == 0 or on == m:
+                            out = True
+                    if out:
+                        continue
+                else:
+                    any_pos = 0
+                    all_pos = full
                     for i in range(k + 1):
-                        x += lam[i] * axes[a, cube_origin[ci, a] + ((ks_corners[s, i] >> a) & 1)]
-                    vp_out[row, a] = x
-                nv += 1
+                        p = pos_mask[ks_corners[s, i]]
+                        any_pos |= p
+                        all_pos &= p
+                    if any_pos != full or all_pos != 0:
+                        continue
+                if simplex_crosses(vals, o, value_off, ks_corners, s, k, pos_mask, full, mat, rhs, lam):
+                    simp_vertex[s] = nv
+                    vsimp[nv] = s
+                    row = used_v + nv
+                    if row >= vk_out.shape[0]:
+                        vk_out = _grown_keys(vk_out, row)
+                        vp_out = _grown_rows(vp_out, row)
+                    f = kf0 + ks_face[s]
+                    vk_out[row] = _face_key(g_lin + corner_off[face_fixed[f]], n_subsets[k], face_rank[f]) * kfact + ks_perm[s]
+                    for a in range(n):
+                        x = 0.0
+                        for i in range(k + 1):
+                            x += lam[i] * axes[a, cube_origin[ci, a] + ((ks_corners[s, i] >> a) & 1)]
+                        vp_out[row, a] = x
+                    nv += 1
         # facets of the cube that M_A crosses (bit 2a + side): where continuation goes next
         facets = np.int64(0)
         for v in range(nv):
@@ -295,6 +322,15 @@ def cubes_chunk(
         ne = 0
         n_int = t_interior.shape[0]
         for fi in range(nk1):
+            if masked:  # no vertex on a face where some F_j has one sign
+                m = k1f_cmask[fi]
+                out = False
+                for j in range(k):
+                    on = pos_bits[j] & m
+                    if on == 0 or on == m:
+                        out = True
+                if out:
+                    continue
             cnt = 0
             for b in range(nb_nodes):
                 if simp_vertex[w_bsimp[fi, b]] >= 0:
@@ -515,7 +551,7 @@ def _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, s):
 @nb.njit(**JIT)
 def simplices_chunk(
     lo, hi, vals, cube_lin, cube_origin, cube_key, axes, value_off, corner_off, n, k,
-    s_start, s_corners, s_c0, s_code, s_facets, s_cube_facets, key_base,
+    s_start, s_corners, s_c0, s_code, s_facets, s_cube_facets, key_base, s_cmask,
 ):
     """`cubes_chunk`'s twin for the simplicial baselines: same inputs, same records.
 
@@ -531,29 +567,45 @@ def simplices_chunk(
     used_v = used_e = used_c = used_i = 0  # rows written
     masks = np.zeros(hi - lo, np.int64)
     full = (np.int64(1) << k) - 1
+    masked = s_cmask.shape[0] > 0  # corner sets as bit masks (n <= 6)
+    pos_bits = np.zeros(k, np.int64)
     degenerate = 0
     for ci in range(lo, hi):
         o = cube_lin[ci]
         g_lin = cube_key[ci]
+        for j in range(k):
+            pos_bits[j] = 0
         for c in range(1 << n):
             p = np.int64(0)
             r0 = o + value_off[c]
             for j in range(k):
                 if vals[r0, j] >= 0.0:
                     p |= np.int64(1) << j
+                    pos_bits[j] |= np.int64(1) << c
             pos_mask[c] = p
         nv = 0
         facets = np.int64(0)
         for s in range(s_start[k], s_start[k + 1]):
             alive[s] = 0
-            any_pos = 0  # the sign prune, written out as in cubes_chunk
-            all_pos = full
-            for i in range(k + 1):
-                p = pos_mask[s_corners[s, i]]
-                any_pos |= p
-                all_pos &= p
-            if any_pos != full or all_pos != 0:
-                continue
+            # the sign prune, written out as in cubes_chunk
+            if masked:
+                m = s_cmask[s]
+                out = False
+                for j in range(k):
+                    on = pos_bits[j] & m
+                    if on == 0 or on == m:
+                        out = True
+                if out:
+                    continue
+            else:
+                any_pos = 0
+                all_pos = full
+                for i in range(k + 1):
+                    p = pos_mask[s_corners[s, i]]
+                    any_pos |= p
+                    all_pos &= p
+                if any_pos != full or all_pos != 0:
+                    continue
             if simplex_crosses(vals, o, value_off, s_corners, s, k, pos_mask, full, mat, rhs, lam):
                 alive[s] = 1
                 facets |= s_cube_facets[s]

@@ -56,6 +56,11 @@ class CubeTables:
     # per (k+1)-face of the cube: local corner -> cube corner, boundary node -> cube k-simplex
     walk_corner_map: np.ndarray  # (NK1, 2^(k+1)) int64
     walk_boundary_simplex: np.ndarray  # (NK1, n_boundary_nodes) int64
+    # corner sets as bit masks (bit c: cube corner c), for n <= 6 (2^n corners in an int64;
+    # empty for larger n): the kernel's sign prune tests a whole face or simplex at once
+    ksimp_corner_mask: np.ndarray  # (NS,) int64
+    kface_corner_mask: np.ndarray  # (number of k-faces,) int64
+    k1face_corner_mask: np.ndarray  # (NK1,) int64, the (k+1)-faces
 
 
 def _faces(n: int, r: int):
@@ -171,7 +176,26 @@ def cube_tables(n: int, k: int) -> CubeTables:
         n_boundary_nodes=nb,
         walk_corner_map=cmap,
         walk_boundary_simplex=bsimp,
+        ksimp_corner_mask=_corner_masks(n, ks_corners),
+        kface_corner_mask=_corner_masks(n, [_face_corners(free, fixed) for free, fixed, _ in kfaces]),
+        k1face_corner_mask=_corner_masks(n, [_face_corners(free, fixed) for free, fixed, _ in k1faces]),
     )
+
+
+MASKED_N = 6  # up to this n a cube's corners fit the bits of an int64
+
+
+def _face_corners(free: int, fixed: int) -> list[int]:
+    """The cube corners of a face: `fixed` plus every subset of the `free` axes."""
+    axes = [a for a in range(free.bit_length()) if free >> a & 1]
+    return [fixed | sum(((sub >> i) & 1) << a for i, a in enumerate(axes)) for sub in range(1 << len(axes))]
+
+
+def _corner_masks(n: int, corner_sets) -> np.ndarray:
+    if n > MASKED_N:
+        return np.zeros(0, np.int64)
+    masks = [sum(1 << int(c) for c in set(cs)) for cs in corner_sets]
+    return np.array(masks, np.uint64).view(np.int64)  # (bit 63, corner 63 of a 6-cube: the sign bit)
 
 
 # ----------------------------------------------------------------------------- simplicial baselines (CMS, CCS)
@@ -195,6 +219,7 @@ class SimplexTables:
     facets: np.ndarray  # (NS, n + 1) int64 row of the facet "drop c_j" (dims > k), -1 padded
     cube_facets: np.ndarray  # (NS,) int64 mask of cube facets (bit 2a + side) holding the simplex
     key_base: int  # (n + 1)^n
+    corner_mask: np.ndarray  # (NS,) int64 its corners as bits, for n <= MASKED_N (else empty)
 
 
 @lru_cache(maxsize=32)
@@ -245,4 +270,4 @@ def simplex_tables(n: int, k: int) -> SimplexTables:
         if d > k:
             for j in range(d + 1):
                 facets[i, j] = row_of[chain[:j] + chain[j + 1 :]]
-    return SimplexTables(n, k, start, corners, c0, code, facets, cube_facets, (n + 1) ** n)
+    return SimplexTables(n, k, start, corners, c0, code, facets, cube_facets, (n + 1) ** n, _corner_masks(n, rows))

@@ -340,14 +340,15 @@ class _Grid:
         self.parts = dict(vk=[], vp=[], e=[], c=[], i=[])
         if self.simplicial:
             st = self.stab
-            self.simplex_args = (st.start, st.corners, st.c0, st.code, st.facets, st.cube_facets, st.key_base)
+            self.simplex_args = (st.start, st.corners, st.c0, st.code, st.facets, st.cube_facets, st.key_base, st.corner_mask)
         else:
             tab = self.tab
             self.cube_args = (
                 tab.face_start, tab.face_free, tab.face_fixed, tab.face_rank, tab.n_subsets,
                 tab.ksimp_corners, tab.ksimp_face, tab.ksimp_perm, factorial(k), tab.binom, tab.n_codes,
                 tab.tmpl_corners, tab.tmpl_facets, tab.tmpl_interior, tab.n_boundary_nodes,
-                tab.walk_corner_map, tab.walk_boundary_simplex,
+                tab.walk_corner_map, tab.walk_boundary_simplex, tab.ksimp_corner_mask, tab.kface_corner_mask,
+                tab.k1face_corner_mask,
             )
 
     def run_kernel(self, values, cube_lin, origin, value_off) -> np.ndarray:

@@ -403,6 +403,13 @@ def test_extract_matches_naive(n, k, seed):
     compare(n, k, seed)
 
 
+@pytest.mark.parametrize("seed", [0, 1])
+def test_extract_matches_naive_beyond_bit_masks(seed):
+    """n = 7: a cube's 128 corners do not fit the kernel's int64 corner masks, and its
+    sign prune goes corner by corner instead (`_tables.MASKED_N`)."""
+    compare(7, 3, seed)
+
+
 def test_sampled_data_sits_on_the_exact_grid():
     # sampled values are F at the grid's own vertices: no perturbation of positions
     gcmh_core, grid = _engine()
@@ -573,6 +580,41 @@ def test_candidate_cubes_match_naive(n, k):
         # whether a value is not finite: in the second slab, also on the layer it was given
         assert first_bad == (not np.isfinite(vals[: cut + 1]).all())
         assert second_bad == (not np.isfinite(vals[cut:]).all()), (n, k, trial)
+
+
+@pytest.mark.parametrize("n,k", [(2, 1), (3, 2), (4, 2), (5, 3), (6, 2), (6, 3), (6, 5), (7, 3)])
+def test_corner_masks_of_faces_and_simplices(n, k):
+    """The kernel's bit-mask sign prune: bit c of a mask is cube corner c of the set."""
+    from gcmh_core._tables import MASKED_N, _faces, cube_tables, simplex_tables
+
+    T = cube_tables(n, k)
+    if n > MASKED_N:  # 2^n corners do not fit an int64: the kernels test corner by corner
+        assert len(T.ksimp_corner_mask) == len(T.kface_corner_mask) == len(T.k1face_corner_mask) == 0
+        assert len(simplex_tables(n, k).corner_mask) == 0
+        return
+    as_set = lambda mask: {c for c in range(2**n) if int(np.uint64(np.int64(mask))) >> c & 1}
+    for s, corners in enumerate(T.ksimp_corners):
+        assert as_set(T.ksimp_corner_mask[s]) == set(corners.tolist())
+    for dim, masks in ((k, T.kface_corner_mask), (k + 1, T.k1face_corner_mask)):
+        faces = _faces(n, dim)
+        assert len(masks) == len(faces)
+        for (free, fixed, _), mask in zip(faces, masks):
+            # a face's corners: those that agree with `fixed` off its free axes
+            want = {c for c in range(2**n) if (c & ~free) == fixed}
+            assert as_set(mask) == want
+    # the simplicial baselines' simplices (chains padded with -1)
+    if n <= 6:
+        S = simplex_tables(n, k)
+        for row, mask in zip(S.corners, S.corner_mask):
+            assert as_set(mask) == {int(c) for c in row if c >= 0}
+    # a k-face's k! simplices follow one another and cover exactly its corners
+    kf = math.factorial(k)
+    for fi, mask in enumerate(T.kface_corner_mask):
+        union = set()
+        for s in range(fi * kf, (fi + 1) * kf):
+            assert T.ksimp_face[s] == fi
+            union |= as_set(T.ksimp_corner_mask[s])
+        assert union == as_set(mask)
 
 
 @pytest.mark.parametrize("n,k", [(2, 1), (3, 1), (3, 2), (4, 2), (5, 3), (6, 3)])
