@@ -204,7 +204,7 @@ def cubes_chunk(
     n_nodes = nb_nodes + t_interior.shape[0]
     simp_vertex = np.empty(ns, np.int64)
     pos_mask = np.empty(1 << n, np.int64)
-    masked = ks_cmask.shape[0] == ns  # corner sets as bit masks (n <= 6)
+    masked = ks_cmask.shape[0] > 0  # corner sets as bit masks (n <= 6)
     pos_bits = np.zeros(k, np.int64)  # bit c: F_j >= 0 at corner c
     mat = np.empty((k, k), np.float64)
     rhs = np.empty(k, np.float64)
@@ -292,7 +292,9 @@ def cubes_chunk(
                         vk_out = _grown_keys(vk_out, row)
                         vp_out = _grown_rows(vp_out, row)
                     f = kf0 + ks_face[s]
-                    vk_out[row] = _face_key(g_lin + corner_off[face_fixed[f]], n_subsets[k], face_rank[f]) * kfact + ks_perm[s]
+                    vface[nv] = f
+                    vkey[nv] = _face_key(g_lin + corner_off[face_fixed[f]], n_subsets[k], face_rank[f]) * kfact + ks_perm[s]
+                    vk_out[row] = vkey[nv]
                     for a in range(n):
                         x = 0.0
                         for i in range(k + 1):
@@ -302,18 +304,13 @@ def cubes_chunk(
         # facets of the cube that M_A crosses (bit 2a + side): where continuation goes next
         facets = np.int64(0)
         for v in range(nv):
-            f = kf0 + ks_face[vsimp[v]]
+            f = vface[v]
             for a in range(n):
                 if not (face_free[f] >> a) & 1:
                     facets |= np.int64(1) << (2 * a + ((face_fixed[f] >> a) & 1))
         masks[ci - lo] = facets
         if nv == 0:
             continue
-        for v in range(nv):
-            s = vsimp[v]
-            f = kf0 + ks_face[s]
-            vface[v] = f
-            vkey[v] = _face_key(g_lin + corner_off[face_fixed[f]], n_subsets[k], face_rank[f]) * kfact + ks_perm[s]
 
         # 2. edges on (k+1)-faces
         k1 = k + 1

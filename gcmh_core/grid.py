@@ -66,17 +66,17 @@ def candidate_scan(values: np.ndarray, first_layer=None) -> tuple[np.ndarray, np
     values = np.ascontiguousarray(values, np.float64)
     dims = values.shape[:-1]
     n, k = len(dims), values.shape[-1]
-    if n == 1:  # no plane axes: a cube is two neighbouring vertices
-        return _candidate_scan_1d(values, first_layer)
+    if n == 1:  # no plane axes: a cube is two neighbouring vertices (nothing to carry)
+        return _candidate_scan_1d(values)
     planes = values.reshape(dims[0] * dims[1], -1, k)
-    code = np.empty(planes.shape[:2], _code_dtype(k))  # the narrowest: the passes are memory-bound
+    code_type = _code_dtype(k)  # the narrowest: the passes are memory-bound
+    code = np.empty(planes.shape[:2], code_type)
     first = 0
-    bad = _code_dtype(k)(1 << (2 * k))
     carried_bad = False
     if first_layer is not None:
         first = dims[1]
         code[:first] = np.reshape(first_layer, (first, -1))
-        carried_bad = bool(np.any(first_layer & bad))
+        carried_bad = bool(np.any(first_layer & code_type(1 << (2 * k))))
     inner = np.array(dims[2:], np.int64)
     nonfinite = _kernels.plane_codes(planes, code, first, inner)
     counts = np.zeros(max((dims[0] - 1) * (dims[1] - 1), 0), np.int64)
@@ -90,8 +90,8 @@ def candidate_scan(values: np.ndarray, first_layer=None) -> tuple[np.ndarray, np
     return origins, code[-dims[1]:].reshape(dims[1:]).copy(), bool(nonfinite) or carried_bad
 
 
-def _candidate_scan_1d(values, first_layer):
-    """n = 1: cube i is the interval between vertices i and i + 1 (first_layer unused)."""
+def _candidate_scan_1d(values):
+    """n = 1: cube i is the interval between vertices i and i + 1."""
     finite = np.isfinite(values).all(axis=1)
     pos = values >= 0
     both = finite[:-1] & finite[1:] & np.all(pos[:-1] != pos[1:], axis=1)
