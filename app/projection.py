@@ -49,9 +49,9 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from gcmh_core.examples import VIEW_MAPPINGS as MAPPINGS  # (the names an example's [view] may give)
 
 KINDS = ("coordinates", "generic", "principal")
-MAPPINGS = ("orthographic", "perspective", "stereographic")
 MAPPING_LABELS = {
     "orthographic": "Orthographic (linear)",
     "perspective": "Perspective from the hidden axes",

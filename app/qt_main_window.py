@@ -815,11 +815,6 @@ class QtMainWindow(QMainWindow):
             theirs.toggled.connect(mine.setChecked)    # setChecked with the same value emits nothing: no loop
             mine.toggled.connect(theirs.setChecked)
 
-    def _system(self):
-        from .worker import system_of
-
-        return system_of(self._job)
-
     def _topology_set_result(self, cx, report=None) -> None:
         try:
             if report is not None:

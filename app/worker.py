@@ -105,9 +105,6 @@ class RefineWorker(QThread):
     def cancel(self) -> None:  # (refinement is short: a cancelled one runs out and is dropped)
         self._cancel.set()
 
-    def is_cancelled(self) -> bool:
-        return self._cancel.is_set()
-
     def run(self) -> None:
         try:
             from gcmh_core.analysis import refine_vertices
