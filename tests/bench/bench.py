@@ -1,7 +1,10 @@
 """Benchmarks: the paper's experiments rerun on this machine, side by side with its figures.
 
-    python -m gcmh_core.bench [--tables table1,table2,table3,sphere,engine]
-                              [--limit SECONDS] [--repeat N] [--max-div D]
+    python tests/bench/bench.py [--tables table1,table2,table3,sphere,engine]
+                                [--limit SECONDS] [--repeat N] [--max-div D]
+
+Run from the repository root with the project installed (`pip install -e .`); the
+sphere table also wants scikit-image and pyvista (the `test` extra).
 
 * table1: complex cosine, div 5 .. 320, CMS, GCMH, CCS, GCCH (paper Table 1);
 * table2: top cells of CCS and GCCH (paper Table 2; needs table1's runs);
@@ -33,7 +36,7 @@ import sys
 import time
 from datetime import date
 
-from .extract import CONTINUATION_METHODS
+from gcmh_core.extract import CONTINUATION_METHODS
 
 PAPER_MACHINE = "MATLAB 2021b, 8-core i9"
 
@@ -59,15 +62,18 @@ TABLES = ("table1", "table2", "table3", "sphere", "engine")
 
 
 # ----------------------------------------------------------------------------- one run (child process)
-def _peak_mb() -> float:
+def peak_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
-# A fresh-process case starts here instead of `-m gcmh_core.bench`, so that the time
-# of `import gcmh_core` (numpy, numba, sympy, the cached kernels' index) is measured.
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+# A fresh-process case starts here instead of this script, so that the time of
+# `import gcmh_core` (numpy, numba, sympy, the cached kernels' index) is measured
+# before anything else is imported.  argv: the spec, then this script's folder.
 _FRESH = (
     "import time; t = time.perf_counter(); import gcmh_core; s = time.perf_counter() - t; "
-    "import json, sys; from gcmh_core import bench; "
+    "import json, sys; sys.path.insert(0, sys.argv[2]); import bench; "
     "print(json.dumps(bench._child(json.loads(sys.argv[1]), import_seconds=s)))"
 )
 
@@ -107,7 +113,7 @@ def _child(spec: dict, import_seconds: float = 0.0) -> dict:
         out.update(seconds=best)
     out.update(kernel_seconds=cx.meta["timings"]["kernel"], kernel_cubes=cx.meta.get("candidate_cubes", 0))
     out.update(counts=cx.counts(), euler=cx.euler_characteristic(), boundary=int(len(cx.boundary_facets())),
-               visited=cx.meta.get("visited_cubes", cx.meta.get("candidate_cubes")), peak_mb=_peak_mb())
+               visited=cx.meta.get("visited_cubes", cx.meta.get("candidate_cubes")), peak_mb=peak_mb())
     if spec.get("peers"):
         out.update(_sphere_peers(ex, div, spec.get("repeat", 1)))
     return out
@@ -167,7 +173,10 @@ class Runner:
         # a hard stop far beyond the series limit, so one runaway run can't hold the benchmark
         timeout = max(120.0, 20 * self.limit)
         try:
-            cmd = ["-c", _FRESH, json.dumps(spec)] if spec.get("fresh") else ["-m", "gcmh_core.bench", "--child", json.dumps(spec)]
+            if spec.get("fresh"):
+                cmd = ["-c", _FRESH, json.dumps(spec), HERE]
+            else:
+                cmd = [os.path.join(HERE, "bench.py"), "--child", json.dumps(spec)]
             proc = subprocess.run([sys.executable, *cmd], capture_output=True, text=True, timeout=timeout)
         except subprocess.TimeoutExpired:
             res = dict(spec, error=f"killed after {timeout:.0f} s", seconds=float("inf"))
@@ -326,7 +335,7 @@ def numba_threads() -> int:
     return numba.get_num_threads()
 
 
-def _machine() -> str:
+def machine() -> str:
     cpu = platform.processor() or platform.machine()
     try:
         with open("/proc/cpuinfo") as fh:
@@ -341,7 +350,7 @@ def _machine() -> str:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m gcmh_core.bench", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="python tests/bench/bench.py", description=__doc__.splitlines()[0])
     parser.add_argument("--tables", default=",".join(TABLES), help="comma-separated: " + ", ".join(TABLES))
     parser.add_argument("--limit", type=float, default=30.0,
                         help="a series stops after a run that takes longer than this many seconds (default 30)")
@@ -375,7 +384,7 @@ def main(argv=None) -> int:
         for m in ("gcmh", "cms"):
             R.run(("engine", f"kernel-{m}", 0), dict(example="complex-cosine", method=m, div=80))
         R.run(("engine", "fresh", 0), dict(example="complex-cosine", method="gcmh", div=10, fresh=True))
-    print(f"Measured {date.today().isoformat()} on {_machine()} (paper: {PAPER_MACHINE}); "
+    print(f"Measured {date.today().isoformat()} on {machine()} (paper: {PAPER_MACHINE}); "
           f"best of {args.repeat} warm runs, each in a fresh process (peak = its max RSS, Python and numba included); "
           f"a series stops after a run over {args.limit:g} s or before one predicted over {3 * args.limit:g} s. Total {time.perf_counter() - t0:.0f} s.\n")
     if "table1" in tables:

@@ -1,4 +1,4 @@
-"""Benchmark of the Dask path: `python -m gcmh_core.bench_cluster [--cases a,b] [--workers W]`.
+"""Benchmark of the Dask path: `python tests/bench/bench_cluster.py [--cases a,b] [--workers W]`.
 
 Each case runs twice in fresh child processes: once in one process (numba's threads
 on every core), once on a LocalCluster of W single-threaded worker processes, started
@@ -20,7 +20,9 @@ import sys
 import time
 from datetime import datetime, timezone
 
-from .bench import _machine, _peak_mb
+# bench.py sits in this script's folder, which Python puts first on sys.path when it
+# runs the script (and the LocalCluster's spawned workers inherit that path).
+from bench import machine, peak_mb
 
 CASES = {
     # name: (example, div)
@@ -75,17 +77,17 @@ def _child(case: str, mode: str, workers: int) -> dict:
         t = time.perf_counter()
         run(4, scheduler=address, block=2)
         warm_small_s = time.perf_counter() - t
-        base = client.run(_peak_mb)  # a worker with gcmh_core, numba and the kernels loaded
+        base = client.run(peak_mb)  # a worker with gcmh_core, numba and the kernels loaded
         t = time.perf_counter()
         cx = run(div, scheduler=address)
         out.update(seconds=time.perf_counter() - t, start_seconds=start_s, first_seconds=first_s,
                    warm_small_seconds=warm_small_s, blocks=cx.meta["blocks"], block=cx.meta["block"])
-        peaks = client.run(_peak_mb)
+        peaks = client.run(peak_mb)
         out.update(worker_peak_mb=sorted(peaks.values()), worker_base_mb=max(base.values()))
         client.close()
         cluster.close()
     out.update(counts=cx.counts(), euler=cx.euler_characteristic(), digest=_digest(cx),
-               cubes=cx.meta["cubes"], candidates=cx.meta["candidate_cubes"], peak_mb=_peak_mb())
+               cubes=cx.meta["cubes"], candidates=cx.meta["candidate_cubes"], peak_mb=peak_mb())
     return out
 
 
@@ -97,7 +99,7 @@ def _load() -> str:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m gcmh_core.bench_cluster", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="python tests/bench/bench_cluster.py", description=__doc__.splitlines()[0])
     parser.add_argument("--cases", default=",".join(CASES), help="comma-separated: " + ", ".join(CASES))
     parser.add_argument("--workers", type=int, default=2, help="LocalCluster worker processes (default 2)")
     parser.add_argument("--child", help=argparse.SUPPRESS)
@@ -113,7 +115,7 @@ def main(argv=None) -> int:
     if unknown:
         parser.error(f"unknown case(s) {', '.join(unknown)}; choose from {', '.join(CASES)}")
     stamp = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    print(f"Measured {stamp} on {_machine()} ({_load()} at start); one warm run per row,")
+    print(f"Measured {stamp} on {machine()} ({_load()} at start); one warm run per row,")
     print(f"each in a fresh process; cluster = LocalCluster of {args.workers} single-threaded worker processes.\n")
     print("| case | div | cubes | run | time | peak memory | cells by dim | identical |")
     print("|---|---|---|---|---|---|---|---|")
@@ -122,7 +124,7 @@ def main(argv=None) -> int:
         rows = {}
         for mode in ("single", "cluster"):
             proc = subprocess.run(
-                [sys.executable, "-m", "gcmh_core.bench_cluster", "--child", case, "--mode", mode,
+                [sys.executable, os.path.abspath(__file__), "--child", case, "--mode", mode,
                  "--workers", str(args.workers)],
                 capture_output=True, text=True,
             )
