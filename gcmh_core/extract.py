@@ -63,13 +63,12 @@ def _as_div(div, n: int) -> np.ndarray:
 
 def _number(x, what: str) -> float:
     if isinstance(x, str):
-        from .formula import parse_system  # noqa: PLC0415  (numbers like "-pi/2", parsed safely)
+        from .formula import evaluate_constant  # noqa: PLC0415  (numbers like "-pi/2", parsed safely)
 
         try:
-            value = float(parse_system([x], [], n=0).evaluate_points(np.zeros((1, 0)))[0, 0])
+            x = evaluate_constant(x)
         except InputError as err:
             raise InputError(f"{what}: {err}") from None
-        x = value
     if not isinstance(x, (Real, np.floating, np.integer)) or isinstance(x, bool):
         raise InputError(f"{what} must be a number, got {x!r}")
     x = float(x)

@@ -36,7 +36,7 @@ import sympy
 
 from .errors import InputError
 
-__all__ = ["FormulaError", "System", "parse_system", "check_component"]
+__all__ = ["FormulaError", "System", "parse_system", "check_component", "evaluate_constant"]
 
 MAX_CHARS = 5000  # characters in one component
 MAX_NODES = 2000  # expression nodes in one component
@@ -607,3 +607,107 @@ def check_component(text: str, variables: Sequence[str] | str, index: int = 0) -
     if not isinstance(text, str):
         raise FormulaError(f"expected a string, got {type(text).__name__}", index)
     _Builder(text, index, names, symbols).parse()
+
+
+# --------------------------------------------------------------------------
+# Constant text ("-pi/2", "2*pi", "sqrt(2)/2"): bounds, example files, the app's fields
+# --------------------------------------------------------------------------
+
+_CONST_NAMES = {"pi": math.pi, "e": math.e, "tau": math.tau}
+_CONST_FUNCS = {
+    "sqrt": math.sqrt,
+    "sin": math.sin,
+    "cos": math.cos,
+    "tan": math.tan,
+    "exp": math.exp,
+    "log": math.log,
+    "abs": abs,
+}
+_CONST_BINOPS = {
+    ast.Add: lambda a, b: a + b,
+    ast.Sub: lambda a, b: a - b,
+    ast.Mult: lambda a, b: a * b,
+    ast.Div: lambda a, b: a / b,
+    ast.Pow: lambda a, b: a**b,
+    ast.BitXor: lambda a, b: a**b,  # "2^3" written the mathematical way
+}
+_CONST_MAX_TEXT = 200
+
+
+def evaluate_constant(text: str | int | float) -> float:
+    """Value of a numeric constant expression such as ``"-pi/2"`` or ``"2*pi"``.
+
+    Allowed: numbers, ``pi``, ``e``, ``tau``, ``+ - * / **`` (and ``^`` for
+    power), unary minus/plus, parentheses and the functions sqrt, sin, cos,
+    tan, exp, log, abs of one argument (``π`` is ``pi``). The expression is parsed with :mod:`ast`
+    and walked against a whitelist; it is never evaluated by Python.
+
+    Raises :class:`InputError` with a one-line message for anything else, or
+    when the value is not a finite real number.
+    """
+    if isinstance(text, bool):
+        raise InputError(f"expected a number, got {text!r}")
+    if isinstance(text, (int, float)):
+        value = float(text)
+        if not math.isfinite(value):
+            raise InputError(f"number {text!r} is not finite")
+        return value
+    if not isinstance(text, str):
+        raise InputError(f"expected a number or a constant expression, got {text!r}")
+    src = text.strip().replace("π", "pi")
+    if not src:
+        raise InputError("empty number")
+    if len(src) > _CONST_MAX_TEXT:
+        raise InputError(f"constant expression longer than {_CONST_MAX_TEXT} characters")
+    try:
+        tree = ast.parse(src, mode="eval")
+    except SyntaxError:
+        raise InputError(f"cannot read {src!r} as a number (e.g. 1.5, -pi/2, 2*pi)") from None
+    try:
+        value = _walk_constant(tree.body, src)
+    except (OverflowError, ZeroDivisionError, ValueError) as err:
+        if isinstance(err, InputError):
+            raise
+        raise InputError(f"cannot evaluate {src!r}: {err}") from None
+    if not math.isfinite(value):
+        raise InputError(f"{src!r} is not a finite number")
+    return value
+
+
+def _walk_constant(node: ast.AST, src: str) -> float:
+    if isinstance(node, ast.Constant):
+        if isinstance(node.value, bool) or not isinstance(node.value, (int, float)):
+            raise InputError(f"cannot read {src!r} as a number: unexpected {node.value!r}")
+        return float(node.value)
+    if isinstance(node, ast.Name):
+        if node.id in _CONST_NAMES:
+            return _CONST_NAMES[node.id]
+        raise InputError(
+            f"cannot read {src!r} as a number: unknown name {node.id!r} "
+            f"(allowed: {', '.join(sorted(_CONST_NAMES))})"
+        )
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+        value = _walk_constant(node.operand, src)
+        return -value if isinstance(node.op, ast.USub) else value
+    if isinstance(node, ast.BinOp) and type(node.op) in _CONST_BINOPS:
+        left = _walk_constant(node.left, src)
+        right = _walk_constant(node.right, src)
+        if type(node.op) in (ast.Pow, ast.BitXor) and abs(right) > 1e4:
+            raise InputError(f"cannot evaluate {src!r}: exponent too large")
+        result = _CONST_BINOPS[type(node.op)](left, right)
+        if isinstance(result, complex):
+            raise InputError(f"cannot evaluate {src!r}: result is not real")
+        return float(result)
+    if (
+        isinstance(node, ast.Call)
+        and isinstance(node.func, ast.Name)
+        and node.func.id in _CONST_FUNCS
+        and len(node.args) == 1
+        and not node.keywords
+    ):
+        return float(_CONST_FUNCS[node.func.id](_walk_constant(node.args[0], src)))
+    col = getattr(node, "col_offset", None)
+    where = f" at column {col + 1}" if col is not None else ""
+    raise InputError(f"cannot read {src!r} as a number: unsupported syntax{where}")
+
+
