@@ -3,30 +3,27 @@
 Each ``check_*`` function returns ``None`` when the text is fine and a short
 message otherwise; the panel shows the message under the field and keeps Run
 disabled. Numbers may be written as constant expressions (``-pi/2``,
-``2*pi``, ``1e-3``); they are read with a whitelisted ``ast`` walk, never eval.
+``2*pi``, ``1e-3``), read by :func:`gcmh_core.formula.evaluate_constant`, never eval.
 """
 
 from __future__ import annotations
 
-import ast
-import math
-import operator
 import re
 
-_CONSTANTS = {"pi": math.pi, "e": math.e, "tau": math.tau}
-_FUNCS = {"sqrt": math.sqrt, "exp": math.exp, "log": math.log, "sin": math.sin, "cos": math.cos,
-          "tan": math.tan, "abs": abs}
-_BINOPS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul,
-           ast.Div: operator.truediv, ast.Pow: operator.pow}
-_UNOPS = {ast.UAdd: operator.pos, ast.USub: operator.neg}
+from gcmh_core.errors import InputError
+from gcmh_core.formula import evaluate_constant
 
 # names a variable may not take: they mean something in formulas
-RESERVED = set(_CONSTANTS) | set(_FUNCS) | {
-    "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh", "asinh", "acosh", "atanh",
-    "exp", "log", "ln", "sqrt", "abs", "sign", "min", "max", "floor", "ceil", "re", "im",
+RESERVED = {
+    "pi", "e", "tau", "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh", "asinh",
+    "acosh", "atanh", "exp", "log", "ln", "sqrt", "abs", "sign", "min", "max", "floor", "ceil", "re", "im",
     "I", "j", "inf", "nan", "E", "hypot", "cbrt", "mod", "arg",
 }
 _IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+
+# the engine's words for what Python's math raised, said the way a field's message says them
+_PLAIN = {"division by zero": "division by zero", "math domain error": "argument out of range", "Numerical result out of range": "out of range",
+          "math range error": "out of range"}
 
 
 class NumberError(ValueError):
@@ -34,52 +31,27 @@ class NumberError(ValueError):
 
 
 def parse_number(text: str) -> float:
-    """A finite float from a constant expression such as ``-pi/2`` or ``3.5``."""
-    s = str(text).strip()
-    if not s:
-        raise NumberError("empty")
-    if len(s) > 200:
-        raise NumberError("too long")
-    s = s.replace("^", "**").replace("π", "pi")
+    """A finite float from a constant expression such as ``-pi/2`` or ``3.5``.
+
+    A thin wrapper over :func:`gcmh_core.formula.evaluate_constant` (the one
+    evaluator of constant text): its message, without the text the field already
+    shows, is raised as :class:`NumberError`.
+    """
     try:
-        tree = ast.parse(s, mode="eval")
-    except SyntaxError:
-        raise NumberError(f"not a number: {text.strip()!r}") from None
+        return evaluate_constant(str(text))
+    except InputError as e:
+        raise NumberError(_short_message(str(e), str(text).strip().replace("\u03c0", "pi"))) from None
 
-    def ev(node):
-        if isinstance(node, ast.Expression):
-            return ev(node.body)
-        if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) \
-                and not isinstance(node.value, bool):
-            return float(node.value)
-        if isinstance(node, ast.Name):
-            if node.id in _CONSTANTS:
-                return _CONSTANTS[node.id]
-            raise NumberError(f"unknown name {node.id!r}")
-        if isinstance(node, ast.BinOp) and type(node.op) in _BINOPS:
-            a, b = ev(node.left), ev(node.right)
-            if isinstance(node.op, ast.Pow) and abs(b) > 1000:
-                raise NumberError("exponent too large")
-            try:
-                return float(_BINOPS[type(node.op)](a, b))
-            except ZeroDivisionError:
-                raise NumberError("division by zero") from None
-            except (OverflowError, ValueError):
-                raise NumberError("out of range") from None
-        if isinstance(node, ast.UnaryOp) and type(node.op) in _UNOPS:
-            return _UNOPS[type(node.op)](ev(node.operand))
-        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in _FUNCS \
-                and len(node.args) == 1 and not node.keywords:
-            try:
-                return float(_FUNCS[node.func.id](ev(node.args[0])))
-            except (ValueError, OverflowError):
-                raise NumberError(f"{node.func.id}: argument out of range") from None
-        raise NumberError(f"not a constant expression: {text.strip()!r}")
 
-    v = ev(tree)
-    if not math.isfinite(v):
-        raise NumberError("not finite")
-    return v
+def _short_message(message: str, src: str) -> str:
+    for prefix in (f"cannot read {src!r} as a number: ", f"cannot evaluate {src!r}: "):
+        if message.startswith(prefix):
+            rest = message[len(prefix):]
+            for words, plain in _PLAIN.items():
+                if words in rest:
+                    return plain
+            return rest
+    return message
 
 
 def default_variables(n: int) -> list[str]:

@@ -34,3 +34,18 @@ def test_checks():
     assert inputs.check_div("12") == (None, 12)
     assert inputs.check_start("1, 2, 3", 3) == (None, [1.0, 2.0, 3.0])
     assert inputs.check_start("1, 2", 3)[0] is not None
+
+
+@pytest.mark.parametrize("text,words", [("1/0", "division by zero"), ("x", "'x'"), ("sqrt(-1)", "out of range"),
+                                        ("", "empty")])
+def test_parse_number_says_why_in_a_few_words(text, words):
+    with pytest.raises(inputs.NumberError) as err:
+        inputs.parse_number(text)
+    assert words in str(err.value) and "cannot read" not in str(err.value)
+
+
+def test_parse_number_is_the_engines_evaluator():
+    from gcmh_core.formula import evaluate_constant
+
+    for text in ("-pi/2", "2^3", "\u03c0/4", "abs(-2)*tau", "exp(1) - e"):
+        assert inputs.parse_number(text) == evaluate_constant(text)
