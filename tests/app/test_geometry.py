@@ -42,7 +42,7 @@ def test_sphere_polygons_are_coherently_oriented():
 
 @pytest.mark.parametrize("n", [4, 6, 10])
 def test_normal_field_matches_the_projected_mesh(n):
-    from app.bench_view import torus_complex
+    from app_helpers import torus_complex
 
     cx = torus_complex(30, n)
     geo = Geometry.build(cx)
@@ -88,7 +88,7 @@ def test_curves_are_lines():
 
 def test_mesh_normals_agree_with_bivector_normals_under_a_linear_view():
     """Normals from projected points (nonlinear views) match the exact bivector normals when the view is linear."""
-    from app.bench_view import torus_complex
+    from app_helpers import torus_complex
     from app.geometry import Geometry
     from app.projection import ProjectionModel
 

@@ -121,7 +121,7 @@ def test_window_range_and_bad_input():
 
 def test_any_n_along_a_hidden_direction():
     """A flat torus in R^10, sliced along a direction a generic view hides."""
-    from app.bench_view import torus_complex
+    from app_helpers import torus_complex
     from app.projection import ProjectionModel
     from app.slicing import SliceWindow
 

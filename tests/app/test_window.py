@@ -204,7 +204,7 @@ def _view_complex(qtbot, window, n):
         set_system(qtbot, window, n, k, forms, div="6")
         assert run_and_wait(qtbot, window) == "done", window.last_status
         return window.result
-    from app.bench_view import torus_complex
+    from app_helpers import torus_complex
 
     cx = torus_complex(24, n)
     window.show_result(cx, cx.point_names(), title=f"flat torus in R^{n}")

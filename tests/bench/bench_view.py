@@ -1,8 +1,10 @@
 """Benchmark of one rotation-slider step: project V vertices R^n -> R^3 in place.
 
-    python -m app.bench_view                 # table for 10k, 100k, 1M vertices; n = 4, 5, 10
-    python -m app.bench_view --render        # also time a render off screen (needs GL: xvfb-run or EGL)
-    python -m app.bench_view --mapping stereographic   # a nonlinear view: normals from the projected mesh
+    python tests/bench/bench_view.py            # table for 10k, 100k, 1M vertices; n = 3, 4, 5, 10
+    python tests/bench/bench_view.py --render   # also time a render off screen (needs GL: xvfb-run or EGL)
+    python tests/bench/bench_view.py --mapping stereographic   # a nonlinear view: normals from the projected mesh
+
+(run from the repository root; not collected by pytest: no ``test_`` prefix)
 
 The test surface is a flat torus (a product of two circles) of V vertices,
 turned into R^n by a fixed orthogonal map and built as a real
@@ -17,43 +19,22 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
-
-def torus_complex(side: int, n: int, seed: int = 0):
-    """A torus with side*side vertices and quads: a ring torus for n = 3, else a flat torus turned into R^n."""
-    from gcmh_core.complex import CellComplex
-
-    u = np.linspace(0, 2 * np.pi, side, endpoint=False)
-    U, W = np.meshgrid(u, u, indexing="ij")
-    if n == 3:  # a ring torus in R^3
-        X = np.stack([(2 + np.cos(W)) * np.cos(U), (2 + np.cos(W)) * np.sin(U), np.sin(W)], -1).reshape(-1, 3)
-    else:
-        X4 = np.stack([np.cos(U), np.sin(U), np.cos(W), np.sin(W)], axis=-1).reshape(-1, 4)
-        Q, _ = np.linalg.qr(np.random.default_rng(seed).standard_normal((n, n)))
-        X = X4 @ Q[:4]
-    idx = np.arange(side * side).reshape(side, side)
-    right = np.roll(idx, -1, axis=0)
-    up = np.roll(idx, -1, axis=1)
-    e_h = np.stack([idx.ravel(), right.ravel()], 1)       # edge id i
-    e_v = np.stack([idx.ravel(), up.ravel()], 1)          # edge id V + i
-    edges = np.concatenate([e_h, e_v])
-    Vn = side * side
-    i = idx.ravel()
-    # quad (a, a+u, a+u+w, a+w): edges h(a), v(a+u), h(a+w), v(a)
-    faces = np.stack([i, Vn + right.ravel(), up.ravel(), Vn + i], 1).ravel()
-    offsets = np.arange(0, 4 * Vn + 1, 4, dtype=np.int64)
-    return CellComplex(n, n - 2, X, edges.astype(np.int64), {2: (offsets, faces.astype(np.int64))},
-                       meta={"variables": [f"x{j + 1}" for j in range(n)]})
+# the test surface is the window tests' own (one copy): tests/app/app_helpers.py
+sys.path.append(str(Path(__file__).resolve().parents[1] / "app"))
+from app_helpers import torus_complex  # noqa: E402
 
 
 def bench(V: int, n: int, steps: int = 20, render: bool = False, mapping: str = "orthographic") -> dict:
     import pyvista as pv
 
-    from .projection import ProjectionModel
-    from .scene import Scene, Style
+    from app.projection import ProjectionModel
+    from app.scene import Scene, Style
 
     side = int(round(math.sqrt(V)))
     cx = torus_complex(side, n)
@@ -93,7 +74,7 @@ def bench(V: int, n: int, steps: int = 20, render: bool = False, mapping: str = 
 
 
 def main(argv=None) -> int:
-    p = argparse.ArgumentParser(prog="python -m app.bench_view", description=__doc__.split("\n")[0])
+    p = argparse.ArgumentParser(prog="python tests/bench/bench_view.py", description=__doc__.split("\n")[0])
     p.add_argument("--sizes", default="10000,100000,1000000", help="vertex counts (comma-separated)")
     p.add_argument("--dims", default="3,4,5,10", help="ambient dimensions n (comma-separated, >= 3)")
     p.add_argument("--steps", type=int, default=20)
