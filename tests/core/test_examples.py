@@ -1,4 +1,4 @@
-"""The example manifolds in assets/examples: they load, are well formed, and are right."""
+"""The example manifolds in gcmh_core/examples: they load, are well formed, and are right."""
 
 import math
 
@@ -209,7 +209,7 @@ def test_teaching_example_topology(name):
     from gcmh_core.formula import parse_system
 
     ex = load_example(name)
-    cx = extract(ex.formulas, ex.bounds, ex.div, variables=ex.variables)  # (its time: python -m gcmh_core.bench)
+    cx = extract(ex.formulas, ex.bounds, ex.div, variables=ex.variables)  # (its time: python tests/bench/bench.py)
     rep = topology_report(cx, parse_system(ex.formulas, ex.variables))
     chi, components, boundary, orientable = TEACHING[name]
     assert rep["euler_characteristic"] == chi
@@ -267,7 +267,7 @@ def test_ambiguity_manifold_merges_at_the_authors_div():
 def test_every_example_has_a_gallery_thumbnail():
     from pathlib import Path
 
-    gallery = Path(__file__).resolve().parents[2] / "assets" / "gallery"
+    gallery = Path(__file__).resolve().parents[2] / "app" / "resources" / "gallery"
     for name in NAMES:
         png = gallery / f"{name}.png"
         assert png.is_file(), f"run python -m app.make_gallery to draw {png.name}"

@@ -1,6 +1,8 @@
 """Example manifolds shipped with GCMH Studio.
 
-Each example is one TOML file in ``<repo>/assets/examples/<name>.toml``::
+Each example is one TOML file beside this module, ``gcmh_core/examples/<name>.toml``
+(package data, read with :mod:`importlib.resources`, so an installed wheel carries
+them)::
 
     title = "Unit sphere in R^3"
     description = "Two to four sentences for a teacher."
@@ -20,7 +22,8 @@ Each example is one TOML file in ``<repo>/assets/examples/<name>.toml``::
 ``bounds`` may also be a single pair, meaning the same interval on every axis.
 Bound entries written as strings (``"-pi/2"``, ``"2*pi"``) are evaluated by
 :func:`evaluate_constant`, a whitelist evaluator built on :mod:`ast`; nothing
-is ever passed to ``eval``.
+is ever passed to ``eval``.  ``$GCMH_EXAMPLES_DIR``, when set, names a folder
+read instead of the shipped examples.
 
 >>> ex = load_example("sphere")
 >>> ex.n, ex.k, ex.variables
@@ -30,32 +33,36 @@ is ever passed to ``eval``.
 from __future__ import annotations
 
 import os
+import sys
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from importlib import resources
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
-from .errors import InputError
+from ..errors import InputError
+from ..formula import check_component, evaluate_constant  # (the one constant evaluator; re-exported)
 
-try:
+if sys.version_info >= (3, 11):
     import tomllib
-except ImportError:  # Python 3.10
+else:  # Python 3.10
     import tomli as tomllib
 
+if TYPE_CHECKING:
+    if sys.version_info >= (3, 11):
+        from importlib.resources.abc import Traversable
+    else:
+        from importlib.abc import Traversable
+
 __all__ = [
+    "VIEW_MAPPINGS",
     "Example",
-    "list_examples",
-    "load_example",
+    "evaluate_constant",
     "example_names",
     "examples_dir",
-    "evaluate_constant",
+    "list_examples",
+    "load_example",
 ]
-
-
-from .formula import evaluate_constant  # noqa: E402  (the one constant evaluator; re-exported)
-
-
-# --------------------------------------------------------------------------
-# Examples
-# --------------------------------------------------------------------------
 
 
 # How the viewer maps R^n to 3D by default (the app's projection kinds).
@@ -67,8 +74,8 @@ class Example:
     """One example manifold M = F^-1(0), F: R^n -> R^k.
 
     bounds: list of n (lo, hi) float pairs; div: int or list of n ints;
-    start: a point of M (list of n floats); view: dict(mapping=orthographic|perspective|stereographic, project=[3 variable
-    names], color=variable name).
+    start: a point of M (list of n floats); view: dict(mapping=orthographic|perspective|stereographic,
+    project=[3 variable names], color=variable name); path: the file it was read from.
     """
 
     name: str
@@ -81,9 +88,9 @@ class Example:
     bounds: list[tuple[float, float]]
     div: int | list[int]
     start: list[float]
-    view: dict = field(default_factory=dict)
+    view: dict[str, Any] = field(default_factory=dict)
     paper_div: int | list[int] | None = None
-    path: Path | None = None
+    path: Traversable | None = None
 
     @property
     def dim(self) -> int:
@@ -95,25 +102,27 @@ class Example:
         return [self.div] * self.n if isinstance(self.div, int) else list(self.div)
 
 
+def _source() -> Traversable:
+    """Where the TOML files are read from: ``$GCMH_EXAMPLES_DIR`` if set, else this package."""
+    env = os.environ.get("GCMH_EXAMPLES_DIR")
+    return Path(env) if env else resources.files(__name__)
+
+
 def examples_dir() -> Path:
     """Folder holding the example TOML files.
 
-    ``$GCMH_EXAMPLES_DIR`` if set, else ``<repo>/assets/examples`` (the
-    project is installed with ``pip install -e .``, so the repository is next
-    to the package).
+    ``$GCMH_EXAMPLES_DIR`` if set, else the folder of this package (``pip install``
+    unpacks the package data there).
     """
-    env = os.environ.get("GCMH_EXAMPLES_DIR")
-    if env:
-        return Path(env)
-    return Path(__file__).resolve().parent.parent / "assets" / "examples"
+    return Path(str(_source()))
 
 
 def example_names() -> list[str]:
     """Sorted names of the available examples."""
-    folder = examples_dir()
+    folder = _source()
     if not folder.is_dir():
         return []
-    return sorted(p.stem for p in folder.glob("*.toml"))
+    return sorted(f.name[: -len(".toml")] for f in folder.iterdir() if f.name.endswith(".toml") and f.is_file())
 
 
 def list_examples() -> list[Example]:
@@ -122,31 +131,30 @@ def list_examples() -> list[Example]:
 
 
 def load_example(name: str) -> Example:
-    """The example called ``name`` (file ``assets/examples/<name>.toml``).
+    """The example called ``name`` (file ``<name>.toml``, see :func:`examples_dir`).
 
     Raises :class:`InputError` for an unknown name (listing the known ones)
     or a malformed file.
     """
     names = example_names()
     if not isinstance(name, str) or name not in names:
-        known = ", ".join(names) if names else f"none found in {examples_dir()}"
+        known = ", ".join(names) if names else f"none found in {_source()}"
         raise InputError(f"unknown example {name!r}; known examples: {known}")
-    path = examples_dir() / f"{name}.toml"
+    file = _source() / f"{name}.toml"
     try:
-        with open(path, "rb") as fh:
-            data = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as err:
-        raise InputError(f"example file {path}: {err}") from None
-    return _from_dict(name, data, path)
+        data = tomllib.loads(file.read_text(encoding="utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
+        raise InputError(f"example file {file}: {err}") from None
+    return _from_dict(name, data, file)
 
 
-def _from_dict(name: str, data: dict, path: Path | None = None) -> Example:
+def _from_dict(name: str, data: dict[str, Any], path: Traversable | None = None) -> Example:
     where = f"example {name!r}"
 
     def fail(msg: str) -> InputError:
         return InputError(f"{where}: {msg}")
 
-    def need(key: str, types, what: str):
+    def need(key: str, types: type | tuple[type, ...], what: str) -> Any:
         if key not in data:
             raise fail(f"missing key {key!r}")
         value = data[key]
@@ -190,8 +198,10 @@ def _from_dict(name: str, data: dict, path: Path | None = None) -> Example:
             raise fail(f"bounds of {variables[axis]}: lower {lo:g} must be below upper {hi:g}")
         bounds.append((lo, hi))
 
-    div = _read_div(data.get("div"), n, "div", fail, required=True)
-    paper_div = _read_div(data.get("paper_div"), n, "paper_div", fail, required=False)
+    div = _read_div(data.get("div"), n, "div", fail)
+    if div is None:
+        raise fail("missing key 'div'")
+    paper_div = _read_div(data.get("paper_div"), n, "paper_div", fail)
 
     start = need("start", list, f"a list of {n} numbers")
     if len(start) != n:
@@ -240,10 +250,9 @@ def _from_dict(name: str, data: dict, path: Path | None = None) -> Example:
     )
 
 
-def _read_div(value, n: int, key: str, fail, *, required: bool):
+def _read_div(value: object, n: int, key: str, fail: Callable[[str], InputError]) -> int | list[int] | None:
+    """``value`` as a division (an int, or one int per axis); None when the key is absent."""
     if value is None:
-        if required:
-            raise fail(f"missing key {key!r}")
         return None
     if isinstance(value, int) and not isinstance(value, bool):
         if value < 1:
@@ -258,12 +267,8 @@ def _read_div(value, n: int, key: str, fail, *, required: bool):
     raise fail(f"{key!r} must be a positive integer or a list of {n} of them")
 
 
-def _check_formulas(formulas, variables, fail) -> None:
-    """Validate the formula texts with the safe parser, when it is available."""
-    try:
-        from .formula import check_component
-    except ImportError:  # pragma: no cover - formula module not installed yet
-        return
+def _check_formulas(formulas: list[str], variables: list[str], fail: Callable[[str], InputError]) -> None:
+    """Validate the formula texts with the safe parser."""
     for i, text in enumerate(formulas):
         try:
             check_component(text, variables, i)
