@@ -7,10 +7,15 @@
 #   2. creates the virtual environment .venv in the repository (once) and
 #      installs the project into it with `pip install -e .[test]` (again only
 #      when pyproject.toml changed);
-#   3. runs `python -m pytest --xvfb-backend xvfb "$@"` (tests/app run on Xvfb).
+#   3. checks the code: `ruff check .` and `mypy` on the public API (their
+#      settings are in pyproject.toml);
+#   4. runs `python -m pytest --xvfb-backend xvfb "$@"` (tests/app run on Xvfb).
+# The tests run even when step 3 finds something; the exit status is then 1 and the
+# last line says which check failed.
 #
-# Environment: GCMH_SKIP_APT=1 skips step 1; PYTHON=/path/to/python picks the
-# interpreter for a new .venv (default python3.11, else python3).
+# Environment: GCMH_SKIP_APT=1 skips step 1; GCMH_SKIP_LINT=1 skips step 3;
+# PYTHON=/path/to/python picks the interpreter for a new .venv (default python3.11,
+# else python3).
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -71,7 +76,8 @@ fi
 VPY="$ROOT/.venv/bin/python"
 export PIP_DISABLE_PIP_VERSION_CHECK=1
 STAMP=.venv/.gcmh-installed
-if ! cmp -s pyproject.toml "$STAMP" || ! "$VPY" -c 'import gcmh_core, pytest, pytestqt, pytest_xvfb' >/dev/null 2>&1; then
+if ! cmp -s pyproject.toml "$STAMP" \
+    || ! "$VPY" -c 'import gcmh_core, pytest, pytestqt, pytest_xvfb, ruff, mypy' >/dev/null 2>&1; then
     say "installing the project: pip install -e .[test]"
     "$VPY" -m pip install -q -e ".[test]"
     cp pyproject.toml "$STAMP"
@@ -85,6 +91,16 @@ fi
 mkdir -p "$XDG_RUNTIME_DIR"
 chmod 700 "$XDG_RUNTIME_DIR"
 
+# ---------------------------------------------------------------- lint and types
+# Caches go into .venv (ignored by git) rather than the repository's top level.
+failed=()
+if [[ "${GCMH_SKIP_LINT:-0}" != 1 ]]; then
+    say "ruff check . (pyproject.toml [tool.ruff])"
+    RUFF_CACHE_DIR=.venv/.ruff_cache "$VPY" -m ruff check . || failed+=(ruff)
+    say "mypy on the public API (pyproject.toml [tool.mypy])"
+    "$VPY" -m mypy --cache-dir .venv/.mypy_cache || failed+=(mypy)
+fi
+
 # ---------------------------------------------------------------- tests
 # --xvfb-backend xvfb: tests/app need a real X server; with the flag a missing
 # Xvfb is a clear usage error rather than "Fatal Python error: Aborted".
@@ -94,4 +110,10 @@ for arg in "$@"; do
         no:xvfb|-pno:xvfb|--no-xvfb|--xvfb-backend*) XVFB=() ;;
     esac
 done
-exec "$VPY" -m pytest "${XVFB[@]}" "$@"
+status=0
+"$VPY" -m pytest "${XVFB[@]}" "$@" || status=$?
+if ((${#failed[@]})); then
+    say "FAILED: ${failed[*]} found problems (listed above); pytest exited with $status"
+    ((status)) || status=1
+fi
+exit "$status"
