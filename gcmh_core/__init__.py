@@ -3,10 +3,13 @@
     >>> from gcmh_core import extract
     >>> M = extract("x1^2 + x2^2 + x3^2 - 1", bounds=(-1.5, 1.5), div=16)
 
-Imports numpy, numba and sympy only; never Qt, VTK or pyvista.
+Imports numpy and numba only (sympy once a formula is parsed); never Qt, VTK,
+pyvista or dask.
 """
 
+import importlib
 import os
+from typing import TYPE_CHECKING, Any
 
 # The candidate pass runs numba `prange` loops on OpenMP threads, and the cube kernels
 # right after it run on Python threads.  libgomp's idle threads spin-wait (by default
@@ -16,9 +19,57 @@ import os
 # this import); a value the user set wins.
 os.environ.setdefault("GOMP_SPINCOUNT", "10000")
 
+from .analysis import boundary_components, orient_2cells, refine_vertices, topology_report  # noqa: E402
 from .complex import CellComplex  # noqa: E402
 from .errors import Cancelled, InputError  # noqa: E402
-from .extract import CONTINUATION_METHODS, METHODS, estimate_work, extract  # noqa: E402
+from .extract import CONTINUATION_METHODS, METHODS, SIMPLICIAL_METHODS, estimate_work, extract  # noqa: E402
 
-__all__ = ["CONTINUATION_METHODS", "CellComplex", "Cancelled", "InputError", "METHODS", "estimate_work", "extract"]
+if TYPE_CHECKING:
+    from .examples import Example, list_examples, load_example
+    from .formula import System, evaluate_constant, parse_system
+
+__all__ = [
+    "CONTINUATION_METHODS",
+    "METHODS",
+    "SIMPLICIAL_METHODS",
+    "Cancelled",
+    "CellComplex",
+    "Example",
+    "InputError",
+    "System",
+    "boundary_components",
+    "estimate_work",
+    "evaluate_constant",
+    "extract",
+    "list_examples",
+    "load_example",
+    "orient_2cells",
+    "parse_system",
+    "refine_vertices",
+    "topology_report",
+]
 __version__ = "0.1.0"
+
+# Loaded on first use (PEP 562): the formula parser brings sympy, about a third of a
+# second, which an extraction from sampled values or a saved complex never needs.
+_LAZY = {
+    "System": "formula",
+    "evaluate_constant": "formula",
+    "parse_system": "formula",
+    "Example": "examples",
+    "list_examples": "examples",
+    "load_example": "examples",
+}
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{module}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)

@@ -1,0 +1,93 @@
+"""The package's public face: what `import gcmh_core` exports and loads, the examples
+as package data, and the benchmark scripts that live outside the library."""
+
+import json
+import subprocess
+import sys
+from importlib import resources
+from pathlib import Path
+
+import pytest
+
+import gcmh_core
+
+try:
+    import tomllib
+except ImportError:  # Python 3.10
+    import tomli as tomllib
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _python(code: str, cwd: Path = ROOT) -> str:
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=cwd, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    return proc.stdout
+
+
+def test_import_loads_no_gui_no_cluster_no_parser():
+    # a fresh interpreter: this one has imported whatever the other tests needed
+    code = ("import json, sys, gcmh_core; "
+            "print(json.dumps(sorted(m.split('.')[0] for m in sys.modules)))")
+    top = set(json.loads(_python(code)))
+    assert "numpy" in top and "numba" in top
+    for heavy in ("PyQt5", "qtpy", "vtk", "vtkmodules", "pyvista", "pyvistaqt", "dask", "distributed", "sympy", "app"):
+        assert heavy not in top, heavy
+
+
+def test_all_names_resolve_and_are_public():
+    for name in gcmh_core.__all__:
+        assert not name.startswith("_")
+        assert getattr(gcmh_core, name) is not None
+    assert sorted(dir(gcmh_core)) == sorted(gcmh_core.__all__)
+    with pytest.raises(AttributeError, match="no attribute 'nope'"):
+        gcmh_core.nope  # noqa: B018
+
+
+def test_readme_names_come_from_their_modules():
+    from gcmh_core import analysis, examples, formula
+    from gcmh_core import extract as extract_module  # the function: the package re-exports it
+
+    assert extract_module is gcmh_core.extract
+    assert gcmh_core.parse_system is formula.parse_system
+    assert gcmh_core.evaluate_constant is formula.evaluate_constant
+    assert gcmh_core.load_example is examples.load_example and gcmh_core.list_examples is examples.list_examples
+    assert gcmh_core.topology_report is analysis.topology_report
+    assert set(gcmh_core.METHODS) == {"gcmh", "gcch", "cms", "ccs"}
+    assert set(gcmh_core.CONTINUATION_METHODS) | set(gcmh_core.SIMPLICIAL_METHODS) <= set(gcmh_core.METHODS)
+
+
+def test_star_import_gives_the_public_names():
+    namespace: dict = {}
+    exec("from gcmh_core import *", namespace)
+    assert set(gcmh_core.__all__) <= set(namespace)
+    assert not any(name.startswith("_") for name in namespace if name != "__builtins__")
+
+
+def test_examples_are_package_data():
+    from gcmh_core.examples import example_names
+
+    files = {f.name for f in resources.files("gcmh_core.examples").iterdir() if f.name.endswith(".toml")}
+    assert {f"{name}.toml" for name in example_names()} == files
+    assert len(files) >= 16
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text())
+    assert config["tool"]["setuptools"]["package-data"]["gcmh_core.examples"] == ["*.toml"]
+    assert not (ROOT / "assets" / "examples").exists()
+
+
+def test_examples_dir_env_overrides(tmp_path, monkeypatch):
+    monkeypatch.setenv("GCMH_EXAMPLES_DIR", str(tmp_path))
+    from gcmh_core.examples import example_names, examples_dir
+
+    assert examples_dir() == tmp_path and example_names() == []
+    (tmp_path / "mine.toml").write_text("")
+    assert example_names() == ["mine"]
+
+
+@pytest.mark.parametrize("script", ["bench.py", "bench_cluster.py"])
+def test_benchmark_scripts_start_from_the_repository_root(script):
+    proc = subprocess.run([sys.executable, f"tests/bench/{script}", "--help"], capture_output=True, text=True,
+                          cwd=ROOT, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert f"python tests/bench/{script}" in proc.stdout
+    assert not (ROOT / "gcmh_core" / script).exists()
