@@ -25,6 +25,7 @@ import numpy as np
 
 from .complex import CellComplex, _component_roots
 from .errors import InputError
+from .newton import gauss_newton
 
 __all__ = ["Orientation", "boundary_components", "graph_components", "orient_2cells", "refine_vertices",
            "topology_report"]
@@ -459,7 +460,7 @@ def refine_vertices(cx, system, steps=3):
         raise InputError(f"steps must be in 0..100, got {steps}")
     X = np.array(cx.vertices, dtype=np.float64)
     before = _max_abs_F(system, X)
-    X = _gauss_newton(system, X, steps)
+    X = gauss_newton(system, X, steps).x  # only steps that lower |F|: the vertex stays near its cell
     after = _max_abs_F(system, X)
     meta = dict(cx.meta)
     meta["refined_steps"] = int(meta.get("refined_steps", 0)) + steps
@@ -467,30 +468,3 @@ def refine_vertices(cx, system, steps=3):
     cells = {r: cx.cells[r] for r in range(2, cx.dim + 1)}
     refined = CellComplex(cx.n, cx.k, X, cx.edges, cells, meta)
     return refined, before, after
-
-
-def _gauss_newton(system, X, steps):
-    """Batched Gauss-Newton on X (V, n); returns the moved copy."""
-    if X.shape[0] == 0:
-        return X
-    F = system.evaluate_points(X)                      # (V, k)
-    res = np.linalg.norm(F, axis=1)                    # (V,)
-    for _ in range(steps):
-        active = np.isfinite(res) & (res > 0)
-        if not active.any():
-            break
-        idx = np.flatnonzero(active)
-        J = system.jacobian_points(X[idx])             # (m, k, n)
-        ok = np.isfinite(J).all(axis=(1, 2))
-        idx, J = idx[ok], J[ok]
-        # pinv by a batched SVD; rcond drops directions where M is singular
-        step = np.einsum("mnk,mk->mn", np.linalg.pinv(J, rcond=1e-10), F[idx])
-        trial = X[idx] - step
-        F_trial = system.evaluate_points(trial)
-        res_trial = np.linalg.norm(F_trial, axis=1)
-        better = np.isfinite(res_trial) & (res_trial < res[idx])
-        take = idx[better]
-        X[take] = trial[better]
-        F[take] = F_trial[better]
-        res[take] = res_trial[better]
-    return X

@@ -1,18 +1,18 @@
 """The same extraction over blocks of the grid on a Dask cluster (`extract(..., scheduler=...)`).
 
 Every cube is processed independently and every vertex, edge and cell carries a
-global key computed from grid indices alone (see `_kernels`), and `_assemble`
+global key computed from grid indices alone (see `_kernels`), and `runner.assemble_records`
 sorts by key: blocks processed on different machines merge without a second pass.
 
 Whole-grid methods ("gcmh", "cms"): the grid of cubes is cut into n-D blocks, one
 task per block.  The worker evaluates F on its block (it rebuilds F from the
-formula *text*, parsed once per worker process), runs `_Grid.process_block` and
+formula *text*, parsed once per worker process), runs `Grid.process_block` and
 returns the block's records; the client concatenates them in block order into
-one `_Grid` and assembles.  The result is the single-process result, bit for bit.
+one `Grid` and assembles.  The result is the single-process result, bit for bit.
 
-Continuation ("gcch", "ccs"): `extract._run_gcch` runs the waves on the client;
+Continuation ("gcch", "ccs"): `continuation.run_continuation` runs the waves on the client;
 each wave of at least `LOCAL_WAVE` cubes is split into chunks, one task per chunk
-(`_Grid.process_cubes` on the worker).  Smaller waves run in the client process:
+(`Grid.process_cubes` on the worker).  Smaller waves run in the client process:
 shipping them costs more than processing them.
 
 Sampled data (an array of F's values): with scheduler="local" the array is saved
@@ -37,7 +37,6 @@ dask is imported here only, and only when a scheduler is asked for.
 
 from __future__ import annotations
 
-import copy
 import functools
 import logging
 import os
@@ -53,7 +52,9 @@ from numbers import Integral
 import numpy as np
 
 from .errors import Cancelled, InputError
-from .extract import CONTINUATION_METHODS, _Grid, _run_gcch, block_values, per_axis_ints
+from ._validate import per_axis_ints
+from .continuation import run_continuation
+from .runner import CONTINUATION_METHODS, Grid, block_values
 from .formula import parse_system
 
 # Default block: at most this many vertices (bounds a worker's memory, see the module doc) ...
@@ -94,13 +95,13 @@ def run_distributed(method, n, k, axes, bounds, system, sampled, starts, schedul
         import distributed  # noqa: F401, PLC0415
     except ImportError:
         raise InputError("scheduler needs dask.distributed, which is not installed: pip install gcmh[cluster]") from None
-    grid = _Grid(n, k, axes, method)  # validates the grid's size before any cluster starts
+    grid = Grid(n, k, axes, method)  # validates the grid's size before any cluster starts
     if progress is not None:  # starting a cluster takes a second or two: say so
         progress("starting a local dask cluster" if address == "local" else f"connecting to {address}", 0.0)
     with _Session(address, sampled) as session:
         if method in CONTINUATION_METHODS:
             process = functools.partial(_process_wave, session, method, system, sampled, cancel)
-            cx = _run_gcch(n, k, axes, bounds, system, sampled, starts, progress, cancel, grid=grid, process=process)
+            cx = run_continuation(n, k, axes, bounds, system, sampled, starts, progress, cancel, grid=grid, process=process)
         else:
             cx = _run_blocks(session, grid, method, div, block_, system, sampled, progress, cancel)
         cx.meta["scheduler"] = scheduler
@@ -356,18 +357,6 @@ def _gather(session, futures, cancel, on_done=None) -> list:
     return results
 
 
-def _merge(grid, result) -> None:
-    """Add one task's records, stats and timings to the client's grid, in order."""
-    for key, arr in result["parts"].items():
-        if arr is not None:
-            grid.parts[key].append(arr)
-    for key, value in result["stats"].items():
-        if key != "cubes":  # the grid's total, not a per-block count
-            grid.stats[key] = grid.stats.get(key, 0) + value
-    for key, value in result["timings"].items():
-        grid.timings[key] = grid.timings.get(key, 0.0) + value
-
-
 # ----------------------------------------------------------------------------- whole grid
 def _blocks(div, block):
     """(lo, hi) cube ranges (n,) int64 of every block, in C order of the block grid."""
@@ -403,7 +392,7 @@ def _run_blocks(session, grid, method, div, block, system, sampled, progress, ca
             progress(f"extracting: {done}/{total} blocks", done / total)
 
     for result in _gather(session, futures, cancel, on_done):
-        _merge(grid, result)
+        grid.add_records(result)
     if progress is not None:
         progress("assembling", 1.0)
     cx = grid.assemble()
@@ -414,7 +403,7 @@ def _run_blocks(session, grid, method, div, block, system, sampled, progress, ca
 
 # ----------------------------------------------------------------------------- continuation
 def _process_wave(session, method, system, sampled, cancel, grid, origins):
-    """`process` hook of `_run_gcch`: one wave's cubes (m, n) -> (masks (m,), nonfinite ids)."""
+    """`process` hook of `continuation.run_continuation`: one wave's cubes (m, n) -> (masks (m,), nonfinite ids)."""
     m = len(origins)
     if m < LOCAL_WAVE:
         return grid.process_cubes(origins, system, sampled)
@@ -432,7 +421,7 @@ def _process_wave(session, method, system, sampled, cancel, grid, origins):
     ]
     masks, nonfinite = [], []
     for result in _gather(session, futures, cancel):
-        _merge(grid, result)
+        grid.add_records(result)
         masks.append(result["masks"])
         nonfinite.append(result["nonfinite"])
     return np.concatenate(masks), np.concatenate(nonfinite)
@@ -454,25 +443,14 @@ _GRIDS: dict = {}
 
 
 def _worker_grid(n, k, method, axes):
-    """A fresh `_Grid` (empty parts, zero stats) copied from a per-process template."""
+    """A fresh `Grid` (empty parts, zero stats) copied from a per-process template."""
     key = (n, k, method, tuple(a.tobytes() for a in axes))
     template = _GRIDS.get(key)
     if template is None:
         if len(_GRIDS) >= 4:
             _GRIDS.clear()
-        template = _GRIDS[key] = _Grid(n, k, axes, method)
-    grid = copy.copy(template)
-    grid.parts = {key_: [] for key_ in template.parts}
-    grid.stats = dict(template.stats)
-    grid.timings = dict.fromkeys(template.timings, 0.0)
-    return grid
-
-
-def _packed(grid) -> dict:
-    """The grid's records as one array per kind (fewer, larger messages), stats, timings."""
-    parts = {key: (np.concatenate(arrs) if len(arrs) > 1 else arrs[0]) if arrs else None
-             for key, arrs in grid.parts.items()}
-    return dict(parts=parts, stats=dict(grid.stats), timings=dict(grid.timings))
+        template = _GRIDS[key] = Grid(n, k, axes, method)
+    return template.empty_copy()
 
 
 def _sampled_array(data):
@@ -507,7 +485,7 @@ def _block_task(n, k, method, axes, formula, data, lo, hi, threads) -> dict:
     grid.timings["evaluate"] += time.perf_counter() - t
     with _KERNEL_LOCK:
         grid.process_block(values, lo, hi)
-    return _packed(grid)
+    return grid.packed_records()
 
 
 def _cubes_task(n, k, method, axes, formula, data, origins, threads) -> dict:
@@ -517,6 +495,6 @@ def _cubes_task(n, k, method, axes, formula, data, origins, threads) -> dict:
     system = None if formula is None else parse_system(*formula)
     with _KERNEL_LOCK:
         masks, nonfinite = grid.process_cubes(origins, system, _sampled_array(data))
-    out = _packed(grid)
+    out = grid.packed_records()
     out.update(masks=masks, nonfinite=nonfinite)
     return out

@@ -121,12 +121,10 @@ def test_same_seed_same_bits_other_seed_same_topology():
 
 
 def test_result_does_not_depend_on_slabs(monkeypatch):
-    import gcmh_core.extract  # noqa: F401
-
-    module = sys.modules["gcmh_core.extract"]
+    import gcmh_core.sweep as module
     f = ["x^2 + y^2 + z^2 + w^2 - 1", "x + y - z*w"]
     one = extract(f, (-1.2, 1.2), 9, variables="x,y,z,w")
-    monkeypatch.setattr(module, "_SLAB_VERTICES", 1)  # one cube layer per slab
+    monkeypatch.setattr(module, "SLAB_VERTICES", 1)  # one cube layer per slab
     many = extract(f, (-1.2, 1.2), 9, variables="x,y,z,w")
     assert one.vertices.tobytes() == many.vertices.tobytes()
     assert np.array_equal(one.edges, many.edges)

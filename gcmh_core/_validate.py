@@ -1,0 +1,150 @@
+"""Checking `extract`'s arguments before any work: one specific message per mistake.
+
+Shared by `extract` and `distributed` (block sizes); nothing here computes.
+"""
+
+from __future__ import annotations
+
+import re
+from numbers import Integral, Real
+
+import numpy as np
+
+from .errors import InputError
+
+__all__ = ["per_axis_ints", "as_div", "as_bounds", "infer_n", "prepare"]
+
+
+def per_axis_ints(value, n: int, what: str) -> np.ndarray:
+    """(n,) int64 from one positive integer (the same on every axis) or one per axis;
+    a clear InputError naming `what` otherwise (bools, fractions, strings, wrong length)."""
+    if isinstance(value, (Integral, np.integer)) and not isinstance(value, bool):
+        value = [int(value)] * n
+    try:
+        if isinstance(value, (str, bytes)):
+            raise TypeError
+        items = list(value)
+        if any(isinstance(v, bool) for v in items) or any(float(v) != int(v) for v in items):
+            raise ValueError
+        arr = [int(v) for v in items]
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{what} must be a positive integer or one per axis, got {value!r}") from None
+    if len(arr) != n:
+        raise InputError(f"{what} has {len(arr)} entries but there are n = {n} axes")
+    for a, d in enumerate(arr):
+        if d < 1:
+            raise InputError(f"{what} must be at least 1 cube on every axis (axis {a + 1} has {d})")
+    return np.array(arr, np.int64)
+
+
+def as_div(div, n: int) -> np.ndarray:
+    return per_axis_ints(div, n, "div")
+
+
+def _number(x, what: str) -> float:
+    if isinstance(x, str):
+        from .formula import evaluate_constant  # noqa: PLC0415  (numbers like "-pi/2", parsed safely)
+
+        try:
+            x = evaluate_constant(x)
+        except InputError as err:
+            raise InputError(f"{what}: {err}") from None
+    if not isinstance(x, (Real, np.floating, np.integer)) or isinstance(x, bool):
+        raise InputError(f"{what} must be a number, got {x!r}")
+    x = float(x)
+    if not np.isfinite(x):
+        raise InputError(f"{what} must be finite, got {x}")
+    return x
+
+
+def as_bounds(bounds, n: int) -> np.ndarray:
+    if bounds is None:
+        raise InputError("bounds are required: one (lo, hi) pair, or one per axis")
+    if isinstance(bounds, np.ndarray):
+        bounds = bounds.tolist()
+    try:
+        pairs = list(bounds)
+    except TypeError:
+        raise InputError(f"bounds must be (lo, hi) pairs, got {bounds!r}") from None
+    if len(pairs) == 2 and not any(isinstance(p, (list, tuple, np.ndarray)) for p in pairs):
+        pairs = [pairs] * n
+    if len(pairs) == 1 and n > 1:
+        pairs = pairs * n
+    if len(pairs) != n:
+        raise InputError(f"bounds has {len(pairs)} intervals but there are n = {n} axes")
+    out = np.empty((n, 2))
+    for a, pair in enumerate(pairs):
+        if not isinstance(pair, (list, tuple, np.ndarray)) or len(pair) != 2:
+            raise InputError(f"bounds for axis {a + 1} must be a (lo, hi) pair, got {pair!r}")
+        lo = _number(pair[0], f"lower bound of axis {a + 1}")
+        hi = _number(pair[1], f"upper bound of axis {a + 1}")
+        if not lo < hi:
+            raise InputError(f"axis {a + 1}: lower bound {lo:g} is not below upper bound {hi:g}")
+        out[a] = lo, hi
+    return out
+
+
+def infer_n(F, variables, bounds, div, n):
+    if n is not None:
+        return int(n)
+    if variables is not None:
+        return len(variables)
+    if bounds is not None:
+        b = bounds.tolist() if isinstance(bounds, np.ndarray) else bounds
+        if isinstance(b, (list, tuple)) and b and isinstance(b[0], (list, tuple)) and len(b) > 1:
+            return len(b)
+    if isinstance(div, (list, tuple, np.ndarray)):
+        return len(div)
+    texts = [F] if isinstance(F, str) else list(F)
+    indices = [int(m) for t in texts for m in re.findall(r"\bx(\d+)\b", str(t))]
+    if indices:
+        return max(indices)
+    raise InputError("cannot tell n: give variables, one bounds pair per axis, or n")
+
+
+def prepare(F, variables, n, k, bounds, div):
+    """Returns (n, k, bounds, div, system or None, sampled array or None)."""
+    from .formula import System, parse_system  # noqa: PLC0415
+
+    if isinstance(variables, str):
+        variables = [v.strip() for v in variables.split(",")]
+    if isinstance(F, np.ndarray) or (hasattr(F, "__array__") and not isinstance(F, (str, list, tuple))):
+        values = np.asarray(F)
+        if values.dtype.kind not in "fiu":
+            raise InputError(f"sampled values must be numbers, got dtype {values.dtype}")
+        if values.ndim < 2:
+            raise InputError("sampled values must have shape (d1+1, ..., dn+1, k)")
+        n_s = values.ndim - 1
+        if n is not None and int(n) == values.ndim:  # (d1+1, ..., dn+1) with k = 1
+            values = values[..., None]
+            n_s = values.ndim - 1
+        n_ = n_s
+        k_ = values.shape[-1]
+        if k is not None and int(k) != k_:
+            raise InputError(f"sampled values have k = {k_} components, not {k}")
+        shape_div = np.array(values.shape[:-1], np.int64) - 1
+        if np.any(shape_div < 1):
+            raise InputError(f"sampled values need at least 2 samples per axis, got shape {values.shape}")
+        if div is not None and not np.array_equal(as_div(div, n_), shape_div):
+            raise InputError(f"div {div} does not match the sampled array's shape {values.shape}")
+        if not 1 <= k_ < n_:
+            raise InputError(f"need 1 <= k < n, got n = {n_}, k = {k_}")
+        return n_, k_, as_bounds(bounds, n_), shape_div, None, np.ascontiguousarray(values, np.float64)
+    if isinstance(F, System):
+        system = F
+    else:
+        if isinstance(F, str):
+            F = [F]
+        if not isinstance(F, (list, tuple)) or not all(isinstance(t, str) for t in F):
+            raise InputError("F must be formula text, a list of formula texts, a System or an array of values")
+        n_ = infer_n(F, variables, bounds, div, n)
+        system = parse_system(list(F), variables, n=n_, k=k)
+    if n is not None and int(n) != system.n:
+        raise InputError(f"n = {n} but the formulas have {system.n} variables")
+    if k is not None and int(k) != system.k:
+        raise InputError(f"k = {k} but there are {system.k} formulas")
+    if not 1 <= system.k < system.n:
+        raise InputError(f"need 1 <= k < n, got n = {system.n}, k = {system.k}")
+    if div is None:
+        div = 10
+    return system.n, system.k, as_bounds(bounds, system.n), as_div(div, system.n), system, None

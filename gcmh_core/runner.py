@@ -1,0 +1,299 @@
+"""The grid runner: the records every method's kernel runs produce, and their assembly.
+
+`Grid` holds the grid's shape and the per-run constants (cube or simplex tables,
+strides, the corner offsets of a cube), runs the per-cube kernels on batches of
+candidate cubes (`run_kernel`, side by side on threads), and keeps what they emit:
+vertices keyed by (global k-face, Kuhn simplex), edges keyed by their global
+(k+1)-face, r-cells and their incidences.  `assemble` identifies what neighbouring
+cubes emitted twice (paper Theorem 3.4: the keys come from grid indices alone) and
+builds the CellComplex.
+
+Who drives it: `sweep.run_sweep` (every cube, slab by slab), `continuation.run_continuation`
+(the waves of cubes M passes through) and `distributed` (blocks and waves on a Dask
+cluster, records merged with `Grid.add_records`).
+"""
+
+from __future__ import annotations
+
+import copy
+import threading
+import time
+from concurrent.futures import ThreadPoolExecutor
+from math import factorial
+
+import numba
+import numpy as np
+
+from . import _kernels
+from ._hashtable import IntTable
+from ._tables import cube_tables, simplex_tables
+from .complex import CellComplex
+from .errors import Cancelled, InputError
+from .grid import candidate_corner_sets, candidate_scan
+
+__all__ = ["METHODS", "CONTINUATION_METHODS", "SIMPLICIAL_METHODS", "Grid", "assemble_records", "block_values"]
+
+METHODS = ("gcmh", "gcch", "cms", "ccs")
+# continuation methods start from points and follow M; the others sweep the whole grid
+CONTINUATION_METHODS = ("gcch", "ccs")
+# the simplicial baselines (paper Section 4): marching simplices over the CFK triangulation
+SIMPLICIAL_METHODS = ("cms", "ccs")
+
+
+# Below this many cubes a kernel run stays in the calling thread: waking the thread
+# pool costs milliseconds, which small continuation waves would pay hundreds of times.
+_SERIAL_CUBES = 256
+# Pieces a kernel run is cut into per thread (pieces of unequal cost even out).
+_CHUNKS_PER_THREAD = 2
+# Candidate cubes per kernel run: a run of the three-torus's costliest cubes takes
+# about 0.2 s, so a cancel is answered within that.
+_KERNEL_BATCH = 4096
+
+
+_pool_lock = threading.Lock()
+_pools: dict[int, ThreadPoolExecutor] = {}  # by size: numba's thread count is per thread
+
+
+def _kernel_pool() -> ThreadPoolExecutor:
+    """Threads that run kernel chunks side by side (the kernels release the GIL), as many
+    as numba may use in the calling thread.  Pools are kept, never shut down: another
+    thread may be mapping over one at any time."""
+    want = numba.get_num_threads()
+    with _pool_lock:
+        pool = _pools.get(want)
+        if pool is None:
+            pool = _pools[want] = ThreadPoolExecutor(max_workers=want, thread_name_prefix="gcmh-kernel")
+        return pool
+
+
+class Grid:
+    """The grid's shape and the per-run constants every method needs, and the records
+    its kernel runs have produced so far (`parts`), merged by `assemble`.
+
+    method: "gcmh"/"gcch" run the hypercube kernel, "cms"/"ccs" the simplicial one.
+    cancel: callable() -> bool, polled between kernel batches; True raises `Cancelled`.
+    """
+
+    def __init__(self, n, k, axes, method="gcmh", cancel=None):
+        self.n, self.k, self.axes, self.cancel = n, k, axes, cancel
+        self.simplicial = method in SIMPLICIAL_METHODS
+        self.tab = cube_tables(n, k)
+        self.dims = np.array([len(a) for a in axes], np.int64)  # vertices per axis
+        self.strides = np.ones(n, np.int64)
+        for a in range(n - 2, -1, -1):
+            self.strides[a] = self.strides[a + 1] * self.dims[a + 1]
+        self.corner_off = np.array(
+            [sum(int(self.strides[a]) for a in range(n) if c >> a & 1) for c in range(1 << n)], np.int64
+        )
+        total = int(np.prod([int(d) for d in self.dims]))
+        if self.simplicial:
+            self.stab = simplex_tables(n, k)
+            key_room = total * self.stab.key_base
+        else:
+            key_room = max(total * int(self.tab.n_subsets[d]) * int(self.tab.n_codes[d]) for d in range(k, n + 1))
+        if key_room >= 2**63:
+            raise InputError(f"the grid is too large to index ({total:,} vertices in R^{n}): use a smaller div")
+        self.axes_arr = np.zeros((n, int(self.dims.max())))
+        for a in range(n):
+            self.axes_arr[a, : self.dims[a]] = axes[a]
+        self.timings = dict(evaluate=0.0, candidates=0.0, kernel=0.0, assemble=0.0)
+        self.stats = dict(candidate_cubes=0, cubes=int(np.prod(self.dims - 1)), nonfinite_vertices=0, degenerate=0)
+        self.parts = dict(vk=[], vp=[], e=[], c=[], i=[])
+        if self.simplicial:
+            st = self.stab
+            self.simplex_args = (st.start, st.corners, st.c0, st.code, st.facets, st.cube_facets, st.key_base, st.corner_mask)
+        else:
+            tab = self.tab
+            self.cube_args = (
+                tab.face_start, tab.face_free, tab.face_fixed, tab.face_rank, tab.n_subsets,
+                tab.ksimp_corners, tab.ksimp_face, tab.ksimp_perm, factorial(k), tab.binom, tab.n_codes,
+                tab.tmpl_corners, tab.tmpl_facets, tab.tmpl_interior, tab.n_boundary_nodes,
+                tab.walk_corner_map, tab.walk_boundary_simplex, tab.ksimp_corner_mask, tab.kface_corner_mask,
+                tab.k1face_corner_mask,
+            )
+
+    def run_kernel(self, values, cube_lin, origin, value_off) -> np.ndarray:
+        """Process candidate cubes (in pieces side by side on the kernel threads); keep the records.
+
+        values (NV, k); corner c of cube i is row cube_lin[i] + value_off[c].
+        Returns each cube's crossed-facet mask (bit 2a + side).
+        """
+        m = len(cube_lin)
+        if m > _KERNEL_BATCH:  # in batches: cancel is polled between them (records keep their order)
+            return np.concatenate([
+                self.run_kernel(values, cube_lin[i : i + _KERNEL_BATCH], origin[i : i + _KERNEL_BATCH], value_off)
+                for i in range(0, m, _KERNEL_BATCH)
+            ])
+        if self.cancel is not None and self.cancel():
+            raise Cancelled("extraction cancelled")
+        t = time.perf_counter()
+        cube_key = origin @ self.strides
+        common = (values, cube_lin, origin, cube_key, self.axes_arr, value_off, self.corner_off, self.n, self.k)
+        chunk, tables = (
+            (_kernels.simplices_chunk, self.simplex_args) if self.simplicial else (_kernels.cubes_chunk, self.cube_args)
+        )
+        threads = numba.get_num_threads()
+        pieces = 1 if m < _SERIAL_CUBES or threads == 1 else min(m, _CHUNKS_PER_THREAD * threads)
+        cuts = [i * m // pieces for i in range(pieces + 1)]
+        if pieces == 1:
+            results = [chunk(0, m, *common, *tables)]
+        else:
+            results = list(_kernel_pool().map(lambda lo, hi: chunk(lo, hi, *common, *tables), cuts[:-1], cuts[1:]))
+        for records, _, degenerate in results:
+            for key, arr in zip(self.parts, records):
+                self.parts[key].append(arr)
+            self.stats["degenerate"] += int(degenerate)
+        self.stats["candidate_cubes"] += m
+        self.timings["kernel"] += time.perf_counter() - t
+        return results[0][1] if pieces == 1 else np.concatenate([masks for _, masks, _ in results])
+
+    def process_block(self, values, lo, hi, first_layer=None) -> np.ndarray:
+        """The candidate cubes of the block of cubes lo..hi-1 (per axis, global indices).
+
+        values (hi-lo+1 ..., k): F at the block's vertices.  Blocks may be processed in
+        any order and on any machine: records carry global keys (see `_kernels`).
+        first_layer: when values[0] is the previous block's last layer (slabs along
+        axis 0), the codes this returned for it, so the candidate pass skips it.
+        """
+        lo = np.asarray(lo, np.int64)
+        hi = np.asarray(hi, np.int64)
+        values = np.ascontiguousarray(values, np.float64)
+        t = time.perf_counter()
+        origin, last_layer, nonfinite = candidate_scan(values, first_layer)
+        if nonfinite:  # (rare: then count them; a vertex is counted by the block below it,
+            # unless it is on the grid's last layer)
+            owned = tuple(slice(None) if hi[a] == self.dims[a] - 1 else slice(None, -1) for a in range(self.n))
+            self.stats["nonfinite_vertices"] += int(np.count_nonzero(~np.isfinite(values[owned]).all(axis=-1)))
+        self.timings["candidates"] += time.perf_counter() - t
+        if len(origin) == 0:
+            return last_layer
+        block_dims = np.array(values.shape[:-1], np.int64)
+        block_strides = np.ones(self.n, np.int64)
+        for a in range(self.n - 2, -1, -1):
+            block_strides[a] = block_strides[a + 1] * block_dims[a + 1]
+        value_off = np.array(
+            [sum(int(block_strides[a]) for a in range(self.n) if c >> a & 1) for c in range(1 << self.n)], np.int64
+        )
+        cube_lin = origin @ block_strides
+        origin += lo
+        self.run_kernel(values.reshape(-1, self.k), cube_lin, origin, value_off)
+        return last_layer
+
+    def process_cubes(self, origins, system, sampled) -> tuple[np.ndarray, np.ndarray]:
+        """The given cubes (m, n) alone: F at their corners only (one vectorised batch).
+
+        Returns each cube's crossed-facet mask (0 where M_A misses it) and the
+        global ids of the corners where F is not finite.
+        """
+        n, k = self.n, self.k
+        t = time.perf_counter()
+        corners = (origins @ self.strides)[:, None] + self.corner_off[None]  # (m, 2^n) global vertex ids
+        # each vertex once (a small hash table per wave: faster than sorting, any order will do)
+        ids = corners.reshape(-1)
+        inverse, first = IntTable(capacity=2 * len(ids)).insert(ids)
+        uniq = ids[first]
+        if sampled is not None:
+            uvals = sampled.reshape(-1, k)[uniq]
+        else:
+            multi = np.unravel_index(uniq, tuple(self.dims))
+            uvals = system.evaluate_points(np.stack([self.axes[a][multi[a]] for a in range(n)], axis=1))
+        if np.isfinite(uvals).all():  # (the common case, in one contiguous pass)
+            nonfinite = uniq[:0]
+        else:
+            nonfinite = uniq[~np.isfinite(uvals).all(axis=1)]
+        values = np.ascontiguousarray(uvals[inverse], np.float64)
+        self.timings["evaluate"] += time.perf_counter() - t
+        t = time.perf_counter()
+        cand = candidate_corner_sets(values, 1 << n)
+        self.timings["candidates"] += time.perf_counter() - t
+        idx = np.nonzero(cand)[0]
+        masks = np.zeros(len(origins), np.int64)
+        if len(idx):
+            value_off = np.arange(1 << n, dtype=np.int64)
+            masks[idx] = self.run_kernel(values, idx.astype(np.int64) << n, origins[idx], value_off)
+        return masks, nonfinite
+
+    def assemble(self) -> CellComplex:
+        t = time.perf_counter()
+        n, k = self.n, self.k
+        widths = dict(vk=None, vp=n, e=_kernels.EDGE_COLS, c=_kernels.CELL_COLS, i=_kernels.INC_COLS)
+        cat = {
+            key: np.concatenate(arrs) if arrs else np.zeros((0,) if w is None else (0, w), np.float64 if key == "vp" else np.int64)
+            for (key, arrs), w in zip(self.parts.items(), widths.values())
+        }
+        cx = assemble_records(n, k, cat["vk"], cat["vp"], cat["e"], cat["c"], cat["i"])
+        self.timings["assemble"] = time.perf_counter() - t
+        cx.meta.update(self.stats)
+        cx.meta["timings"] = self.timings
+        return cx
+
+    # ------------------------------------------------------------------ records (for distributed runs)
+    def empty_copy(self) -> Grid:
+        """The same grid and tables with no records, zero stats and timings (a worker's fresh start)."""
+        grid = copy.copy(self)
+        grid.parts = {key: [] for key in self.parts}
+        grid.stats = dict(self.stats)
+        grid.timings = dict.fromkeys(self.timings, 0.0)
+        return grid
+
+    def packed_records(self) -> dict:
+        """The records as one array per kind (fewer, larger messages), stats and timings."""
+        parts = {key: (np.concatenate(arrs) if len(arrs) > 1 else arrs[0]) if arrs else None
+                 for key, arrs in self.parts.items()}
+        return dict(parts=parts, stats=dict(self.stats), timings=dict(self.timings))
+
+    def add_records(self, packed: dict) -> None:
+        """Add another grid's `packed_records` (a block's or a wave's), in order."""
+        for key, arr in packed["parts"].items():
+            if arr is not None:
+                self.parts[key].append(arr)
+        for key, value in packed["stats"].items():
+            if key != "cubes":  # the grid's total, not a per-block count
+                self.stats[key] = self.stats.get(key, 0) + value
+        for key, value in packed["timings"].items():
+            self.timings[key] = self.timings.get(key, 0.0) + value
+
+
+def block_values(axes, system, sampled, lo, hi) -> np.ndarray:
+    """F at the vertices of the block of cubes lo..hi-1 (per axis): (hi-lo+1 ..., k)."""
+    if sampled is not None:
+        return sampled[tuple(slice(int(a), int(b) + 1) for a, b in zip(lo, hi))]
+    return system.evaluate_grid([ax[int(a) : int(b) + 1] for ax, a, b in zip(axes, lo, hi)])
+
+
+# ----------------------------------------------------------------------------- assembly
+def unique_first(keys: np.ndarray):
+    """Sorted unique keys and the index of each one's first occurrence (sort-based: fast on int64)."""
+    order = np.argsort(keys, kind="stable")
+    sk = keys[order]
+    keep = np.ones(len(sk), bool)
+    keep[1:] = sk[1:] != sk[:-1]
+    return sk[keep], order[keep]
+
+
+def assemble_records(n, k, vk, vp, e, c, inc) -> CellComplex:
+    """Identify what neighbouring cubes emitted twice and build the CellComplex.
+
+    Every entity carries a key computed from grid indices alone (see `_kernels`);
+    ids in the result follow the sorted keys, so the output does not depend on
+    the order in which cubes, slabs or threads produced it.
+    """
+    vkeys, first = unique_first(vk)
+    vertices = np.ascontiguousarray(vp[first])
+    keys = {1: unique_first(e[:, 0])}
+    edges = np.searchsorted(vkeys, e[keys[1][1], 1:3]).astype(np.int64)
+    cells = {}
+    for r in range(2, n - k + 1):
+        keys[r] = unique_first(c[c[:, 0] == r, 1])
+        rows = inc[inc[:, 0] == r]
+        x = np.searchsorted(keys[r][0], rows[:, 1])
+        y = np.searchsorted(keys[r - 1][0], rows[:, 2])
+        n_lower = max(len(keys[r - 1][0]), 1)
+        pairs = np.sort(x.astype(np.int64) * n_lower + y)
+        keep = np.ones(len(pairs), bool)
+        keep[1:] = pairs[1:] != pairs[:-1]
+        pairs = pairs[keep]
+        offsets = np.zeros(len(keys[r][0]) + 1, np.int64)
+        np.cumsum(np.bincount(pairs // n_lower, minlength=len(keys[r][0])), out=offsets[1:])
+        cells[r] = (offsets, (pairs % n_lower).astype(np.int64))
+    return CellComplex(n, k, vertices, edges, cells)
