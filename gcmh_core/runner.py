@@ -26,6 +26,7 @@ import numpy as np
 
 from . import _kernels
 from ._hashtable import IntTable
+from ._regular import collapse_lenses
 from ._tables import cube_tables, simplex_tables
 from .complex import CellComplex
 from .errors import Cancelled, InputError
@@ -276,7 +277,8 @@ def assemble_records(n, k, vk, vp, e, c, inc) -> CellComplex:
 
     Every entity carries a key computed from grid indices alone (see `_kernels`);
     ids in the result follow the sorted keys, so the output does not depend on
-    the order in which cubes, slabs or threads produced it.
+    the order in which cubes, slabs or threads produced it.  Lens 2-cells (two edges
+    with the same ends) are collapsed last (`_regular`); meta counts them.
     """
     vkeys, first = unique_first(vk)
     vertices = np.ascontiguousarray(vp[first])
@@ -296,4 +298,5 @@ def assemble_records(n, k, vk, vp, e, c, inc) -> CellComplex:
         offsets = np.zeros(len(keys[r][0]) + 1, np.int64)
         np.cumsum(np.bincount(pairs // n_lower, minlength=len(keys[r][0])), out=offsets[1:])
         cells[r] = (offsets, (pairs % n_lower).astype(np.int64))
-    return CellComplex(n, k, vertices, edges, cells)
+    edges, cells, collapsed, left = collapse_lenses(edges, cells)
+    return CellComplex(n, k, vertices, edges, cells, dict(collapsed_lenses=collapsed, lenses_left=left))

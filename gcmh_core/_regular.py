@@ -1,0 +1,101 @@
+"""Collapse lens cells: no 2-cell bounded by two edges, no two edges with the same ends.
+
+Where a cell's piece of M_A touches one k-face at two points, the cube's cell gets
+a "lens": a 2-cell bounded by two edges that join the same two vertices.  As a CW
+complex that is legal, but as a polygon mesh it is a zero-area face with a doubled
+edge, which mesh tools and PLY/OBJ readers reject.  Collapsing the lens onto one of
+its edges removes one edge and one 2-cell, so the Euler characteristic (and the
+homotopy type) is unchanged: the two edges become one, every other cell that had
+either edge now has the kept one, and the r-cells (r >= 3) that had the lens as a
+face lose that face.
+
+A lens is left alone, and counted, when some other 2-cell has both of its edges
+(merging them would fold that cell onto itself); none has been seen in practice.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["collapse_lenses"]
+
+
+def collapse_lenses(edges: np.ndarray, cells: dict) -> tuple[np.ndarray, dict, int, int]:
+    """Collapse every lens 2-cell.
+
+    edges (E, 2) int64; cells {r: (offsets, faces)} for r >= 2 (CSR, as in CellComplex).
+    Returns (edges, cells, collapsed, left): the new arrays (the input's when there is
+    no lens), the number of lenses collapsed and the number that could not be.
+    Ids of what is kept stay in their order, so the result is as deterministic as the input.
+    """
+    if 2 not in cells:
+        return edges, cells, 0, 0
+    offsets, faces = cells[2]
+    sizes = np.diff(offsets)
+    lenses = np.flatnonzero(sizes == 2)
+    if len(lenses) == 0:
+        return edges, cells, 0, 0
+    rep = np.arange(len(edges), dtype=np.int64)  # each edge's kept edge (union-find, shallow)
+
+    def find(e: int) -> int:
+        while rep[e] != e:
+            rep[e] = rep[rep[e]]
+            e = int(rep[e])
+        return e
+
+    # the 2-cells of each edge, only for the edges of lenses (few)
+    owner = np.repeat(np.arange(len(sizes), dtype=np.int64), sizes)
+    wanted = np.unique(faces[offsets[lenses][:, None] + np.arange(2)])
+    hit = np.isin(faces, wanted)
+    cofaces: dict[int, set[int]] = {}
+    for e, c in zip(faces[hit].tolist(), owner[hit].tolist()):
+        cofaces.setdefault(e, set()).add(c)
+    removed = np.zeros(len(sizes), bool)
+    collapsed = left = 0
+    ends = np.sort(edges, axis=1)
+    for c in lenses.tolist():
+        a, b = (find(int(e)) for e in faces[offsets[c] : offsets[c] + 2])
+        if a != b and not np.array_equal(ends[a], ends[b]):
+            left += 1  # two edges that do not close a loop: not a lens, leave it for the checks
+            continue
+        others = (cofaces[a] & cofaces[b]) - {c} if a != b else set()
+        if any(not removed[o] for o in others):
+            left += 1
+            continue
+        removed[c] = True
+        collapsed += 1
+        if a != b:
+            keep, drop = min(a, b), max(a, b)
+            rep[drop] = keep
+            cofaces[keep] = (cofaces[keep] | cofaces.pop(drop)) - {c}
+    if collapsed == 0:
+        return edges, cells, 0, left
+    for e in range(len(rep)):
+        find(e)
+    kept_edge = rep == np.arange(len(rep))
+    new_edge = np.cumsum(kept_edge) - 1
+    out = {}
+    keep_cell = ~removed
+    faces2 = new_edge[rep[faces]]
+    out[2] = _csr_subset(offsets, faces2, keep_cell)
+    new_cell = np.cumsum(keep_cell) - 1
+    if 3 in cells:
+        off3, faces3 = cells[3]
+        alive = keep_cell[faces3]
+        owner3 = np.repeat(np.arange(len(off3) - 1, dtype=np.int64), np.diff(off3))
+        off = np.zeros(len(off3), np.int64)
+        np.cumsum(np.bincount(owner3[alive], minlength=len(off3) - 1), out=off[1:])
+        out[3] = (off, new_cell[faces3[alive]].astype(np.int64))
+    for r in cells:
+        if r > 3:
+            out[r] = cells[r]
+    return np.ascontiguousarray(edges[kept_edge]), out, collapsed, left
+
+
+def _csr_subset(offsets: np.ndarray, faces: np.ndarray, keep: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The rows `keep` of a CSR (offsets, faces), faces already renumbered."""
+    sizes = np.diff(offsets)
+    row_of = np.repeat(keep, sizes)
+    off = np.zeros(int(keep.sum()) + 1, np.int64)
+    np.cumsum(sizes[keep], out=off[1:])
+    return off, np.ascontiguousarray(faces[row_of], np.int64)
