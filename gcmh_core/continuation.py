@@ -29,13 +29,15 @@ def project_onto_M(system, X0: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarr
 
     Returns (X (m, n) float64, ok (m,) bool, why (m,) str): X are the projected points,
     ok says which converged inside the domain, why says for the others what went wrong.
+    Convergence is judged by the length of the Newton step (the first-order distance to
+    M, in the domain's units), never by |F|: multiplying F by 1e10 or 1e-12 changes nothing.
     """
     scale = float(np.max(bounds[:, 1] - bounds[:, 0]))
-    result = gauss_newton(system, X0, _NEWTON_STEPS, tol=1e-12 * max(1.0, scale), only_improving=False,
+    result = gauss_newton(system, X0, _NEWTON_STEPS, step_tol=1e-12 * scale, only_improving=False,
                           bounds=bounds, margin=1e-9 * scale)
-    status, res = result.status, result.residual
-    # ran out of steps but close enough (the tolerance the one-point loop accepted after its last step)
-    ok = (status == CONVERGED) | ((status == MOVING) & (res <= 1e-8 * max(1.0, scale)))
+    status = result.status
+    # ran out of steps but the last step was short (what the one-point loop accepted)
+    ok = (status == CONVERGED) | ((status == MOVING) & (result.step <= 1e-8 * scale))
     why = [""] * len(status)
     for i in np.flatnonzero(~ok):
         x = ", ".join(f"{v:g}" for v in result.x[i])
@@ -43,7 +45,7 @@ def project_onto_M(system, X0: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarr
             NOT_FINITE: f"F is not finite near ({x})",
             LEFT_DOMAIN: "Newton's projection onto M left the domain",
             MOVING: f"Newton's projection onto M did not converge in {_NEWTON_STEPS} steps "
-                    f"(|F| = {res[i]:.3g}); try a point closer to M",
+                    f"(last step {result.step[i]:.3g}); try a point closer to M",
         }.get(int(status[i]), "the Jacobian of F is not finite there")
     return result.x, ok, why
 

@@ -32,13 +32,18 @@ class NewtonResult:
 
     x : (m, n) float64, the moved points.
     residual : (m,) float64, |F(x)| (Euclidean norm over the k components; inf where not finite).
-    status : (m,) int8, per point: MOVING (steps ran out), CONVERGED (|F| <= tol),
+    step : (m,) float64, the length of each point's last Newton step (inf before the first).
+        Where J has full rank k, the step J^+ F does not change when a component of F is
+        multiplied by a constant, so tolerances on it are scale-free; |step| is also the
+        first-order distance from x to M.
+    status : (m,) int8, per point: MOVING (steps ran out), CONVERGED (|F| <= tol or |step| <= step_tol),
         NOT_FINITE (F not finite at x), JACOBIAN_NOT_FINITE, LEFT_DOMAIN (a full step left `bounds`;
         x is where it went).
     """
 
     x: np.ndarray
     residual: np.ndarray
+    step: np.ndarray
     status: np.ndarray
 
 
@@ -48,6 +53,7 @@ def gauss_newton(
     steps: int,
     *,
     tol: float = 0.0,
+    step_tol: float | None = None,
     only_improving: bool = True,
     bounds: np.ndarray | None = None,
     margin: float = 0.0,
@@ -56,6 +62,8 @@ def gauss_newton(
 
     system : formula.System (evaluate_points, jacobian_points).
     tol : a point whose |F| is at most this stops (status CONVERGED).
+    step_tol : a point whose full Newton step is at most this long stops after it (CONVERGED):
+        a tolerance in the units of x, which does not depend on the scale of F.
     only_improving : take a step only where it lowers |F| (near singular points of M a
         full step may overshoot: refinement keeps the vertex where it was); False takes
         every full step (projection of a start point, which may start far from M).
@@ -65,8 +73,9 @@ def gauss_newton(
     X = np.array(X, dtype=np.float64, copy=True).reshape(len(X), -1)
     m = len(X)
     status = np.zeros(m, np.int8)
+    last_step = np.full(m, np.inf)
     if m == 0:
-        return NewtonResult(X, np.zeros(0), status)
+        return NewtonResult(X, np.zeros(0), last_step, status)
     F = system.evaluate_points(X)  # (m, k)
     res = _norm(F)
     status[~np.isfinite(res)] = NOT_FINITE
@@ -79,7 +88,13 @@ def gauss_newton(
         ok = np.isfinite(J).all(axis=(1, 2))
         status[idx[~ok]] = JACOBIAN_NOT_FINITE
         idx, J = idx[ok], J[ok]
-        trial = X[idx] - np.einsum("mnk,mk->mn", np.linalg.pinv(J, rcond=_RCOND), F[idx])
+        # each row (component) scaled to a unit gradient first: the same step where J has
+        # rank k, but rcond then compares directions, not the components' units
+        norms = np.linalg.norm(J, axis=2)  # (m', k)
+        norms[norms == 0] = 1.0
+        step = np.einsum("mnk,mk->mn", np.linalg.pinv(J / norms[:, :, None], rcond=_RCOND), F[idx] / norms)
+        trial = X[idx] - step
+        step_length = np.linalg.norm(step, axis=1)
         F_trial = system.evaluate_points(trial)
         res_trial = _norm(F_trial)
         if only_improving:
@@ -94,8 +109,12 @@ def gauss_newton(
         X[moved] = trial[take]
         F[moved] = F_trial[take]
         res[moved] = res_trial[take]
+        last_step[moved] = step_length[take]
+        if step_tol is not None:
+            small = moved[step_length[take] <= step_tol]
+            status[small[status[small] == MOVING]] = CONVERGED
     status[(status == MOVING) & (res <= tol)] = CONVERGED
-    return NewtonResult(X, res, status)
+    return NewtonResult(X, res, last_step, status)
 
 
 def _norm(F: np.ndarray) -> np.ndarray:

@@ -68,3 +68,16 @@ def test_projected_start_points_land_on_M():
     assert ok.sum() > len(lattice) // 2
     assert np.abs(SPHERE_LINE.evaluate_points(X[ok])).max() <= 1e-8
     assert all(w == "" for w, good in zip(why, ok) if good) and all(w for w, good in zip(why, ok) if not good)
+
+
+@pytest.mark.parametrize("factors", [(1e10, 1e10), (1e-12, 1e-12), (1e-12, 1e12), (1e8, 1.0)])
+def test_start_point_projection_does_not_depend_on_the_scale_of_F(factors):
+    bounds = np.array([[-1.5, 1.5]] * 3)
+    texts = ["x^2 + y^2 + z^2 - 1", "x - y*z"]
+    scaled = parse_system([f"{c:.0e}*({t})" for c, t in zip(factors, texts)], "x,y,z")
+    X0 = np.array([[0.9, 0.3, 0.2], [0.1, -0.8, 0.5], [0.5, 0.5, 0.5]])
+    plain_X, plain_ok, _ = project_onto_M(SPHERE_LINE, X0, bounds)
+    X, ok, why = project_onto_M(scaled, X0, bounds)
+    assert ok.all() and plain_ok.all(), why
+    assert_allclose(X, plain_X, rtol=0, atol=1e-9)
+    assert np.abs(SPHERE_LINE.evaluate_points(X)).max() <= 1e-9
