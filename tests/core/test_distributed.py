@@ -151,24 +151,32 @@ def test_a_task_that_keeps_killing_workers_is_a_clear_error(cluster):
 
 
 @pytest.mark.parametrize("address", ["tcp://127.0.0.1:1", "tcp://no-such-host.invalid:8786"])
-def test_unreachable_scheduler_is_a_clear_error_within_seconds(address):
-    t = time.perf_counter()
-    with pytest.raises(InputError, match="cannot reach the dask scheduler"):
+def test_unreachable_scheduler_is_caught_by_the_probe(address, monkeypatch):
+    # the plain TCP probe answers (dask's Client would wait out its timeout, twice)
+    timeouts = []
+    connect = gd.socket.create_connection
+
+    def probe(where, timeout):
+        timeouts.append(timeout)
+        return connect(where, timeout=timeout)
+
+    monkeypatch.setattr(gd.socket, "create_connection", probe)
+    with pytest.raises(InputError, match=r"^cannot reach the dask scheduler at tcp://\S+: \S"):
         extract("x^2 + y^2 + z^2 - 1", (-1.5, 1.5), 6, variables="x,y,z", scheduler=address)
-    assert time.perf_counter() - t < gd.CONNECT_TIMEOUT + 1
+    assert timeouts == [gd.CONNECT_TIMEOUT]
 
 
-def test_a_server_that_is_not_dask_is_a_clear_error_within_seconds():
+def test_a_server_that_is_not_dask_is_a_clear_error(monkeypatch):
     import socket
 
+    monkeypatch.setattr(gd, "CONNECT_TIMEOUT", 0.5)  # the deadline of the identity question
     with socket.socket() as server:  # accepts TCP connections, never says a word
         server.bind(("127.0.0.1", 0))
         server.listen()
         address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
-        t = time.perf_counter()
-        with pytest.raises(InputError, match="does not answer as a dask scheduler"):
+        message = r"does not answer as a dask scheduler \(.+\); is `dask scheduler` running"
+        with pytest.raises(InputError, match=message):
             extract("x^2 + y^2 + z^2 - 1", (-1.5, 1.5), 6, variables="x,y,z", scheduler=address)
-        assert time.perf_counter() - t < gd.CONNECT_TIMEOUT + 2
 
 
 def test_a_worker_address_is_not_a_scheduler(cluster):
@@ -243,7 +251,8 @@ def test_sampled_continuation_through_the_cluster(cluster, monkeypatch):
     x, y, z = np.meshgrid(*axes, indexing="ij")
     values = (x**2 + y**2 + z**2 - 1)[..., None]
     single = extract(values, bounds=(-1.5, 1.5), method="gcch", start=(0.0, 0.0, 1.0))
-    cx = extract(values, bounds=(-1.5, 1.5), method="gcch", start=(0.0, 0.0, 1.0), scheduler=cluster[0].scheduler_address)
+    cx = extract(values, bounds=(-1.5, 1.5), method="gcch", start=(0.0, 0.0, 1.0),
+                 scheduler=cluster[0].scheduler_address)
     _assert_identical(single, cx)
     assert cx.meta["tasks"] > 2
 
@@ -256,7 +265,8 @@ def test_missing_dask_says_what_to_install(monkeypatch):
 
 def test_importing_gcmh_core_does_not_import_dask():
     code = ("import sys, gcmh_core, gcmh_core.distributed; "
-            "assert not any(m == 'dask' or m.startswith(('dask.', 'distributed')) for m in sys.modules), 'dask imported'")
+            "assert not any(m == 'dask' or m.startswith(('dask.', 'distributed')) for m in sys.modules), "
+            "'dask imported'")
     env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[2]))
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=300)
     assert proc.returncode == 0, proc.stderr

@@ -50,7 +50,9 @@ def test_cms_vertices_within_a_grid_cell_of_M():
     assert np.max(np.linalg.norm(x - cx.vertices, axis=1)) < h * np.sqrt(4)
 
 
-@pytest.mark.parametrize("name, div", [("complex-cosine", 8), ("sphere", 12), ("clifford-torus", 8), ("three-torus", 3)])
+@pytest.mark.parametrize("name, div", [
+    ("complex-cosine", 8), ("sphere", 12), ("clifford-torus", 8), ("three-torus", 3),
+])
 def test_ccs_equals_cms_on_connected_examples(name, div):
     ex = load_example(name)
     full = extract(ex.formulas, ex.bounds, div, variables=ex.variables, method="cms")
