@@ -99,11 +99,12 @@ def _child(spec: dict, import_seconds: float = 0.0) -> dict:
         t = time.perf_counter()
         cx = run(div)
         second = time.perf_counter() - t
-        out.update(seconds=second, first_seconds=first, import_seconds=import_s, overhead_seconds=import_s + first - second)
+        out.update(seconds=second, first_seconds=first, import_seconds=import_s,
+                   overhead_seconds=import_s + first - second)
     else:
         run(3 if isinstance(div, int) else [3] * len(div))  # loads the cached kernels, starts the threads
         best, cx = None, None
-        for i in range(spec.get("repeat", 1)):
+        for _ in range(spec.get("repeat", 1)):
             t = time.perf_counter()
             cx = run(div)
             dt = time.perf_counter() - t
@@ -239,6 +240,10 @@ def _mem(r):
     return f"{r['peak_mb']:.0f} MB" if r and "peak_mb" in r else "-"
 
 
+def _paper_ratio(a: str, b: str, div: int) -> str:
+    return f"{PAPER_T1[a][div] / PAPER_T1[b][div]:.1f}" if div in PAPER_T1[a] and div in PAPER_T1[b] else "-"
+
+
 def print_table1(R: Runner) -> None:
     print("### Table 1: complex cosine z = cos(w), F: R^4 -> R^2, time per method\n")
     print("| div | method | time | paper | peak memory | cells by dim (0/1/2) | Euler | boundary facets |")
@@ -254,10 +259,10 @@ def print_table1(R: Runner) -> None:
     print("| div | CMS / GCMH | paper | CCS / GCCH | paper |")
     print("|---|---|---|---|---|")
     for div in TABLE1_DIVS:
-        g = lambda m: R.results.get(("table1", m, div))  # noqa: E731
-        p = lambda a, b: f"{PAPER_T1[a][div] / PAPER_T1[b][div]:.1f}" if div in PAPER_T1[a] and div in PAPER_T1[b] else "-"  # noqa: E731
-        if any(g(m) for m in ("cms", "gcmh", "ccs", "gcch")):
-            print(f"| {div} | {_ratio(g('cms'), g('gcmh'))} | {p('cms', 'gcmh')} | {_ratio(g('ccs'), g('gcch'))} | {p('ccs', 'gcch')} |")
+        g = {m: R.results.get(("table1", m, div)) for m in ("cms", "gcmh", "ccs", "gcch")}
+        if any(g.values()):
+            print(f"| {div} | {_ratio(g['cms'], g['gcmh'])} | {_paper_ratio('cms', 'gcmh', div)} "
+                  f"| {_ratio(g['ccs'], g['gcch'])} | {_paper_ratio('ccs', 'gcch', div)} |")
     print()
 
 
@@ -270,8 +275,8 @@ def print_table2(R: Runner) -> None:
         if not (c and "counts" in c) and not (g and "counts" in g):
             continue
         top = lambda r: f"{r['counts'][-1]:,}" if r and "counts" in r else "-"  # noqa: E731
-        print(f"| {div} | {top(c)} | {_paper(PAPER_T2['ccs'].get(div))} | {top(g)} | {_paper(PAPER_T2['gcch'].get(div))} "
-              f"| {_paper(AUTHORS_CODE_T2.get(div))} |")
+        print(f"| {div} | {top(c)} | {_paper(PAPER_T2['ccs'].get(div))} | {top(g)} "
+              f"| {_paper(PAPER_T2['gcch'].get(div))} | {_paper(AUTHORS_CODE_T2.get(div))} |")
     print()
 
 
@@ -291,7 +296,8 @@ def print_table3(R: Runner) -> None:
 
 def print_sphere(R: Runner) -> None:
     print("### n = 3, k = 1: the unit sphere against scikit-image and VTK (sampling included)\n")
-    print("| div | GCMH | skimage marching_cubes | VTK flying edges | GCMH / skimage | GCMH / VTK | GCMH peak memory | cells by dim | Euler |")
+    print("| div | GCMH | skimage marching_cubes | VTK flying edges | GCMH / skimage | GCMH / VTK "
+          "| GCMH peak memory | cells by dim | Euler |")
     print("|---|---|---|---|---|---|---|---|---|")
     for div in SPHERE_DIVS_SMALL + SPHERE_DIVS:
         r = R.results.get(("sphere", "gcmh", div))
@@ -299,9 +305,10 @@ def print_sphere(R: Runner) -> None:
             continue
         sk, vt = r.get("skimage_seconds"), r.get("vtk_seconds")
         f = lambda x: "-" if x is None else f"{x:.3f} s"  # noqa: E731
-        q = lambda x: "-" if not x else f"{r['seconds'] / x:.2f}"  # noqa: E731
+        q = lambda x, s=r["seconds"]: "-" if not x else f"{s / x:.2f}"  # noqa: E731
         print(f"| {div} | {_secs(r)} | {f(sk)} ({r.get('skimage_triangles', 0):,} triangles) "
-              f"| {f(vt)} ({r.get('vtk_triangles', 0):,} triangles) | {q(sk)} | {q(vt)} | {_mem(r)} | {_cells(r)} | {r.get('euler', '-')} |")
+              f"| {f(vt)} ({r.get('vtk_triangles', 0):,} triangles) | {q(sk)} | {q(vt)} | {_mem(r)} | {_cells(r)} "
+              f"| {r.get('euler', '-')} |")
     print()
 
 
@@ -319,8 +326,8 @@ def print_engine(R: Runner) -> None:
         if r and r.get("kernel_cubes"):
             us = 1e6 * r["kernel_seconds"] / r["kernel_cubes"]
             print(f"| {m.upper()} kernel alone, complex cosine div 80: {us:.2f} us per candidate cube "
-                  f"({r['kernel_cubes']:,} cubes, {numba_threads()} threads, wall) | {_secs(r)} | {_mem(r)} | {_cells(r)} "
-                  f"| {r.get('euler', '-')} | - |")
+                  f"({r['kernel_cubes']:,} cubes, {numba_threads()} threads, wall) | {_secs(r)} | {_mem(r)} "
+                  f"| {_cells(r)} | {r.get('euler', '-')} | - |")
     r = R.results.get(("engine", "fresh", 0))
     if r and "overhead_seconds" in r:
         print(f"| fresh process: import {r['import_seconds']:.2f} s + first run {r['first_seconds']:.2f} s vs "
@@ -386,7 +393,8 @@ def main(argv=None) -> int:
         R.run(("engine", "fresh", 0), dict(example="complex-cosine", method="gcmh", div=10, fresh=True))
     print(f"Measured {date.today().isoformat()} on {machine()} (paper: {PAPER_MACHINE}); "
           f"best of {args.repeat} warm runs, each in a fresh process (peak = its max RSS, Python and numba included); "
-          f"a series stops after a run over {args.limit:g} s or before one predicted over {3 * args.limit:g} s. Total {time.perf_counter() - t0:.0f} s.\n")
+          f"a series stops after a run over {args.limit:g} s or before one predicted over {3 * args.limit:g} s. "
+          f"Total {time.perf_counter() - t0:.0f} s.\n")
     if "table1" in tables:
         print_table1(R)
     if "table1" in tables or "table2" in tables:

@@ -150,8 +150,8 @@ def main(argv=None) -> int:
             speed = ""
             if mode == "cluster" and "single" in rows:
                 speed = f" ({rows['single']['seconds'] / r['seconds']:.2f}x)"
-            print(f"| {name} | {div} | {r['cubes']:,} | {run} | {r['seconds']:.1f} s{speed} | {mem} | {counts} | {same} |",
-                  flush=True)
+            print(f"| {name} | {div} | {r['cubes']:,} | {run} | {r['seconds']:.1f} s{speed} | {mem} | {counts} "
+                  f"| {same} |", flush=True)
     print()
     for note in notes:
         print(f"- {note}")
