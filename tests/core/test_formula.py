@@ -285,7 +285,7 @@ def test_injection_is_rejected_without_running(tmp_path):
         f"__import__('os').system('touch {sentinel}') + x1",
         f"open('{sentinel}', 'w')",
         f"(lambda: __import__('os').system('touch {sentinel}'))()",
-        f"[c for c in ().__class__.__base__.__subclasses__()]",
+        "[c for c in ().__class__.__base__.__subclasses__()]",
         f"exec(\"open('{sentinel}', 'w')\")",
         f"eval(\"open('{sentinel}', 'w')\")",
         "__builtins__",
@@ -307,3 +307,65 @@ def test_evaluate_grid_into_a_reused_buffer():
     assert got.base is buf and np.array_equal(buf[1], want) and np.isnan(buf[0]).all()
     with pytest.raises(InputError, match="out must be"):
         s.evaluate_grid(axes, out=np.empty((4, 5, 3, 1)))
+
+
+# ------------------------------------------------------------ time linear in the text
+
+def _python_calls(fn) -> int:
+    """Python function calls made by fn() (an operation count, unlike a time, is the
+    same on every machine); sympy's cache is cleared first so nothing is remembered."""
+    import sys
+
+    sympy.core.cache.clear_cache()
+    count = [0]
+
+    def profile(frame, event, arg):
+        if event == "call":
+            count[0] += 1
+
+    sys.setprofile(profile)
+    try:
+        fn()
+    finally:
+        sys.setprofile(None)
+    return count[0]
+
+
+@pytest.mark.parametrize("make", [
+    lambda m: "max(" + ", ".join(f"{i}*x{1 + i % 3}-{i % 7}" for i in range(m)) + ")",
+    lambda m: "min(" + ", ".join(f"x{1 + i % 3}^2-{i}" for i in range(m)) + ")",
+    lambda m: "min(" + ", ".join(f"max(x1-{i}, x2*{i})" for i in range(m)) + ")",
+    lambda m: " + ".join(f"sin(x1*{i})*exp(x2-{i})" for i in range(m)),
+    lambda m: "*".join(f"(x{1 + i % 3}+{i})" for i in range(m)),
+], ids=["max", "min", "min-of-max", "sum-of-products", "product"])
+def test_parsing_and_compiling_grow_linearly_with_the_text(make):
+    # max() of 400 arguments took 84 s: sympy.Max compares every pair of arguments.
+    # Four times the text must cost at most about four times the operations
+    # (a quadratic construct costs 16 times; 6 leaves room for log factors).
+    def cost(m):
+        text = make(m)
+        holder = []
+        parse = _python_calls(lambda: holder.append(formula.System([text], ["x1", "x2", "x3"])))
+        compile_ = _python_calls(lambda: holder[0].evaluate_points(np.zeros((2, 3))))
+        return parse + compile_
+
+    small, large = cost(40), cost(160)
+    assert large < 6 * small, (small, large)
+
+
+def test_max_and_min_of_many_arguments_are_numpys():
+    rng = np.random.default_rng(3)
+    m = 200
+    F = parse_system(["max(" + ", ".join(f"x1*{i}/7-x2" for i in range(m)) + ")",
+                      "min(" + ", ".join(f"x2^2-{i}*x1" for i in range(m)) + ")"], ["x1", "x2"])
+    P = rng.uniform(-2, 2, (100, 2))
+    x, y = P.T
+    i = np.arange(m)[:, None]
+    ref = np.stack([np.max(x * (i / 7) - y, axis=0), np.min(y**2 - i * x, axis=0)], axis=1)
+    np.testing.assert_array_equal(F.evaluate_points(P), ref)
+    # the derivative is the active argument's (Heaviside of the differences)
+    J = F.jacobian_points(P)
+    top = np.argmax(x * (i / 7) - y, axis=0)
+    np.testing.assert_allclose(J[:, 0, 0], top / 7)
+    np.testing.assert_allclose(J[:, 0, 1], -1.0)
+    assert np.isnan(F.evaluate_points([[np.nan, 0.0]])).all()
