@@ -16,6 +16,7 @@ from typing import Callable, Sequence
 import numpy as np
 
 from ._validate import as_div, prepare
+from .budget import check_budget, estimate_run
 from .complex import CellComplex
 from .continuation import as_starts, run_continuation
 from .errors import InputError
@@ -53,6 +54,7 @@ def extract(
     cancel: Callable[[], bool] | None = None,
     scheduler=None,
     block=None,
+    force: bool = False,
 ) -> CellComplex:
     """Approximate M = F^-1(0), F: R^n -> R^k, by a cell complex (GCMH).
 
@@ -81,6 +83,9 @@ def extract(
         or a dask scheduler address "tcp://host:port": the grid is cut into blocks of
         cubes processed by the cluster's workers; the result is the same, bit for bit.
     block : cubes per block along each axis for `scheduler` (int or one per axis).
+    force : run even when `budget.estimate_run` says the run needs more memory than is
+        available or more than the time limit; by default that raises `budget.TooLargeError`
+        (an InputError naming the estimate) before any work.
 
     Returns
     -------
@@ -102,6 +107,8 @@ def extract(
     if isinstance(div, (list, tuple)) and len(div) == 1:
         div = div[0]
     n_, k_, bounds_, div_, system, sampled = prepare(F, variables, n, k, bounds, div)
+    cost = estimate_run(n_, k_, div_, method=method, bounds=bounds_, system=system, sampled=sampled, scheduler=scheduler)
+    check_budget(cost, force)
     amplitude = 0.0 if sampled is not None else PERTURBATION  # sampled data can't be moved: its positions are exact
     axes = perturbed_axes(bounds_, div_, seed, amplitude)
     continuation = method in CONTINUATION_METHODS

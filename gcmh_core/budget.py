@@ -1,0 +1,487 @@
+"""What a run will cost, known before it starts: work, peak memory, and a refusal when it won't fit.
+
+`estimate_run` adds up what an extraction holds at its peak, from (n, k, div, method)
+and a probe of F on a coarse grid (a few thousand vertices, milliseconds):
+
+* the cube tables for (n, k) (`_tables`): built in Python, so their peak is the
+  Python objects of the build (faces of dimension k..n, k! Kuhn simplices per
+  k-face, the walk map of every (k+1)-face), not the final int64 arrays;
+* the grid lines (n arrays of div + 1), and for the full sweep the slab buffer
+  (`sweep.SLAB_VERTICES`, at least two layers), F's temporaries on it and the sign codes;
+* the records of the candidate cubes and their assembly.  The probe counts, per
+  candidate cube, the faces of each dimension d >= k on which every component of F
+  changes sign: a d-face crossed by M holds one (d-k)-cell with its 2(d-k) faces,
+  and each costs the bytes measured below.  On a grid finer than the probe a
+  candidate cube is cut by M as by a random plane, which crosses
+  C(n-k, d-k) 2^(n-d) of its d-faces on average (for k = 1 that sums to 3^(n-1)).
+
+`check_budget` refuses (`TooLargeError`, an `InputError`) a run whose peak exceeds
+the memory this machine can give (MemAvailable, or $GCMH_MEMORY_LIMIT), or whose work
+would take more than five minutes ($GCMH_TIME_LIMIT seconds; not for cluster runs),
+unless forced.  A grid too large to index is refused even when forced.
+
+The constants were measured with tests/core/test_budget.py's profile (peak RSS of a
+child process minus that of importing gcmh_core and compiling): the estimate is
+within a factor of two of the measured peaks for n = 2..10 (see its table).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import asdict, dataclass
+from math import comb, factorial
+
+import numpy as np
+
+from .errors import InputError
+
+__all__ = [
+    "TooLargeError",
+    "Estimate",
+    "available_memory",
+    "estimate_run",
+    "check_budget",
+    "check_image_size",
+    "check_frames",
+    "format_bytes",
+]
+
+# Vertices of the probe grid (per run: milliseconds of F, a few passes over booleans).
+_PROBE_VERTICES = 1 << 18
+# Bytes at the peak per Python face / Kuhn simplex / walk entry of the table build.
+_TABLE_FACE = 140
+_TABLE_SIMPLEX = 400
+_TABLE_SIMPLEX_CORNER = 120
+_TABLE_WALK = 8
+# Peak bytes per record the kernel emits for a crossed face, through the assembly
+# (records are grown by doubling, then concatenated and sorted).
+_RECORD_OVERHEAD = 3.2
+# k >= 2: a face on which every component changes sign need not hold M_A
+_FALSE_CANDIDATES = 0.6
+_SIMPLICIAL_FACTOR = 3.0  # CMS/CCS: the cells of n! simplices per cube instead of one cell
+# Seconds: per Python entry of the table build, per vertex and component of F
+# (evaluation and candidate pass), per byte of records.
+_TABLE_SECONDS = 3e-6
+_VERTEX_SECONDS = 4e-9
+_RECORD_SECONDS_PER_N = 1.5e-9  # per byte of records and dimension n (the walks grow with n)
+WORK_LIMIT_SECONDS = 300.0
+_KEY_LIMIT = 2**63
+
+# Images and animations the headless renderer (VTK, offscreen) can produce.
+MAX_IMAGE_SIDE = 8192  # pixels per side: larger render targets come back black
+MAX_IMAGE_PIXELS = 8192 * 8192 // 2  # the frame buffer, its RGBA copy and the PNG encoder
+MAX_FRAMES = 2000  # frames of one animation, all held until the GIF/MP4 is written
+
+
+class TooLargeError(InputError):
+    """The run would need more memory or time than this machine gives (see the message)."""
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """What a run will cost.  Bytes are peak resident memory above an idle process."""
+
+    n: int
+    k: int
+    method: str
+    div: tuple
+    cubes: int
+    vertices: int
+    candidate_cubes: int  # expected (from the probe)
+    table_bytes: int
+    grid_bytes: int  # grid lines, slab buffer, F's temporaries, sign codes
+    record_bytes: int  # the candidate cubes' records and their assembly
+    peak_bytes: int
+    seconds: float  # rough: the order of magnitude on one core of a laptop
+    available_bytes: int
+    seconds_limit: float
+
+    @property
+    def fits(self) -> bool:
+        return self.peak_bytes <= self.available_bytes and self.seconds <= self.seconds_limit
+
+    def as_dict(self) -> dict:
+        d = asdict(self)
+        d["div"] = list(self.div)
+        d["fits"] = self.fits
+        return d
+
+    def describe(self) -> str:
+        """One line: the estimate and what this machine gives."""
+        return (
+            f"n={self.n}, k={self.k}, {self.method}, div {'x'.join(map(str, self.div))}: "
+            f"{self.cubes:,} cubes, about {self.candidate_cubes:,} crossed by M; "
+            f"peak memory about {format_bytes(self.peak_bytes)} "
+            f"(tables {format_bytes(self.table_bytes)}, grid {format_bytes(self.grid_bytes)}, "
+            f"cells {format_bytes(self.record_bytes)}) of {format_bytes(self.available_bytes)} available; "
+            f"about {_format_seconds(self.seconds)}"
+        )
+
+
+def format_bytes(b: float) -> str:
+    for unit, size in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
+        if b >= size:
+            return f"{b / size:.3g} {unit}"
+    return f"{int(b)} B"
+
+
+def _format_seconds(s: float) -> str:
+    if s < 60:
+        return f"{s:.2g} s"
+    if s < 3600:
+        return f"{s / 60:.2g} min"
+    if s < 86400 * 2:
+        return f"{s / 3600:.2g} h"
+    return f"{s / 86400:.3g} days"
+
+
+# ----------------------------------------------------------------------------- the machine
+def _parse_size(text: str) -> int:
+    text = text.strip().upper().removesuffix("B")
+    scale = {"K": 1e3, "M": 1e6, "G": 1e9, "T": 1e12}.get(text[-1:], 1)
+    try:
+        value = float(text[:-1] if scale != 1 else text) * scale
+    except ValueError:
+        raise InputError(f"GCMH_MEMORY_LIMIT: expected a size such as 8G or 500M, got {text!r}") from None
+    if not value > 0 or not math.isfinite(value):
+        raise InputError(f"GCMH_MEMORY_LIMIT must be positive, got {text!r}")
+    return int(value)
+
+
+def available_memory() -> int:
+    """Bytes a run may use: $GCMH_MEMORY_LIMIT if set, else MemAvailable of /proc/meminfo
+    (os.sysconf's free pages where there is none), never more than RLIMIT_AS allows."""
+    limit = os.environ.get("GCMH_MEMORY_LIMIT")
+    if limit:
+        return _parse_size(limit)
+    avail = None
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    avail = int(line.split()[1]) * 1024
+                    break
+    except (OSError, ValueError, IndexError):
+        pass
+    if avail is None:
+        try:
+            avail = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+        except (ValueError, OSError, AttributeError):
+            avail = 1 << 62  # unknown: don't refuse on memory
+    try:
+        import resource  # noqa: PLC0415  (POSIX only)
+
+        soft = resource.getrlimit(resource.RLIMIT_AS)[0]
+        if soft != resource.RLIM_INFINITY:
+            avail = min(avail, soft)
+    except (ImportError, OSError, ValueError):
+        pass
+    return int(avail)
+
+
+def _time_limit() -> float:
+    text = os.environ.get("GCMH_TIME_LIMIT")
+    if not text:
+        return WORK_LIMIT_SECONDS
+    try:
+        value = float(text)
+    except ValueError:
+        raise InputError(f"GCMH_TIME_LIMIT: expected seconds, got {text!r}") from None
+    if not value > 0:
+        raise InputError(f"GCMH_TIME_LIMIT must be positive, got {text!r}")
+    return value
+
+
+# ----------------------------------------------------------------------------- the parts
+def table_cost(n: int, k: int) -> tuple[int, int]:
+    """(peak bytes, Python entries) of building `_tables.cube_tables(n, k)`."""
+    faces = sum(comb(n, r) << (n - r) for r in range(k, n + 1))
+    simplices = comb(n, k) * (1 << (n - k)) * factorial(k)
+    k1faces = comb(n, k + 1) * (1 << max(n - k - 1, 0)) if k < n else 0
+    walk = k1faces * (2 * (k + 1) * factorial(k) + (1 << (k + 1)))
+    template = factorial(k + 1) * (k + 2)
+    peak = (
+        _TABLE_FACE * faces
+        + (_TABLE_SIMPLEX + _TABLE_SIMPLEX_CORNER * (k + 1)) * (simplices + 2 * template)
+        + _TABLE_WALK * walk
+    )
+    return int(peak), int(faces + simplices + walk + template)
+
+
+def simplicial_rows(n: int, k: int) -> int:
+    """Simplices of dimension k..n of the CFK triangulation of the n-cube (`simplex_tables`):
+    chains c0 < ... < cd of corners, each axis in c0, added at one of the d steps, or never."""
+    rows = 0
+    for d in range(k, n + 1):
+        rows += sum((-1) ** i * comb(d, i) * (d + 2 - i) ** n for i in range(d + 1))
+    return rows
+
+
+def index_room(n: int, k: int, vertices: int, simplicial: bool) -> int:
+    """The largest key `runner.Grid` would form; at 2^63 the grid cannot be indexed."""
+    if simplicial:
+        return vertices * (n + 1) ** n
+    return max(vertices * comb(n, d) * comb(d, k) * 2 ** (d - k) * factorial(k) for d in range(k, n + 1))
+
+
+def _random_plane_faces(n: int, k: int) -> np.ndarray:
+    """(n + 1,) expected crossed faces of each dimension of a cube that a random
+    (n-k)-plane crosses (fine grids): C(n-k, d-k) 2^(n-d) for d >= k."""
+    return np.array([comb(n - k, d - k) * 2.0 ** (n - d) if d >= k else 0.0 for d in range(n + 1)])
+
+
+def _bytes_per_cube(n: int, k: int, faces: np.ndarray) -> float:
+    """Peak bytes per candidate cube whose crossed faces (per dimension) are `faces`.
+
+    The kernel's records (`_kernels`): a vertex per crossed k-face (its key and n
+    coordinates), an edge per crossed (k+1)-face (three keys), an r-cell per crossed
+    (k+r)-face (two words) with its 2r faces (three words each); held while the
+    kernel grows its buffers by doubling, then concatenated and sorted."""
+    faces = np.asarray(faces, np.float64)
+    raw = faces[k] * (8 + 8 * n) + (faces[k + 1] * 24 if k + 1 <= n else 0.0)
+    for d in range(k + 2, n + 1):
+        raw += faces[d] * (16 + 2 * (d - k) * 24)
+    return _RECORD_OVERHEAD * raw * (1.0 if k == 1 else _FALSE_CANDIDATES)
+
+
+def _probe_grid(n, div, bounds, system, sampled, budget):
+    side = max(1, int(budget ** (1.0 / n) + 1e-9) - 1)
+    pdiv = np.minimum(div, side)
+    exact = bool(np.all(pdiv == div))
+    if sampled is not None:
+        step = np.maximum(div // pdiv, 1)
+        values = sampled[tuple(slice(None, None, int(s)) for s in step)]
+        return values, np.array(values.shape[:-1], np.int64) - 1, bool(np.all(step == 1))
+    axes = [np.linspace(lo, hi, int(p) + 1) for (lo, hi), p in zip(bounds, pdiv)]
+    if not exact:  # interior lines off the "nice" numbers (0, pi) where F often vanishes exactly
+        for a in axes:
+            a[1:-1:2] += (a[1] - a[0]) * 0.123
+    return system.evaluate_grid(axes), pdiv, exact
+
+
+def _candidates(values: np.ndarray) -> np.ndarray:
+    """Boolean (d0, ..., d_{n-1}) candidate cubes of F's values (d0+1, ..., k): every
+    component has both signs on the cube's corners (OR along each axis in turn)."""
+    with np.errstate(invalid="ignore"):
+        pos, neg = values >= 0, values < 0
+    for a in range(values.ndim - 1):
+        pos = np.take(pos, range(pos.shape[a] - 1), axis=a) | np.take(pos, range(1, pos.shape[a]), axis=a)
+        neg = np.take(neg, range(neg.shape[a] - 1), axis=a) | np.take(neg, range(1, neg.shape[a]), axis=a)
+    return np.all(pos & neg, axis=-1)
+
+
+def _crossed_faces(values: np.ndarray, cand: np.ndarray, n: int, k: int) -> np.ndarray:
+    """(n + 1,) mean crossed faces of each dimension over (up to 64 of) the candidate cubes."""
+    picked = np.flatnonzero(cand.reshape(-1))
+    picked = picked[np.linspace(0, len(picked) - 1, min(len(picked), 64)).astype(np.int64)]
+    origin = np.stack(np.unravel_index(picked, cand.shape), axis=1)  # (m, n)
+    corners = np.array([[c >> (n - 1 - a) & 1 for a in range(n)] for c in range(1 << n)])  # C order
+    idx = origin[:, None, :] + corners[None]  # (m, 2^n, n)
+    vals = values[tuple(idx[..., a] for a in range(n))]  # (m, 2^n, k)
+    with np.errstate(invalid="ignore"):
+        cp = (vals >= 0).reshape((len(picked),) + (2,) * n + (k,))
+        cn = (vals < 0).reshape((len(picked),) + (2,) * n + (k,))
+    for a in range(n):  # along each corner axis a third entry, "free": the OR of the two ends
+        cp = np.concatenate([cp, cp.any(axis=1 + a, keepdims=True)], axis=1 + a)
+        cn = np.concatenate([cn, cn.any(axis=1 + a, keepdims=True)], axis=1 + a)
+    crossed = np.all(cp & cn, axis=-1).reshape(len(picked), -1)  # (m, 3^n); ternary digit 2: free
+    free = np.zeros(3**n, np.int64)
+    for a in range(n):
+        free += (np.arange(3**n) // 3 ** (n - 1 - a)) % 3 == 2
+    return np.bincount(free, weights=crossed.sum(axis=0), minlength=n + 1)[: n + 1] / len(picked)
+
+
+def _probe(n, k, div, bounds, system, sampled) -> tuple[float, np.ndarray, bool]:
+    """F on a coarse grid: (candidate cubes of the run expected, crossed faces of each
+    dimension per candidate cube, whether the probe grid is the run's grid)."""
+    div = np.asarray(div, np.int64)
+    for budget in (_PROBE_VERTICES, 4 * _PROBE_VERTICES):  # finer once if it saw nothing
+        values, pdiv, exact = _probe_grid(n, div, bounds, system, sampled, budget)
+        cand = _candidates(values)
+        count = int(cand.sum())
+        if count or exact:
+            break
+    cubes = float(np.prod(div.astype(np.float64)))
+    s = (cubes / float(np.prod(pdiv))) ** (1.0 / n)  # run cubes per probe cube, per axis
+    plane = _random_plane_faces(n, k)
+    if count == 0:  # nothing seen: M (if any) is smaller than a probe cube
+        return (0.0 if exact else min(cubes, s ** (n - k))), plane, exact
+    if exact:
+        expected = float(count)
+    else:
+        # M meets s^e times as many cubes on a grid s times finer, e -> n - k once the
+        # probe resolves M; e halfway between that and what the probe shows against its
+        # every-other-line subgrid (which still grows towards n - k)
+        e = float(n - k)
+        if np.all(pdiv >= 4) and sampled is None:
+            half = int(_candidates(values[tuple(slice(None, None, 2) for _ in range(n))]).sum())
+            if half:
+                e = 0.5 * (e + min(e, max(1.0, math.log2(count / half))))
+        expected = min(cubes, count * s**e)
+    faces = plane if n > 10 else _crossed_faces(values, cand, n, k)
+    if not exact:  # on a finer grid M is flatter in each cube: towards the plane's count
+        faces = faces + (plane - faces) * (1.0 - 1.0 / s)
+    return expected, faces, exact
+
+
+# ----------------------------------------------------------------------------- the estimate
+def estimate_run(
+    n: int,
+    k: int,
+    div,
+    *,
+    method: str = "gcmh",
+    bounds=None,
+    system=None,
+    sampled=None,
+    scheduler=None,
+    probe: bool | None = None,
+) -> Estimate:
+    """The cost of extracting with these (validated) arguments; see the module's docstring.
+
+    system: a `formula.System` (probed on a coarse grid over `bounds`), or sampled:
+    F's values on the grid; with neither, M is taken to cross the grid like a plane
+    through its middle.  scheduler: a cluster run holds no slab here, only the records.
+    probe: None probes F only when the run might not fit even if M crossed every cube
+    (small runs don't pay for the probe); True always (`gcmh extract --dry-run`).
+    Raises InputError (never forceable) for a grid too large to index.
+    """
+    from .runner import CONTINUATION_METHODS, SIMPLICIAL_METHODS  # noqa: PLC0415
+
+    div_t = tuple(int(d) for d in np.broadcast_to(np.asarray(div, np.int64), (n,)))
+    vertices = math.prod(d + 1 for d in div_t)
+    simplicial = method in SIMPLICIAL_METHODS
+    if index_room(n, k, vertices, simplicial) >= _KEY_LIMIT:
+        raise InputError(f"the grid is too large to index ({vertices:,} vertices in R^{n}): use a smaller div")
+    if simplicial and n > 7:
+        raise InputError(f"the simplicial baselines split an n-cube into n! simplices: n = {n} is too many (at most 7)")
+    continuation = method in CONTINUATION_METHODS
+    plane = _random_plane_faces(n, k)
+    cubes = math.prod(div_t)
+    if probe is None:  # every cube crossed, like a plane: an upper bound
+        worst = _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, float(cubes), plane)
+        if worst.peak_bytes <= worst.available_bytes // 8 and worst.seconds <= worst.seconds_limit / 10:
+            return worst
+    if system is not None or sampled is not None:
+        expected, faces, _ = _probe(n, k, div_t, bounds, system, sampled)
+    else:
+        expected, faces = min(float(cubes), float(cubes) ** ((n - k) / n)), plane
+    return _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, expected, faces)
+
+
+def _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, expected, faces) -> Estimate:
+    from .sweep import SLAB_VERTICES  # noqa: PLC0415
+
+    dims = [d + 1 for d in div_t]
+    vertices = math.prod(dims)
+    table_peak, table_entries = table_cost(n, k)
+    if simplicial:
+        rows = simplicial_rows(n, k)
+        table_peak += rows * (600 + 16 * (n + 1))
+        table_entries += rows
+    records = expected * _bytes_per_cube(n, k, faces) * (_SIMPLICIAL_FACTOR if simplicial else 1.0)
+    grid = sum(dims) * 8 * 4  # lines, their offsets, the stacked copy in Grid
+    layer = math.prod(dims[1:])
+    if continuation:  # F at the corners of each wave, and the visited cubes
+        front = expected ** ((n - k - 1) / max(n - k, 1)) if expected else 0.0
+        grid += int(front * (1 << n) * (8 * k + 40) + expected * 40)
+        work_vertices = expected * (1 << n)
+    elif scheduler is None:
+        thickness = max(1, min(div_t[0], SLAB_VERTICES // max(layer * k, 1)))
+        slab = (thickness + 1) * layer
+        code_bytes = 1 if 2 * k + 1 <= 8 else 2 if 2 * k + 1 <= 16 else 4
+        buffer = 0 if sampled is not None else slab * k * 8
+        grid += buffer + slab * (8 + code_bytes)  # + one full-slab temporary of F
+        work_vertices = float(vertices)
+    else:  # the workers evaluate; this process gathers the records
+        work_vertices = 0.0
+    tables_held = table_peak // 4  # the arrays outlive the build; its Python objects do not
+    peak = max(table_peak, tables_held + grid + records)
+    seconds = (
+        table_entries * _TABLE_SECONDS
+        + work_vertices * k * _VERTEX_SECONDS
+        + records * _RECORD_SECONDS_PER_N * n
+    )
+    return Estimate(
+        n=n,
+        k=k,
+        method=method,
+        div=div_t,
+        cubes=math.prod(div_t),
+        vertices=vertices,
+        candidate_cubes=int(round(expected)),
+        table_bytes=int(table_peak),
+        grid_bytes=int(grid),
+        record_bytes=int(records),
+        peak_bytes=int(peak),
+        seconds=float(seconds),
+        available_bytes=available_memory(),
+        # a cluster's time is its workers'; here only the memory of the gathered records counts
+        seconds_limit=_time_limit() if scheduler is None else math.inf,
+    )
+
+
+def check_budget(estimate: Estimate, force: bool = False) -> None:
+    """Raise TooLargeError when the run won't fit (unless force); the message names
+    the estimate and what to change."""
+    if force or estimate.fits:
+        return
+    e = estimate
+    if e.peak_bytes > e.available_bytes:
+        what = (
+            f"this run needs about {format_bytes(e.peak_bytes)} of memory but "
+            f"{format_bytes(e.available_bytes)} is available"
+        )
+    else:
+        what = f"this run would take about {_format_seconds(e.seconds)} (limit {_format_seconds(e.seconds_limit)})"
+    hints = []
+    if e.table_bytes >= 0.5 * e.peak_bytes:
+        hints.append(f"the cube tables for n={e.n}, k={e.k} alone take {format_bytes(e.table_bytes)}")
+    else:
+        hints.append("use a smaller div")
+        if e.method in ("gcmh", "cms"):
+            hints.append('method="gcch" (continuation visits only the cubes M crosses)')
+        hints.append("a cluster (scheduler=...)")
+    hints.append("or force=True (--force) to run anyway")
+    raise TooLargeError(
+        f"{what} (n={e.n}, k={e.k}, div {'x'.join(map(str, e.div))}, {e.method}: "
+        f"about {e.candidate_cubes:,} of {e.cubes:,} cubes crossed by M); " + ", ".join(hints)
+    )
+
+
+# ----------------------------------------------------------------------------- images
+def check_image_size(width: int, height: int) -> None:
+    """Raise InputError unless the headless renderer can draw a width x height image."""
+    for what, v in (("width", width), ("height", height)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
+            raise InputError(f"image {what} must be an integer, got {v!r}")
+        if v < 1:
+            raise InputError(f"image {what} must be at least 1 pixel, got {v}")
+        if v > MAX_IMAGE_SIDE:
+            raise InputError(f"image {what} {v} is above the renderer's limit of {MAX_IMAGE_SIDE} pixels")
+    if int(width) * int(height) > MAX_IMAGE_PIXELS:
+        raise InputError(
+            f"image {width}x{height} has {int(width) * int(height):,} pixels, above the renderer's limit of "
+            f"{MAX_IMAGE_PIXELS:,} (e.g. {MAX_IMAGE_SIDE}x{MAX_IMAGE_PIXELS // MAX_IMAGE_SIDE})"
+        )
+
+
+def check_frames(frames: int, width: int, height: int) -> None:
+    """Raise InputError unless an animation of `frames` frames of width x height fits:
+    at most MAX_FRAMES frames, and all of them (RGB, held until written) in the memory
+    available (with room for the encoder)."""
+    check_image_size(width, height)
+    if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)):
+        raise InputError(f"frames must be an integer, got {frames!r}")
+    if frames < 1:
+        raise InputError(f"an animation needs at least 1 frame, got {frames}")
+    if frames > MAX_FRAMES:
+        raise InputError(f"{frames} frames is above the limit of {MAX_FRAMES}")
+    need = 2 * int(frames) * int(width) * int(height) * 3
+    avail = available_memory()
+    if need > avail:
+        raise TooLargeError(
+            f"{frames} frames of {width}x{height} need about {format_bytes(need)} of memory but "
+            f"{format_bytes(avail)} is available: use fewer frames or a smaller size"
+        )
