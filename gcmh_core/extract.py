@@ -107,7 +107,8 @@ def extract(
     if isinstance(div, (list, tuple)) and len(div) == 1:
         div = div[0]
     n_, k_, bounds_, div_, system, sampled = prepare(F, variables, n, k, bounds, div)
-    cost = estimate_run(n_, k_, div_, method=method, bounds=bounds_, system=system, sampled=sampled, scheduler=scheduler)
+    cost = estimate_run(n_, k_, div_, method=method, bounds=bounds_, system=system, sampled=sampled,
+                        scheduler=scheduler)
     check_budget(cost, force)
     amplitude = 0.0 if sampled is not None else PERTURBATION  # sampled data can't be moved: its positions are exact
     axes = perturbed_axes(bounds_, div_, seed, amplitude)
