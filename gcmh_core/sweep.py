@@ -1,30 +1,79 @@
 """The full sweep: every cube of the grid (GCMH, paper Section 3; CMS, Section 4).
 
-F is evaluated slab by slab along axis 0, so memory grows like div^(n-1); each
-slab goes through the candidate pass (a cube where some component of F has one
-strict sign at all 2^n corners cannot hold M) and the candidates through the
+Plain: F is evaluated slab by slab along axis 0, so memory grows like div^(n-1);
+each slab goes through the candidate pass (a cube where some component of F has
+one strict sign at all 2^n corners cannot hold M) and the candidates through the
 per-cube kernel of the `Grid` (hypercube cells for "gcmh", Kuhn simplices for "cms").
+
+Pruned (when F is a formula): the grid's box of cubes is cut in halves, longest axis
+first; a block where the interval enclosure of some component of F (`interval`)
+excludes 0 holds no candidate cube and is dropped unevaluated, and the blocks left
+when they are small are processed exactly like slabs.  The work then grows with the
+size of M rather than with div^n, and the complex is the plain sweep's, bit for bit:
+a dropped block would have given the candidate pass nothing (no candidate, no
+non-finite vertex), and the others give the same values and the same records.
 """
 
 from __future__ import annotations
 
+import threading
 import time
+import weakref
+from concurrent.futures import ThreadPoolExecutor
 
+import numba
 import numpy as np
 
 from .complex import CellComplex
 from .errors import Cancelled
+from .interval import Enclosure
 from .runner import Grid
 
-__all__ = ["run_sweep", "SLAB_VERTICES"]
+__all__ = ["run_sweep", "surviving_blocks", "SLAB_VERTICES", "PRUNE"]
 
 # Vertices evaluated per slab: bounds the memory of a run independently of div along axis 0.
 SLAB_VERTICES = 1 << 22
+# None: prune when F is a formula and the grid has at least _PRUNE_MIN_CUBES cubes;
+# True / False force either path (tests compare them).
+PRUNE: bool | None = None
+_PRUNE_MIN_CUBES = 1 << 16
+# Cubes of a block that is processed rather than cut again: smaller blocks are
+# bounded more tightly, but each processed block costs a fixed ~0.1 ms of calls.
+_LEAF_CUBES = 4096
+# Blocks per task of the threads that process them (progress and cancel between tasks).
+_BLOCKS_PER_TASK = 128
+# Sweep plainly when the blocks left have more vertices than this share of the grid's:
+# F's bounds did not help (M fills the domain, or F has a function they cannot bound).
+_GIVE_UP_SHARE = 0.5
+
+_enclosures: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-def run_sweep(n, k, axes, system, sampled, progress, cancel, grid=None) -> CellComplex:
-    """Every cube of the grid, in slabs along axis 0 (F on one slab's vertices at a time)."""
+def _enclosure(system) -> Enclosure:
+    """One Enclosure per System (the tree is walked once)."""
+    enc = _enclosures.get(system)
+    if enc is None:
+        enc = _enclosures[system] = Enclosure(system.exprs, system.symbols)
+    return enc
+
+
+def run_sweep(n, k, axes, system, sampled, progress, cancel, grid=None, prune=None) -> CellComplex:
+    """Every cube of the grid: pruned by F's bounds when F is a formula and the grid is
+    large (see PRUNE), else in slabs along axis 0.  Same complex either way."""
     grid = Grid(n, k, axes) if grid is None else grid
+    prune = PRUNE if prune is None else prune
+    if prune is None:
+        prune = grid.stats["cubes"] >= _PRUNE_MIN_CUBES
+    if prune and system is not None and sampled is None:
+        result = _pruned_sweep(grid, axes, system, progress, cancel)
+        if result is not None:
+            return result
+    return _plain_sweep(grid, axes, system, sampled, progress, cancel)
+
+
+def _plain_sweep(grid, axes, system, sampled, progress, cancel) -> CellComplex:
+    """Every cube of the grid, in slabs along axis 0 (F on one slab's vertices at a time)."""
+    n, k = grid.n, grid.k
     dims = grid.dims
     layer = int(np.prod(dims[1:]))
     thickness = int(max(1, min(dims[0] - 1, SLAB_VERTICES // max(layer * k, 1))))
@@ -57,3 +106,92 @@ def run_sweep(n, k, axes, system, sampled, progress, cancel, grid=None) -> CellC
     if progress is not None:
         progress("assembling", 1.0)
     return grid.assemble()
+
+
+def surviving_blocks(enclosure, axes, lo, hi, leaf_cubes, cancel=None):
+    """The blocks of at most leaf_cubes cubes that F's bounds leave in the block of cubes
+    lo..hi-1 (per axis): (lo, hi) (m, n) int64.
+
+    Blocks are cut in halves, longest axis (in cubes) first; a block where `enclosure`
+    shows some component of F to have one sign throughout (so no cube in it is a
+    candidate) is dropped.
+    """
+    n = len(axes)
+    blo = np.asarray(lo, np.int64).reshape(1, n)
+    bhi = np.asarray(hi, np.int64).reshape(1, n)
+    leaves_lo, leaves_hi = [], []
+    while len(blo):
+        if cancel is not None and cancel():
+            raise Cancelled("extraction cancelled")
+        xlo = np.stack([axes[a][blo[:, a]] for a in range(n)], axis=1)
+        xhi = np.stack([axes[a][bhi[:, a]] for a in range(n)], axis=1)
+        keep = ~enclosure.excludes_zero(xlo, xhi)
+        blo, bhi = blo[keep], bhi[keep]
+        leaf = np.prod(bhi - blo, axis=1) <= leaf_cubes
+        leaves_lo.append(blo[leaf])
+        leaves_hi.append(bhi[leaf])
+        blo, bhi = blo[~leaf], bhi[~leaf]
+        side = bhi - blo
+        axis = np.argmax(side, axis=1)
+        rows = np.arange(len(blo))
+        mid = blo[rows, axis] + side[rows, axis] // 2
+        lo2, hi1 = blo.copy(), bhi.copy()
+        hi1[rows, axis] = mid
+        lo2[rows, axis] = mid
+        blo = np.concatenate([blo, lo2])
+        bhi = np.concatenate([hi1, bhi])
+    return np.concatenate(leaves_lo), np.concatenate(leaves_hi)
+
+
+def _pruned_sweep(grid, axes, system, progress, cancel) -> CellComplex | None:
+    """The blocks F's bounds leave, each processed like a slab; None when the bounds
+    leave most of the grid (then the plain sweep is faster)."""
+    n = grid.n
+    t = time.perf_counter()
+    blo, bhi = surviving_blocks(_enclosure(system), axes, np.zeros(n, np.int64), grid.dims - 1, _LEAF_CUBES, cancel)
+    bound_seconds = time.perf_counter() - t
+    # the blocks' vertices (shared faces count once per block) against the grid's
+    if np.prod(bhi - blo + 1, axis=1).sum() > _GIVE_UP_SHARE * np.prod(grid.dims.astype(np.float64)):
+        return None
+    grid.timings["bound"] = bound_seconds
+    size = np.prod(bhi - blo, axis=1)
+    total = grid.stats["cubes"]
+    kept = int(size.sum())
+    decided = total - kept  # (the dropped cubes)
+    stop = threading.Event()
+    template = grid.empty_copy()  # (empty_copy keeps the stats: start each part from zero)
+    template.stats = {key: value if key == "cubes" else 0 for key, value in grid.stats.items()}
+
+    def work(lo_rows, hi_rows):
+        """Blocks on a copy of the grid, numba serial in this thread: a small block's
+        candidate pass took ~3 ms waking numba's parallel threads, 30 times the pass."""
+        numba.set_num_threads(1)
+        part = template.empty_copy()
+        for lo, hi in zip(lo_rows, hi_rows):
+            if stop.is_set():
+                break
+            t = time.perf_counter()
+            values = system.evaluate_grid([axes[a][lo[a] : hi[a] + 1] for a in range(n)])
+            part.timings["evaluate"] += time.perf_counter() - t
+            part.process_block(values, lo, hi)
+        return part.packed_records()
+
+    workers = numba.get_num_threads()  # (the caller's: 1 in a distributed worker, say)
+    cuts = list(range(0, len(blo), _BLOCKS_PER_TASK)) + [len(blo)]
+    with ThreadPoolExecutor(max_workers=workers, thread_name_prefix="gcmh-pruned") as pool:
+        futures = [pool.submit(work, blo[i:j], bhi[i:j]) for i, j in zip(cuts[:-1], cuts[1:])]
+        try:
+            for f, i, j in zip(futures, cuts[:-1], cuts[1:]):
+                if progress is not None:
+                    progress("extracting", decided / total)
+                if cancel is not None and cancel():
+                    raise Cancelled("extraction cancelled")
+                grid.add_records(f.result())
+                decided += int(size[i:j].sum())
+        finally:
+            stop.set()  # (after a cancel or an error: the other tasks end at their next block)
+    if progress is not None:
+        progress("assembling", 1.0)
+    result = grid.assemble()
+    result.meta["pruned_cubes"] = total - kept
+    return result
