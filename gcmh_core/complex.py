@@ -24,8 +24,17 @@ key                                    content
 ``vertices``                           (V, n) float64
 ``cells_1``                            (E, 2) int64, vertex ids of each edge
 ``cells_{r}_offsets``, ``_faces``      for r = 2..n-k, CSR as above
-``meta_json``                          JSON text of ``meta`` (numpy values converted)
+``meta_json``                          JSON text of ``meta`` (numpy values converted),
+                                       without ``seconds`` and ``timings``
+``run_json`` (optional)                JSON of ``seconds`` and ``timings``, only with
+                                       ``save(..., timings=True)``
 =====================================  =============================================
+
+The same complex gives the same bytes: members are written in a fixed order with a
+fixed date (1980-01-01), and what depends on the machine and the moment (the run's
+``seconds`` and ``timings``) is left out unless asked for (``gcmh extract --json``
+prints it instead).  :meth:`CellComplex.load` checks every member's header (shape,
+dtype, size, compression ratio, memory) before reading any array.
 
 Example
 -------
@@ -42,12 +51,15 @@ array([0, 1, 2, 3])
 from __future__ import annotations
 
 import json
+import math
 import operator
 import os
 import zipfile
 from collections.abc import Mapping
 
 import numpy as np
+
+from ._safe_io import atomic_write
 
 __all__ = ["CellComplex", "FORMAT"]
 
@@ -187,6 +199,141 @@ def _jsonable(obj):
     if isinstance(obj, complex):
         return [obj.real, obj.imag]
     return str(obj)
+
+
+# ----------------------------------------------------------------------------
+# the .npz file: written byte for byte the same, read with bounds
+# ----------------------------------------------------------------------------
+
+# meta keys that depend on the machine and the moment: left out of meta_json (see save)
+VOLATILE_META = ("seconds", "timings")
+_ZIP_DATE = (1980, 1, 1, 0, 0, 0)  # members carry this date, not the time of writing
+_MAX_RATIO = 100  # uncompressed / compressed of a big member: real numbers and ids compress less
+_SMALL_MEMBER = 1 << 20  # bytes: a member this small is never called a bomb
+_MAX_TEXT = 64 << 20  # characters of meta_json / run_json
+_MAX_MEMBERS = 1000
+
+
+def _write_npz(file, arrays: dict, compressed: bool) -> None:
+    """An .npz numpy reads, with fixed dates and order: the same arrays, the same bytes."""
+    method = zipfile.ZIP_DEFLATED if compressed else zipfile.ZIP_STORED
+    with zipfile.ZipFile(file, "w", compression=method, allowZip64=True) as zf:
+        for name, arr in arrays.items():
+            info = zipfile.ZipInfo(name + ".npy", date_time=_ZIP_DATE)
+            info.compress_type = method
+            info.external_attr = 0o644 << 16
+            with zf.open(info, "w", force_zip64=True) as f:
+                np.lib.format.write_array(f, np.asanyarray(arr), allow_pickle=False)
+
+
+def _member_header(archive, info):
+    """(shape, dtype, header bytes) of an .npy member, from its first bytes only."""
+    with archive.open(info) as f:
+        version = np.lib.format.read_magic(f)
+        if version == (1, 0):
+            shape, fortran, dtype = np.lib.format.read_array_header_1_0(f)
+        elif version == (2, 0):
+            shape, fortran, dtype = np.lib.format.read_array_header_2_0(f)
+        else:
+            raise ValueError(f"unsupported .npy version {version}")
+        return shape, dtype, f.tell()
+
+
+def _read_checked(archive, bad) -> dict:
+    """The arrays of a gcmh-complex archive, each checked from its header before reading."""
+    infos = archive.infolist()
+    if len(infos) > _MAX_MEMBERS:
+        raise bad(f"{len(infos)} members")
+    members = {}
+    for info in infos:
+        if not info.filename.endswith(".npy") or info.is_dir():
+            raise bad(f"unexpected member {info.filename!r}")
+        members[info.filename[:-4]] = info
+    if "format" not in members:
+        raise bad("no 'format' key")
+    for name in ("n", "k", "vertices", "cells_1"):
+        if name not in members:
+            raise bad(f"missing key {name!r}")
+    headers = {}
+    total = 0
+    for name, info in members.items():
+        try:
+            shape, dtype, header = _member_header(archive, info)
+        except ValueError as exc:
+            raise bad(f"member {name!r}: {exc}") from None
+        if dtype.hasobject:
+            raise bad(f"member {name!r} holds Python objects (pickles are never loaded)")
+        nbytes = math.prod(shape) * dtype.itemsize
+        if info.file_size != header + nbytes:
+            raise bad(
+                f"member {name!r}: its header claims {shape} {dtype} ({nbytes:,} bytes) "
+                f"but the archive holds {info.file_size - header:,} bytes"
+            )
+        if nbytes > _SMALL_MEMBER and nbytes > _MAX_RATIO * max(info.compress_size, 1):
+            raise bad(
+                f"member {name!r} claims {nbytes:,} bytes from {info.compress_size:,} compressed "
+                f"(more than {_MAX_RATIO} to 1: not an array written by save)"
+            )
+        headers[name] = (shape, dtype)
+        total += nbytes
+
+    def scalar(name, kinds):
+        shape, dtype = headers[name]
+        if shape != () or dtype.kind not in kinds:
+            return False
+        return True
+
+    if not scalar("format", "US") or headers["format"][1].itemsize > 256:
+        raise bad(f"format has dtype {headers['format'][1]} and shape {headers['format'][0]}, expected a string")
+    if not (scalar("n", "iu") and scalar("k", "iu")):
+        raise bad("'n' and 'k' must be integer scalars")
+    small = {}
+    for name in ("format", "n", "k"):
+        with archive.open(members[name]) as f:
+            small[name] = np.lib.format.read_array(f, allow_pickle=False)
+    if str(small["format"][()]) != FORMAT:
+        raise bad(f"format is {small['format']!r}, expected {FORMAT!r}")
+    n, k = int(small["n"]), int(small["k"])
+    if not (1 <= n <= 64 and 0 <= k <= n):
+        raise bad(f"n = {n}, k = {k} (need 1 <= n <= 64, 0 <= k <= n)")
+    expect = {"vertices": (2, "f", n), "cells_1": (2, "iu", 2)}
+    for r in range(2, max(n - k, 1) + 1):
+        ko, kf = f"cells_{r}_offsets", f"cells_{r}_faces"
+        if ko not in members or kf not in members:
+            raise bad(f"missing key {ko!r} or {kf!r}")
+        expect[ko] = expect[kf] = (1, "iu", None)
+    for name in members:
+        if name.startswith("cells_") and name not in expect:
+            raise bad(f"unexpected key {name!r} for n - k = {n - k}")
+    for name, (ndim, kinds, width) in expect.items():
+        shape, dtype = headers[name]
+        if dtype.kind not in kinds or (name == "vertices" and dtype != np.float64):
+            want = "float64" if name == "vertices" else "int64"
+            raise bad(f"{name!r} must be {want}, got {dtype}")
+        if len(shape) != ndim or (width is not None and shape[1] != width):
+            want = f"(V, {n})" if name == "vertices" else "(E, 2)" if name == "cells_1" else "1-dimensional"
+            raise bad(f"{name!r} must have shape {want}, got {shape}")
+    for name in ("meta_json", "run_json"):
+        if name in headers:
+            shape, dtype = headers[name]
+            if shape != () or dtype.kind not in "US" or dtype.itemsize > 4 * _MAX_TEXT:
+                raise bad(f"{name!r} must be a string (of at most {_MAX_TEXT:,} characters)")
+    for name in members:
+        if name not in expect and name not in small and name not in ("meta_json", "run_json"):
+            shape, dtype = headers[name]
+            if math.prod(shape) * dtype.itemsize > _SMALL_MEMBER:
+                raise bad(f"extra member {name!r} is larger than {_SMALL_MEMBER:,} bytes")
+    from .budget import available_memory, format_bytes  # noqa: PLC0415
+
+    avail = available_memory()
+    if total > avail:
+        raise bad(f"its arrays take {format_bytes(total)} but {format_bytes(avail)} of memory is available")
+    data = dict(small)
+    for name, info in members.items():
+        if name not in data:
+            with archive.open(info) as f:
+                data[name] = np.lib.format.read_array(f, allow_pickle=False)
+    return data
 
 
 # ----------------------------------------------------------------------------
@@ -518,11 +665,17 @@ class CellComplex:
 
     # --------------------------------------------------------------- files
 
-    def save(self, path, *, compressed=True):
+    def save(self, path, *, compressed: bool = True, timings: bool = False) -> None:
         """Write the complex to `path` as an ``.npz`` file in format ``gcmh-complex/1``.
 
         ``meta`` goes into the key ``meta_json`` (numpy values become lists and
-        numbers).  numpy adds ``.npz`` to a path that lacks it.
+        numbers), except what depends on the machine and the moment (``seconds``,
+        ``timings``): the same complex gives the same bytes.  ``timings=True`` keeps
+        those in the optional key ``run_json``.  ``.npz`` is added to a file name that
+        lacks it.  A file name is written atomically (see `_safe_io`: a temporary file
+        beside it replaces it when complete, with the usual mode; a symlink is written
+        through; a folder, device, FIFO or socket is refused with InputError); `path`
+        may also be a binary file object.
         """
         arrays = {
             "format": np.array(FORMAT),
@@ -535,18 +688,38 @@ class CellComplex:
             off, fac = self.cells[r]
             arrays[f"cells_{r}_offsets"] = np.asarray(off)
             arrays[f"cells_{r}_faces"] = np.asarray(fac)
-        arrays["meta_json"] = np.array(json.dumps(_jsonable(self.meta)))
-        writer = np.savez_compressed if compressed else np.savez
-        writer(path, **arrays)
+        meta = {key: value for key, value in self.meta.items() if key not in VOLATILE_META}
+        arrays["meta_json"] = np.array(json.dumps(_jsonable(meta)))
+        run = {key: value for key, value in self.meta.items() if key in VOLATILE_META}
+        if timings and run:
+            arrays["run_json"] = np.array(json.dumps(_jsonable(run)))
+        if hasattr(path, "write"):
+            _write_npz(path, arrays, compressed)
+            return
+        name = os.fspath(path)
+        if isinstance(name, bytes):
+            name = os.fsdecode(name)
+        if not name.endswith(".npz"):
+            name += ".npz"
+
+        def write(temp):
+            with open(temp, "wb") as f:
+                _write_npz(f, arrays, compressed)
+
+        atomic_write(name, write, ".npz")
 
     @classmethod
-    def load(cls, path) -> "CellComplex":
+    def load(cls, path) -> CellComplex:
         """Read a complex written by :meth:`save`.
 
         Raises ValueError (naming the file) if it is not a readable
-        ``gcmh-complex/1`` file.  Never unpickles anything.  Keys other than the
-        format's own and ``meta_json`` are put into ``meta`` (arrays as lists)
-        unless ``meta_json`` already has them.
+        ``gcmh-complex/1`` file.  Never unpickles anything.  Every member's size,
+        dtype and shape are checked from the archive's headers before any array is
+        read: a member whose header disagrees with the archive, whose role wants
+        another shape or dtype, that would not fit in memory, or that expands from
+        far less compressed data than an array of real numbers can (a zip bomb), is
+        refused in milliseconds.  Keys other than the format's own, ``meta_json`` and
+        ``run_json`` are put into ``meta`` (arrays as lists) unless already there.
         """
         where = os.fspath(path)
 
@@ -554,66 +727,44 @@ class CellComplex:
             return ValueError(f"{where}: not a valid {FORMAT} file: {why}")
 
         try:
-            archive = np.load(path, allow_pickle=False)
+            with open(path, "rb") as f:
+                head = f.read(6)
         except (FileNotFoundError, IsADirectoryError, PermissionError):
             raise
-        except (ValueError, OSError, EOFError, zipfile.BadZipFile) as exc:
+        except OSError as exc:
             raise bad(exc) from None
-        if not isinstance(archive, np.lib.npyio.NpzFile):
+        if head == b"\x93NUMPY":
             raise bad("it is a single .npy array, not an .npz archive")
         try:
-            with archive:
-                try:
-                    data = {name: archive[name] for name in archive.files}
-                except Exception as exc:  # corrupt member, pickled member, ...
-                    raise bad(exc) from None
-        except ValueError:
-            raise
-        except Exception as exc:
+            archive = zipfile.ZipFile(path)
+        except (zipfile.BadZipFile, OSError, ValueError, EOFError) as exc:
             raise bad(exc) from None
-
-        if "format" not in data:
-            raise bad("no 'format' key")
-        fmt = data["format"]
-        if fmt.shape != () or fmt.dtype.kind not in "US" or str(fmt[()]) != FORMAT:
-            raise bad(f"format is {fmt!r}, expected {FORMAT!r}")
-        for name in ("n", "k", "vertices", "cells_1"):
-            if name not in data:
-                raise bad(f"missing key {name!r}")
-        n_arr, k_arr = data["n"], data["k"]
-        if n_arr.shape != () or n_arr.dtype.kind not in "iu" or \
-                k_arr.shape != () or k_arr.dtype.kind not in "iu":
-            raise bad("'n' and 'k' must be integer scalars")
-        n, k = int(n_arr), int(k_arr)
-        vertices = data["vertices"]
-        if vertices.dtype != np.float64:
-            raise bad(f"'vertices' must be float64, got {vertices.dtype}")
-        edges = data["cells_1"]
-        if edges.dtype.kind not in "iu":
-            raise bad(f"'cells_1' must be int64, got {edges.dtype}")
-        known = {"format", "n", "k", "vertices", "cells_1", "meta_json"}
+        with archive:
+            try:
+                data = _read_checked(archive, bad)
+            except ValueError:
+                raise
+            except Exception as exc:  # corrupt member, bad CRC, truncated stream, ...
+                raise bad(exc) from None
+        n, k = int(data["n"]), int(data["k"])
+        vertices, edges = data["vertices"], data["cells_1"]
+        known = {"format", "n", "k", "vertices", "cells_1", "meta_json", "run_json"}
         cells = {}
         for r in range(2, max(n - k, 1) + 1):
             ko, kf = f"cells_{r}_offsets", f"cells_{r}_faces"
-            if ko not in data or kf not in data:
-                raise bad(f"missing key {ko!r} or {kf!r}")
             cells[r] = (data[ko], data[kf])
             known.update((ko, kf))
-        for name in data:
-            if name.startswith("cells_") and name not in known:
-                raise bad(f"unexpected key {name!r} for n - k = {n - k}")
 
         meta = {}
-        if "meta_json" in data:
-            text = data["meta_json"]
-            if text.shape != () or text.dtype.kind not in "US":
-                raise bad("'meta_json' must be a string")
-            try:
-                meta = json.loads(str(text[()]))
-            except ValueError as exc:
-                raise bad(f"'meta_json' is not valid JSON: {exc}") from None
-            if not isinstance(meta, dict):
-                raise bad("'meta_json' must hold a JSON object")
+        for key in ("meta_json", "run_json"):
+            if key in data:
+                try:
+                    part = json.loads(str(data[key][()]))
+                except ValueError as exc:
+                    raise bad(f"{key!r} is not valid JSON: {exc}") from None
+                if not isinstance(part, dict):
+                    raise bad(f"{key!r} must hold a JSON object")
+                meta.update(part)
         for name, value in data.items():
             if name not in known and name not in meta:
                 meta[name] = value.item() if value.shape == () else value.tolist()
@@ -683,9 +834,11 @@ class CellComplex:
         grid.cell_data["cell_id"] = ids
         return grid
 
-    def save_vtu(self, path):
-        """Write :meth:`to_pyvista` to `path` (a ``.vtu`` file, binary)."""
-        self.to_pyvista().save(os.fspath(path), binary=True)
+    def save_vtu(self, path) -> None:
+        """Write :meth:`to_pyvista` to `path` (a ``.vtu`` file, binary), atomically
+        and with the same checks of `path` as :meth:`save`."""
+        grid = self.to_pyvista()
+        atomic_write(path, lambda temp: grid.save(temp, binary=True), ".vtu")
 
     # --------------------------------------------------------------- misc
 

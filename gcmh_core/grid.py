@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
+from numbers import Integral
+
 import numpy as np
+
+from .errors import InputError
 
 # Grid lines move by at most this fraction of the spacing.  The paper perturbs
 # grid vertices so that none lies exactly on M.  We perturb each grid *line*
@@ -24,8 +28,10 @@ def perturbed_axes(bounds, div, seed: int = 0, amplitude: float = PERTURBATION) 
     then a zero of the interpolant lies on a (k-1)-face of the grid, which the
     Kuhn simplices disagree about (degenerate events, a wrong complex).
     Interior offsets don't depend on the boundary ones.
-    Same (bounds, div, seed), same bits.
+    Same (bounds, div, seed), same bits; seed is any non-negative integer, and
+    distinct seeds give distinct grids.
     """
+    seed = check_seed(seed)
     bounds = np.asarray(bounds, np.float64)
     axes = []
     for a, (lo, hi) in enumerate(bounds):
@@ -34,13 +40,33 @@ def perturbed_axes(bounds, div, seed: int = 0, amplitude: float = PERTURBATION) 
         line = lo + h * np.arange(d + 1, dtype=np.float64)
         line[-1] = hi
         if amplitude:
-            rng = np.random.default_rng([int(seed) & 0xFFFFFFFF, a, 0x67636D68])
+            rng = np.random.default_rng(_entropy(seed, a))
             line[1:-1] += amplitude * h * rng.uniform(-1.0, 1.0, d - 1)
             inward = amplitude * h * rng.uniform(0.0, 1.0, 2)  # drawn after: interior lines unchanged
             line[0] += inward[0]
             line[-1] -= inward[1]
         axes.append(line)
     return axes
+
+
+def check_seed(seed) -> int:
+    """The seed as an int: any non-negative integer (InputError otherwise)."""
+    if isinstance(seed, bool) or not isinstance(seed, (Integral, np.integer)):
+        raise InputError(f"seed must be a non-negative integer, got {seed!r}")
+    if seed < 0:
+        raise InputError(f"seed must be a non-negative integer, got {seed}")
+    return int(seed)
+
+
+def _entropy(seed: int, axis: int) -> list[int]:
+    """The random stream of one axis.  Seeds below 2^32 keep the words they always had
+    (outputs are pinned); a larger seed appends its high part, so it can't fall back on
+    a small seed's grid (they were cut to 32 bits).  numpy's SeedSequence reads a
+    missing fourth word as 0, which no seed >= 2^32 has: distinct seeds, distinct words."""
+    words = [seed & 0xFFFFFFFF, axis, 0x67636D68]
+    if seed >> 32:
+        words.append(seed >> 32)
+    return words
 
 
 def _code_dtype(k: int):
