@@ -14,9 +14,10 @@ from . import _kernels
 from ._hashtable import IntTable
 from .complex import CellComplex, _frozen
 from .errors import Cancelled, InputError
-from .grid import candidate_origins
+from .grid import candidate_corner_sets, candidate_origins
 from .newton import CONVERGED, LEFT_DOMAIN, MOVING, NOT_FINITE, gauss_newton
 from .runner import Grid, unique_first
+from .sweep import enclosure_of, surviving_blocks
 
 __all__ = ["run_continuation", "as_starts", "start_cubes", "project_onto_M"]
 
@@ -76,11 +77,47 @@ def _cubes_of(axes, X: np.ndarray) -> np.ndarray:
     ).astype(np.int64)
 
 
+# start='auto' cuts the grid down to single cubes by F's bounds while at most this many
+# blocks are left at a step (F's enclosure on ~50 nodes: ~0.1 s per 2^16 blocks)
+_AUTO_MAX_BLOCKS = 1 << 18
+
+
+def _bounded_candidates(axes, system) -> np.ndarray | None:
+    """Origins (m, n) of every candidate cube of the grid (those the full sweep hands to the
+    kernel), found without a full sweep: the cubes F's interval bounds leave, tested at
+    their corners.  None when the bounds leave too many blocks (`_AUTO_MAX_BLOCKS`)."""
+    n = len(axes)
+    dims = np.array([len(a) for a in axes], np.int64)
+    found = surviving_blocks(enclosure_of(system), axes, np.zeros(n, np.int64), dims - 1, 1,
+                             max_blocks=_AUTO_MAX_BLOCKS)
+    if found is None or len(found[0]) == 0:
+        return found if found is None else found[0]
+    origins = found[0]
+    strides = np.ones(n, np.int64)
+    for a in range(n - 2, -1, -1):
+        strides[a] = strides[a + 1] * dims[a + 1]
+    corner_off = np.array([sum(int(strides[a]) for a in range(n) if c >> a & 1) for c in range(1 << n)], np.int64)
+    ids = ((origins @ strides)[:, None] + corner_off[None]).reshape(-1)
+    inverse, first = IntTable(capacity=2 * len(ids)).insert(ids)  # each vertex once
+    multi = np.unravel_index(ids[first], tuple(int(d) for d in dims))
+    values = system.evaluate_points(np.stack([axes[a][multi[a]] for a in range(n)], axis=1))
+    return origins[candidate_corner_sets(np.ascontiguousarray(values[inverse]), 1 << n)]
+
+
 def start_cubes(n, axes, bounds, system, sampled, starts) -> np.ndarray:
-    """Origins (m, n) of the cubes to start from."""
+    """Origins (m, n) of the cubes to start from.
+
+    starts == "auto": with sampled data, every cube that crosses M; with a formula, every
+    candidate cube F's bounds find (so continuation reaches every piece of M the full
+    sweep finds, the small ones too), or when the bounds leave too much of the grid, the
+    cubes of a lattice of points projected onto M.
+    """
     if starts == "auto":
         if system is None:  # no Jacobian for sampled data: start from every cube that crosses M
             return candidate_origins(sampled)[0]
+        seeds = _bounded_candidates(axes, system)
+        if seeds is not None and len(seeds):
+            return seeds
         # project a spread of points (a coarse 5^n lattice, capped) onto M
         per_axis = max(2, min(5, int(round(4096 ** (1.0 / n)))))
         lattice = np.stack(
@@ -94,7 +131,8 @@ def start_cubes(n, axes, bounds, system, sampled, starts) -> np.ndarray:
     for x0 in X0:
         outside = [a + 1 for a in range(n) if not bounds[a, 0] <= x0[a] <= bounds[a, 1]]
         if outside:
-            raise InputError(f"start point ({', '.join(f'{v:g}' for v in x0)}) is outside the domain on axis {outside[0]}")
+            point = ", ".join(f"{v:g}" for v in x0)
+            raise InputError(f"start point ({point}) is outside the domain on axis {outside[0]}")
     if system is None:
         X = X0
     else:

@@ -29,7 +29,7 @@ from .errors import Cancelled
 from .interval import Enclosure
 from .runner import Grid
 
-__all__ = ["run_sweep", "surviving_blocks", "SLAB_VERTICES", "PRUNE"]
+__all__ = ["run_sweep", "surviving_blocks", "enclosure_of", "SLAB_VERTICES", "PRUNE"]
 
 # Vertices evaluated per slab: bounds the memory of a run independently of div along axis 0.
 SLAB_VERTICES = 1 << 22
@@ -45,11 +45,16 @@ _BLOCKS_PER_TASK = 128
 # Sweep plainly when the blocks left have more vertices than this share of the grid's:
 # F's bounds did not help (M fills the domain, or F has a function they cannot bound).
 _GIVE_UP_SHARE = 0.5
+# ... or when more blocks than this are left at one step of the cutting (their bounds
+# would cost more than they save; the complex cosine at div 320 leaves 9,000)
+_MAX_BLOCKS = 1 << 20
+# Blocks bounded in one vectorised call (memory: a few (m,) arrays per node of F).
+_BOUND_CHUNK = 1 << 16
 
 _enclosures: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-def _enclosure(system) -> Enclosure:
+def enclosure_of(system) -> Enclosure:
     """One Enclosure per System (the tree is walked once)."""
     enc = _enclosures.get(system)
     if enc is None:
@@ -108,9 +113,10 @@ def _plain_sweep(grid, axes, system, sampled, progress, cancel) -> CellComplex:
     return grid.assemble()
 
 
-def surviving_blocks(enclosure, axes, lo, hi, leaf_cubes, cancel=None):
+def surviving_blocks(enclosure, axes, lo, hi, leaf_cubes, cancel=None, max_blocks=None):
     """The blocks of at most leaf_cubes cubes that F's bounds leave in the block of cubes
-    lo..hi-1 (per axis): (lo, hi) (m, n) int64.
+    lo..hi-1 (per axis): (lo, hi) (m, n) int64; None if more than max_blocks are left
+    at some step (F's bounds do not help, or M is large at that scale).
 
     Blocks are cut in halves, longest axis (in cubes) first; a block where `enclosure`
     shows some component of F to have one sign throughout (so no cube in it is a
@@ -123,9 +129,13 @@ def surviving_blocks(enclosure, axes, lo, hi, leaf_cubes, cancel=None):
     while len(blo):
         if cancel is not None and cancel():
             raise Cancelled("extraction cancelled")
-        xlo = np.stack([axes[a][blo[:, a]] for a in range(n)], axis=1)
-        xhi = np.stack([axes[a][bhi[:, a]] for a in range(n)], axis=1)
-        keep = ~enclosure.excludes_zero(xlo, xhi)
+        if max_blocks is not None and len(blo) > max_blocks:
+            return None
+        keep = np.empty(len(blo), bool)
+        for i in range(0, len(blo), _BOUND_CHUNK):  # (the bound's temporaries: a few per node)
+            xlo = np.stack([axes[a][blo[i : i + _BOUND_CHUNK, a]] for a in range(n)], axis=1)
+            xhi = np.stack([axes[a][bhi[i : i + _BOUND_CHUNK, a]] for a in range(n)], axis=1)
+            keep[i : i + _BOUND_CHUNK] = ~enclosure.excludes_zero(xlo, xhi)
         blo, bhi = blo[keep], bhi[keep]
         leaf = np.prod(bhi - blo, axis=1) <= leaf_cubes
         leaves_lo.append(blo[leaf])
@@ -148,8 +158,12 @@ def _pruned_sweep(grid, axes, system, progress, cancel) -> CellComplex | None:
     leave most of the grid (then the plain sweep is faster)."""
     n = grid.n
     t = time.perf_counter()
-    blo, bhi = surviving_blocks(_enclosure(system), axes, np.zeros(n, np.int64), grid.dims - 1, _LEAF_CUBES, cancel)
+    blocks = surviving_blocks(enclosure_of(system), axes, np.zeros(n, np.int64), grid.dims - 1, _LEAF_CUBES, cancel,
+                              max_blocks=_MAX_BLOCKS)
     bound_seconds = time.perf_counter() - t
+    if blocks is None:
+        return None
+    blo, bhi = blocks
     # the blocks' vertices (shared faces count once per block) against the grid's
     if np.prod(bhi - blo + 1, axis=1).sum() > _GIVE_UP_SHARE * np.prod(grid.dims.astype(np.float64)):
         return None
