@@ -14,21 +14,10 @@
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 
+from .headless import Options, fail, parse_size, prepare_env, render
 from .projection import MAPPINGS
-
-
-def _size(text: str) -> tuple[int, int]:
-    try:
-        w, h = text.lower().replace("*", "x").split("x")
-        w, h = int(w), int(h)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"size must look like 1600x1200, got {text!r}") from None
-    if not (16 <= w <= 16384 and 16 <= h <= 16384):
-        raise argparse.ArgumentTypeError("size out of range (16..16384 pixels per side)")
-    return w, h
 
 
 def _div(text: str):
@@ -47,7 +36,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--session", metavar="FILE", help="open a saved session (.json)")
     p.add_argument("--list", action="store_true", help="list the examples and exit")
     p.add_argument("--screenshot", metavar="PNG", help="render without a window, write this PNG and exit")
-    p.add_argument("--size", type=_size, default=(1600, 1200), metavar="WxH", help="screenshot size (default 1600x1200)")
+    p.add_argument("--size", type=parse_size, default=(1600, 1200), metavar="WxH",
+                   help="screenshot size (default 1600x1200)")
     p.add_argument("--div", type=_div, metavar="N", help="override the example's grid divisions (N or N1,N2,...)")
     p.add_argument("--seed", type=int, default=0, help="grid perturbation seed (default 0)")
     p.add_argument("--method", default="gcmh", type=str.lower,
@@ -80,185 +70,15 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _prepare_env() -> None:
-    if not os.environ.get("XDG_RUNTIME_DIR"):
-        d = os.path.join("/tmp", f"runtime-{os.getuid()}") if hasattr(os, "getuid") else None
-        if d:
-            os.makedirs(d, mode=0o700, exist_ok=True)
-            os.environ["XDG_RUNTIME_DIR"] = d
-
-
-def _fail(msg: str, code: int = 2) -> int:
-    print(f"gcmh-app: {msg}", file=sys.stderr)
-    return code
-
-
-def _headless_prepare(args):
-    """Load the example, check every option against its variables, extract. Returns a dict or an exit code."""
-    from gcmh_core.errors import InputError
-    from gcmh_core.examples import load_example
-    from gcmh_core.extract import CONTINUATION_METHODS
-
-    from .animation import parse_spec
-    from .projection import ProjectionModel
-    from .slicing import SliceWindow, window_range
-    from .worker import Job, run_job
-
-    name = args.example or "klein-bottle"
-    try:
-        ex = load_example(name)
-    except InputError as e:
-        return _fail(str(e))
-    names = list(ex.variables)
-    view = dict(ex.view or {})
-    project = args.project.split(",") if args.project else view.get("project", names[:3])
-    color = args.color or view.get("color")
-    args.mapping = args.mapping or view.get("mapping", "orthographic")
-    spec = None
-    if args.animate:
-        try:
-            spec = parse_spec(args.animate, names)
-        except ValueError as e:
-            return _fail(f"bad --animate: {e}")
-        if not (args.gif or args.mp4):
-            return _fail("--animate needs --gif FILE and/or --mp4 FILE")
-        if args.frames < 1 or args.frames > 10000:
-            return _fail(f"--frames must be between 1 and 10000, got {args.frames}")
-        if not args.fps > 0:
-            return _fail("--fps must be > 0")
-        for f, ext in ((args.gif, ".gif"), (args.mp4, ".mp4")):
-            if f and not f.lower().endswith(ext):
-                return _fail(f"{f!r} must end in {ext}")
-    try:
-        model = ProjectionModel(n=len(names), axes=tuple(names.index(a.strip()) for a in project),
-                                mapping=args.mapping, distance=args.distance)
-        for spec_r in args.rotate:
-            plane, deg = spec_r.split("=")
-            a, b = (names.index(t.strip()) for t in plane.replace("\u2013", "-").split("-"))
-            i, j = min(a, b), max(a, b)
-            sgn = 1.0 if a < b else -1.0
-            model.angles[model.planes.index((i, j))] = sgn * float(deg)
-    except ValueError as e:
-        return _fail(f"bad --project/--rotate/--mapping ({e}); variables are {', '.join(names)}")
-    if args.mapping != "orthographic" and len(names) < 4:
-        return _fail(f"--mapping {args.mapping} needs n >= 4 (this example has n = {len(names)})")
-    if color is not None and color not in names:
-        return _fail(f"--color must be one of {', '.join(names)}")
-    window = None
-    slice_var = spec.var if spec is not None and spec.kind == "slice" else None
-    slice_c = None
-    if args.slice:
-        var, _, c = args.slice.partition("=")
-        try:
-            slice_var, slice_c = names.index(var.strip()), float(c)
-        except ValueError:
-            return _fail(f"bad --slice {args.slice!r}: use VAR=C with VAR one of {', '.join(names)}")
-    if args.slice_width is not None and not args.slice_width > 0:
-        return _fail("--slice-width must be > 0")
-    job = Job(formulas=list(ex.formulas), variables=list(ex.variables), bounds=[tuple(b) for b in ex.bounds],
-              div=args.div if args.div is not None else ex.div, seed=args.seed, method=args.method,
-              start=(list(ex.start) if ex.start else "auto") if args.method in CONTINUATION_METHODS else None)
-    try:
-        cx = run_job(job)
-    except InputError as e:
-        return _fail(str(e))
-    if cx.count(0) == 0:
-        return _fail("the result is empty (no sign change of F on this grid): nothing to draw", 1)
-    model.set_vertices(cx.vertices)
-    if slice_var is not None:
-        window = SliceWindow(slice_var)
-        lo, hi = window_range(cx.vertices, window.direction(model.frame()))
-        window.w = args.slice_width if args.slice_width is not None else max(0.04 * (hi - lo), 1e-9)
-        window.c = slice_c if slice_c is not None else 0.5 * (lo + hi)
-        window.range = (lo, hi)
-    return dict(ex=ex, names=names, model=model, color=color, cx=cx, spec=spec, window=window)
-
-
-def headless_screenshot(args) -> int:
-    """Extract the example, render it off screen with the window's drawing code, write the PNG or the animation."""
-    import numpy as np
-    import pyvista as pv
-
-    from .scene import Scene, Style, animation_images, default_camera, describe
-
-    if args.session:
-        return _headless_session(args)
-    prep = _headless_prepare(args)
-    if isinstance(prep, int):
-        return prep
-    ex, names, model, color, cx = prep["ex"], prep["names"], prep["model"], prep["color"], prep["cx"]
-    window, spec = prep["window"], prep["spec"]
-    w, h = args.size
-    pl = pv.Plotter(off_screen=True, window_size=[w, h])
-    try:
-        scene = Scene(pl)
-        dim = cx.dim
-        sub = describe(cx, names, None if args.two_sided else color)
-        if args.two_sided:
-            sub += " \u00b7 two sides: gold front, blue back"
-        if args.mapping != "orthographic":
-            sub += f" \u00b7 {args.mapping}"
-        scene.set_complex(cx, names, model.view(), Style(color_by=color, title=ex.title, subtitle=sub,
-                                                         two_sided=args.two_sided))
-        if args.boundary:
-            from .geometry import boundary_lines
-            from .scene import BOUNDARY_COLOR
-
-            X, E = boundary_lines(cx)
-            scene.set_overlay("boundary", X, E, BOUNDARY_COLOR, width=4.0, render=False)
-        default_camera(pl)   # fitted to the whole complex: a slice or a tour stays in the picture
-        if window is not None:
-            scene.set_slice(window.direction(model.frame()), window.c, window.w, render=False)
-        if args.transparent:
-            pl.renderer.GradientBackgroundOff()
-        if spec is not None:
-            return _headless_animation(args, scene, model, window, spec, cx)
-        pl.render()
-        img = pl.screenshot(args.screenshot, transparent_background=args.transparent, return_img=True)
-    finally:
-        pl.close()
-    counts = ", ".join(str(c) for c in cx.counts())
-    print(f"{args.screenshot}: {img.shape[1]}x{img.shape[0]}, {ex.title}, dim {dim}, cells by dimension {counts}, "
-          f"chi = {cx.euler_characteristic()}, {cx.meta.get('seconds', float('nan')):.2f} s")
-    return 0 if np.asarray(img).size else 1
-
-
-def _headless_animation(args, scene, model, window, spec, cx) -> int:
-    import numpy as np
-
-    from .animation import frames_for, write_animation
-    from .scene import animation_images
-
-    rng = getattr(window, "range", (0.0, 1.0))
-    if spec.kind == "rotate" and model.mapping == "orthographic":
-        P = model.matrix()
-        i, j = spec.plane
-        if np.allclose(P[:, [i, j]], 0.0):
-            names = scene.names
-            print(f"gcmh-app: note: {names[i]} and {names[j]} are both hidden in this view, so turning their plane "
-                  f"moves nothing on screen (try rotate:{names[int(np.abs(P).sum(0).argmax())]}-{names[i]}, "
-                  "or --mapping perspective)", file=sys.stderr)
-    frames = frames_for(spec, model.angles.copy(), args.frames, slice_range=rng)
-    outs = [p for p in (args.gif, args.mp4) if p]
-    if len(outs) == 1:
-        n = write_animation(outs[0], animation_images(scene, model, frames, window), fps=args.fps)
-    else:   # render once, write both
-        imgs = list(animation_images(scene, model, frames, window))
-        for p in outs:
-            n = write_animation(p, imgs, fps=args.fps)
-    for p in outs:
-        print(f"{p}: {n} frames, {args.size[0]}x{args.size[1]}, {spec.describe(scene.names)}")
-    return 0
-
-
-def _headless_session(args) -> int:
-    """Headless screenshot of a saved session: uses the window's own code, unshown."""
+def _session_screenshot(args) -> int:
+    """A screenshot of a saved session: restoring its view needs the panels, so the window's own code runs,
+    unshown (every other screenshot is drawn without Qt, by app.headless)."""
     from qtpy.QtCore import QEventLoop, QTimer
     from qtpy.QtWidgets import QApplication
 
     from .qt_main_window import QtMainWindow
 
-    app = QApplication.instance() or QApplication(sys.argv[:1])
+    app = QApplication.instance() or QApplication(sys.argv[:1])  # noqa: F841 - kept alive while the window lives
     win = QtMainWindow(example=None)
     loop = QEventLoop()
     outcome = {}
@@ -284,16 +104,16 @@ def _headless_session(args) -> int:
 
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
-    _prepare_env()
+    prepare_env()
     if args.list:
         from gcmh_core.examples import list_examples
         for ex in list_examples():
             print(f"{ex.name:18s} {ex.title}  (n={ex.n}, k={ex.k})")
         return 0
     if args.screenshot or args.animate:
-        return headless_screenshot(args)
+        return _session_screenshot(args) if args.session else render(Options.from_args(args))
     if args.gif or args.mp4:
-        return _fail("--gif/--mp4 need --animate SPEC (rotate:I-J, tour or slice:VAR)")
+        return fail("--gif/--mp4 need --animate SPEC (rotate:I-J, tour or slice:VAR)")
 
     from qtpy.QtWidgets import QApplication
 

@@ -26,6 +26,10 @@ import numpy as np
 
 TOUR_AMPLITUDE = 75.0      # degrees: far enough to see everything, slow enough to follow
 KINDS = ("rotate", "tour", "slice")
+# seconds per period of a playing animation at speed 1 (the Animate tab)
+ROTATE_PERIOD = 12.0
+TOUR_PERIOD = 60.0
+SLICE_PERIOD = 10.0
 
 
 @dataclass
@@ -79,7 +83,8 @@ def parse_spec(text: str, names) -> Spec:
         return Spec("rotate", plane=(min(a, b), max(a, b)), sign=1.0 if a < b else -1.0)
     if kind == "slice":
         if arg not in names:
-            raise ValueError(f"slice needs one of the variables {', '.join(names)}, e.g. slice:{names[-1]}; got {text!r}")
+            raise ValueError(f"slice needs one of the variables {', '.join(names)}, e.g. slice:{names[-1]}; "
+                             f"got {text!r}")
         return Spec("slice", var=names.index(arg))
     raise ValueError(f"unknown animation {text!r}: use rotate:I-J, tour or slice:VAR")
 
@@ -139,6 +144,42 @@ def frames_for(spec: Spec, angles0, frames: int, slice_range=(0.0, 1.0), seed: i
     if spec.kind == "tour":
         return tour_frames(angles0, frames, seed)
     return slice_frames(float(slice_range[0]), float(slice_range[1]), frames)
+
+
+@dataclass
+class Clock:
+    """Where a playing animation is (the Animate tab's live play, not a file).
+
+    ``t`` counts periods since the start and ``angles0`` are the angles the tour
+    started from; each ``*_step(dt)`` advances by ``dt`` seconds (times the
+    speed) and returns what to show next.
+    """
+
+    t: float = 0.0
+    angles0: np.ndarray | None = None
+
+    def start(self, angles, slice_centre: float | None = None) -> None:
+        """A tour starts from the view on screen; a sweep from the slider's place (a fraction in [0, 1])."""
+        self.t = 0.0
+        self.angles0 = np.array(angles, dtype=float)
+        if slice_centre is not None:   # the inverse of sweep_step's ease
+            self.t = float(np.arccos(np.clip(1 - 2 * slice_centre, -1, 1)) / (2 * np.pi))
+
+    @staticmethod
+    def rotate_step(angles, row: int, dt: float) -> np.ndarray:
+        """``angles`` with plane ``row`` turned by dt / ROTATE_PERIOD of a turn, wrapped to [-180, 180)."""
+        a = np.array(angles, dtype=float)
+        a[row] = (a[row] + 360.0 * dt / ROTATE_PERIOD + 180.0) % 360.0 - 180.0
+        return a
+
+    def tour_step(self, dt: float) -> np.ndarray:
+        self.t += dt / TOUR_PERIOD
+        return tour_angles(self.angles0, self.t)
+
+    def sweep_step(self, dt: float) -> float:
+        """The slice centre as a fraction of its range (cosine ease, as :func:`slice_frames`)."""
+        self.t += dt / SLICE_PERIOD
+        return float(0.5 * (1 - np.cos(2 * np.pi * self.t)))
 
 
 def write_animation(path, images, fps: float = 20.0, progress=None, cancel=None) -> int:

@@ -58,9 +58,9 @@ def _proper_polygons(offsets, vids):
 
 def _wedge(a: np.ndarray, b: np.ndarray, pairs) -> np.ndarray:
     """Bivector components ``a_i b_j - a_j b_i`` for each pair (i, j): (m, len(pairs))."""
-    I = np.array([p[0] for p in pairs], dtype=np.int64)
-    J = np.array([p[1] for p in pairs], dtype=np.int64)
-    return a[:, I] * b[:, J] - a[:, J] * b[:, I]
+    ii = np.array([p[0] for p in pairs], dtype=np.int64)
+    jj = np.array([p[1] for p in pairs], dtype=np.int64)
+    return a[:, ii] * b[:, jj] - a[:, jj] * b[:, ii]
 
 
 def oriented_loops(cx, offsets, vids, cell_ids) -> np.ndarray:
@@ -136,9 +136,9 @@ def cross_table(P: np.ndarray) -> np.ndarray:
     pairs = planes(n)
     if not pairs:
         return np.zeros((0, 3))
-    I = [p[0] for p in pairs]
-    J = [p[1] for p in pairs]
-    return np.cross(P[:, I].T, P[:, J].T)
+    ii = [p[0] for p in pairs]
+    jj = [p[1] for p in pairs]
+    return np.cross(P[:, ii].T, P[:, jj].T)
 
 
 def tangent_pair(Bv: np.ndarray, n: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
@@ -299,15 +299,15 @@ class Geometry:
     kind: str
     cells: np.ndarray
     projector: Projector
-    normals: "NormalField | None" = None
+    normals: NormalField | None = None
     offsets: np.ndarray | None = None
     vids: np.ndarray | None = None
     edges: np.ndarray | None = None
     cell_ids: np.ndarray | None = None
     signs: np.ndarray | None = None
-    _mesh_normals: "MeshNormals | None" = None
+    _mesh_normals: MeshNormals | None = None
 
-    def mesh_normals(self) -> "MeshNormals | None":
+    def mesh_normals(self) -> MeshNormals | None:
         """Normals from projected points (for nonlinear views); None for lines."""
         if self.kind != "polygons" or self.normals is None:
             return None
@@ -316,7 +316,7 @@ class Geometry:
         return self._mesh_normals
 
     @classmethod
-    def from_slice(cls, sl, dim: int, n: int, center, radii, cell_ids=None) -> "Geometry":
+    def from_slice(cls, sl, dim: int, n: int, center, radii, cell_ids=None) -> Geometry:
         """Drawing arrays of an :class:`app.slicing.Slice` of a geometry (its loops stay oriented).
 
         ``center`` and ``radii`` are the full complex's, so the slice does not move.
@@ -337,7 +337,7 @@ class Geometry:
                    offsets=sl.offsets, vids=sl.vids, cell_ids=ids, signs=signs)
 
     @classmethod
-    def build(cls, cx) -> "Geometry":
+    def build(cls, cx) -> Geometry:
         V = np.asarray(cx.vertices)
         dim = int(cx.dim)
         projector = Projector(V)

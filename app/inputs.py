@@ -22,8 +22,8 @@ RESERVED = {
 _IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
 # the engine's words for what Python's math raised, said the way a field's message says them
-_PLAIN = {"division by zero": "division by zero", "math domain error": "argument out of range", "Numerical result out of range": "out of range",
-          "math range error": "out of range"}
+_PLAIN = {"division by zero": "division by zero", "math domain error": "argument out of range",
+          "Numerical result out of range": "out of range", "math range error": "out of range"}
 
 
 class NumberError(ValueError):

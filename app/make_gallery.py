@@ -1,9 +1,10 @@
 """Draw the gallery thumbnails: ``python -m app.make_gallery [NAME ...]``.
 
 For every example (or the ones named) this runs the headless screenshot code
-of ``gcmh-app --example NAME --screenshot`` at twice the thumbnail size and
-scales the picture down (the overlay text then fits and the edges are
-smooth), writing ``assets/gallery/<name>.png``.  A thumbnail that would be
+of ``gcmh-app --example NAME --screenshot`` (:func:`app.headless.render`) at
+twice the thumbnail size and scales the picture down (the overlay text then
+fits and the edges are smooth), writing ``app/resources/gallery/<name>.png``
+(package data: the gallery ships with the app).  A thumbnail that would be
 over ``MAX_BYTES`` is stored with a 256-colour palette instead.
 
     python -m app.make_gallery                      # all examples
@@ -17,18 +18,24 @@ import argparse
 import os
 import sys
 import tempfile
+from importlib.resources import files
 from pathlib import Path
+
+from .headless import Options, parse_size, prepare_env, render
 
 SIZE = (320, 240)
 SUPERSAMPLE = 2
 MAX_BYTES = 100_000
 
 
-def gallery_dir() -> Path:
-    """``<repo>/assets/gallery`` (next to ``assets/examples``)."""
-    from gcmh_core.examples import examples_dir
+def gallery_files():
+    """The thumbnails as package data (an importlib.resources Traversable): what the gallery reads."""
+    return files("app") / "resources" / "gallery"
 
-    return examples_dir().parent / "gallery"
+
+def gallery_dir() -> Path:
+    """The thumbnails' folder on disk, ``app/resources/gallery`` in the package: where they are written."""
+    return Path(str(gallery_files()))
 
 
 def thumbnail_path(name: str, folder: Path | None = None) -> Path:
@@ -53,14 +60,10 @@ def make_thumbnail(name: str, out: Path, size: tuple[int, int] = SIZE) -> int:
 
     Raises RuntimeError if the screenshot command fails.
     """
-    from . import __main__ as cli
-
     w, h = size
     with tempfile.TemporaryDirectory() as tmp:
         big = os.path.join(tmp, f"{name}.png")
-        args = cli.build_parser().parse_args(
-            ["--example", name, "--screenshot", big, "--size", f"{SUPERSAMPLE * w}x{SUPERSAMPLE * h}"])
-        status = cli.headless_screenshot(args)
+        status = render(Options(example=name, screenshot=big, size=(SUPERSAMPLE * w, SUPERSAMPLE * h)))
         if status != 0 or not os.path.isfile(big):
             raise RuntimeError(f"screenshot of {name!r} failed (status {status})")
         return _shrink(big, out, size)
@@ -69,14 +72,12 @@ def make_thumbnail(name: str, out: Path, size: tuple[int, int] = SIZE) -> int:
 def main(argv=None) -> int:
     from gcmh_core.examples import example_names
 
-    from .__main__ import _prepare_env, _size
-
     p = argparse.ArgumentParser(prog="python -m app.make_gallery", description=__doc__.splitlines()[0])
     p.add_argument("names", nargs="*", metavar="NAME", help="examples to draw (default: all)")
-    p.add_argument("--out", type=Path, default=None, help="output folder (default: assets/gallery)")
-    p.add_argument("--size", type=_size, default=SIZE, metavar="WxH", help="thumbnail size (default 320x240)")
+    p.add_argument("--out", type=Path, default=None, help="output folder (default: app/resources/gallery)")
+    p.add_argument("--size", type=parse_size, default=SIZE, metavar="WxH", help="thumbnail size (default 320x240)")
     args = p.parse_args(argv)
-    _prepare_env()
+    prepare_env()
     known = example_names()
     names = args.names or known
     unknown = [n for n in names if n not in known]

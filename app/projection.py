@@ -49,6 +49,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+
 from gcmh_core.examples import VIEW_MAPPINGS as MAPPINGS  # (the names an example's [view] may give)
 
 KINDS = ("coordinates", "generic", "principal")
@@ -405,7 +406,7 @@ class ProjectionModel:
         return d
 
     @classmethod
-    def from_dict(cls, n: int, d: dict) -> "ProjectionModel":
+    def from_dict(cls, n: int, d: dict) -> ProjectionModel:
         return cls(n=n, kind=d.get("kind", "coordinates"), axes=tuple(d.get("axes", default_axes(n))),
                    seed=int(d.get("seed", 0)), angles=d.get("angles"),
                    mapping=d.get("mapping", "orthographic"), distance=float(d.get("distance", 3.0)))
@@ -445,7 +446,7 @@ class Projector:
         """Use another complex's scales (a slice keeps the full complex's eye and sphere)."""
         self._radii = (float(radii[0]), float(radii[1]))
 
-    def project_view(self, view: "View", out: np.ndarray | None = None) -> np.ndarray:
+    def project_view(self, view: View, out: np.ndarray | None = None) -> np.ndarray:
         """Write the (V, 3) image of the vertices under ``view`` (any mapping) into ``out``."""
         if view.linear:
             return self.project(view.P, out)

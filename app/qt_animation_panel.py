@@ -5,7 +5,7 @@ emits ``tick(seconds)`` (the time since the last tick, times the speed) and
 the window moves the view by that much, in place. ``exportRequested(format)``
 ("gif" or "mp4") asks the window to render the animation off screen.
 
-Modes (:data:`MODES`): ``rotate`` (the chosen plane, one turn per
+Modes (:data:`MODES`; the periods are in :mod:`app.animation`): ``rotate`` (the chosen plane, one turn per
 ``ROTATE_PERIOD`` seconds at speed 1), ``tour`` (the path of
 :func:`app.animation.tour_angles`, one period per ``TOUR_PERIOD`` seconds) and
 ``slice`` (the slice window's centre sweeps across and back per
@@ -23,9 +23,6 @@ from .qt_widgets import error_label, group, labelled_row, panel_layout, slider_r
 
 MODES = {"rotate": "Rotate in a plane", "tour": "Grand tour (smooth path through projections)",
          "slice": "Sweep the slice window"}
-ROTATE_PERIOD = 12.0
-TOUR_PERIOD = 60.0
-SLICE_PERIOD = 10.0
 TICK_MS = 33
 
 

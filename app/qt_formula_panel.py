@@ -16,13 +16,25 @@ from fractions import Fraction
 from qtpy.QtCore import Signal
 from qtpy.QtGui import QColor
 from qtpy.QtWidgets import (
-    QAbstractItemView, QCheckBox, QComboBox, QFormLayout, QGroupBox, QHBoxLayout, QHeaderView,
-    QLabel, QLineEdit, QSpinBox, QTableWidget, QTableWidgetItem, QVBoxLayout, QWidget,
+    QAbstractItemView,
+    QCheckBox,
+    QComboBox,
+    QFormLayout,
+    QGroupBox,
+    QHBoxLayout,
+    QHeaderView,
+    QLabel,
+    QLineEdit,
+    QSpinBox,
+    QTableWidget,
+    QTableWidgetItem,
+    QVBoxLayout,
+    QWidget,
 )
 
 from . import inputs
+from .jobs import Job
 from .qt_widgets import clear_layout, error_label, group, panel_layout
-from .worker import Job
 
 N_MAX = 12
 ERROR_STYLE = "QLineEdit { border: 2px solid #d33; background: #fff0f0; }"
@@ -194,7 +206,8 @@ class QtFormulaPanel(QWidget):
         self.scheduler_edit = QLineEdit("")
         self.scheduler_edit.setPlaceholderText("this computer")
         self.scheduler_edit.setToolTip("empty: run here; 'local': a Dask cluster of one process per core on this "
-                                       "machine; tcp://host:port: a running `dask scheduler` (pip install gcmh[cluster])")
+                                       "machine; tcp://host:port: a running `dask scheduler` "
+                                       "(pip install -e \".[cluster]\")")
         ml.addRow("run on", self.scheduler_edit)
         self.scheduler_error = _error_label()
         ml.addRow(self.scheduler_error)
@@ -495,7 +508,7 @@ class QtFormulaPanel(QWidget):
             return None
         try:
             import gcmh_core
-            fn = getattr(gcmh_core, "estimate_work")
+            fn = gcmh_core.estimate_work
         except (ImportError, AttributeError):
             return None
         try:

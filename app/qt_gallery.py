@@ -1,8 +1,8 @@
 """QtGallery: pick an example by its picture.
 
-A dialog with one thumbnail per example (``assets/gallery/<name>.png``, drawn
-by ``python -m app.make_gallery``), its title under it, and the selected
-example's description beside the grid.  Double-clicking a thumbnail, pressing
+A dialog with one thumbnail per example (``app/resources/gallery/<name>.png``,
+package data read with importlib.resources, drawn by ``python -m app.make_gallery``),
+its title under it, and the selected example's description beside the grid.  Double-clicking a thumbnail, pressing
 Enter or "Open" emits ``exampleChosen(name)`` and accepts the dialog.
 
     gallery = QtGallery(parent)
@@ -18,8 +18,17 @@ from pathlib import Path
 from qtpy.QtCore import QSize, Qt, Signal
 from qtpy.QtGui import QColor, QIcon, QPainter, QPixmap
 from qtpy.QtWidgets import (
-    QAbstractItemView, QDialog, QDialogButtonBox, QHBoxLayout, QLabel, QListView, QListWidget,
-    QListWidgetItem, QSplitter, QVBoxLayout, QWidget,
+    QAbstractItemView,
+    QDialog,
+    QDialogButtonBox,
+    QHBoxLayout,
+    QLabel,
+    QListView,
+    QListWidget,
+    QListWidgetItem,
+    QSplitter,
+    QVBoxLayout,
+    QWidget,
 )
 
 THUMB = QSize(320, 240)
@@ -45,9 +54,9 @@ class QtGallery(QDialog):
     ----------
     parent : QWidget, optional
     examples : list of gcmh_core.examples.Example, optional
-        Default: every example in ``assets/examples``.
+        Default: every example (:func:`gcmh_core.examples.list_examples`).
     gallery_dir : path, optional
-        Folder of the thumbnails; default ``assets/gallery``.
+        Folder of the thumbnails; default the package's ``app/resources/gallery``.
 
     Signals
     -------
@@ -61,12 +70,12 @@ class QtGallery(QDialog):
         super().__init__(parent)
         from gcmh_core.examples import list_examples
 
-        from .make_gallery import gallery_dir as default_dir
+        from .make_gallery import gallery_files
 
         self.setWindowTitle("Example gallery")
         self.resize(1100, 720)
         self._examples = {ex.name: ex for ex in (list_examples() if examples is None else examples)}
-        self._dir = Path(gallery_dir) if gallery_dir is not None else default_dir()
+        self._dir = Path(gallery_dir) if gallery_dir is not None else gallery_files()
         self._chosen = False
 
         self.grid = QListWidget()
@@ -151,7 +160,9 @@ class QtGallery(QDialog):
 
     def _picture(self, name: str) -> QPixmap:
         path = self._dir / f"{name}.png"
-        pm = QPixmap(str(path)) if path.is_file() else QPixmap()
+        pm = QPixmap()
+        if path.is_file():   # (bytes, not a file name: package data need not be a file on disk)
+            pm.loadFromData(path.read_bytes())
         if pm.isNull():
             return _missing_picture(f"{name}\n(no picture yet: python -m app.make_gallery)")
         return pm

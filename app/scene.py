@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pyvista as pv
 
-from .geometry import Geometry
+from .geometry import Geometry, boundary_lines, grid_cube_lines
 from .projection import Projector, View
 from .slicing import clip_polygons, clip_segments
 
@@ -115,7 +115,8 @@ class Scene:
         self.view: View | None = None
         self.slice: tuple | None = None            # (direction (n,), c, w) or None
         self._mesh_normals = None
-        self.overlays: dict = {}                   # name -> [Geometry-like (projector, cells, kind), mesh, actor, color]
+        # name -> [Geometry-like (projector, cells, kind), mesh, actor, color]
+        self.overlays: dict = {}
         self._overlay_src: dict = {}               # name -> (vertices (m, n), edges (E, 2)) before slicing
         self._ghost = None                         # (mesh, actor): the whole result, faint, while slicing
         plotter.set_background(BACKGROUND, top=BACKGROUND_TOP)
@@ -208,7 +209,7 @@ class Scene:
         self._write_normals()
         self._add_actor()
 
-    def adopt(self, other: "Scene", style: Style | None = None) -> None:
+    def adopt(self, other: Scene, style: Style | None = None) -> None:
         """Show the mesh of another scene (shared, not copied) with its projection."""
         self.complex = other.complex
         self.names = list(other.names)
@@ -307,7 +308,8 @@ class Scene:
                                                       font_size=self._font(18), color="white", name="gcmh-title")
         if self.style.subtitle:
             self._subtitle_actor = self.plotter.add_text(self.style.subtitle, position=(0.02, 0.885), viewport=True,
-                                                         font_size=self._font(11), color="#c8cfdc", name="gcmh-subtitle")
+                                                         font_size=self._font(11), color="#c8cfdc",
+                                                         name="gcmh-subtitle")
 
     # ----------------------------------------------------------- fast update
     def set_projection(self, P, render: bool = True) -> None:
@@ -565,6 +567,44 @@ def describe(cx, names, color_by=None) -> str:
     if color_by:
         text += f" · colour: {color_by}"
     return text
+
+
+def view_subtitle(cx, names, color_by=None, two_sided: bool = False, mapping: str = "orthographic") -> str:
+    """The subtitle of a view (window and headless alike): :func:`describe`, then the two sides and the mapping."""
+    sub = describe(cx, names, None if two_sided else color_by) if cx is not None else ""
+    if two_sided and cx is not None:
+        sub += " \u00b7 two sides: gold front, blue back"
+    if mapping != "orthographic":
+        sub += f" \u00b7 {mapping}"
+    return sub
+
+
+def draw_overlays(scene: Scene, cx, boundary: bool = False, grid: bool = False,
+                  picked: dict | None = None) -> str | None:
+    """Boundary facets (red), grid cubes (faint) and a picked cell (green) as line overlays on ``scene``.
+
+    Returns a message when the grid cubes cannot be drawn (sampled data has no grid), else None.
+    """
+    problem = None
+    if boundary:
+        X, E = boundary_lines(cx)
+        scene.set_overlay("boundary", X, E, BOUNDARY_COLOR, width=4.0, render=False)
+    else:
+        scene.remove_overlay("boundary", render=False)
+    if grid:
+        try:
+            X, E = grid_cube_lines(cx)
+        except ValueError as e:
+            problem = f"Grid cubes: {e}"
+            scene.remove_overlay("grid", render=False)
+        else:
+            scene.set_overlay("grid", X, E, GRID_COLOR, width=1.0, opacity=0.18, render=False)
+    else:
+        scene.remove_overlay("grid", render=False)
+    if picked is not None:
+        X, E = picked["lines"]
+        scene.set_overlay("pick", X, E, PICK_COLOR, width=5.0, render=False)
+    return problem
 
 
 def default_camera(plotter) -> None:

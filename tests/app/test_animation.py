@@ -8,7 +8,13 @@ import numpy as np
 import pytest
 
 from app.animation import (
-    frames_for, parse_spec, rotation_frames, slice_frames, tour_angles, tour_frames, write_animation,
+    frames_for,
+    parse_spec,
+    rotation_frames,
+    slice_frames,
+    tour_angles,
+    tour_frames,
+    write_animation,
 )
 
 NAMES = ["x", "y", "z", "s", "t"]
@@ -146,7 +152,8 @@ def test_headless_screenshot_with_slice_mapping_and_two_sides(tmp_path):
     full, cut = tmp_path / "full.png", tmp_path / "cut.png"
     common = ["--example", "klein-bottle", "--div", "10,10,6,12,12", "--size", "200x150", "--two-sided"]
     assert _run_app(*common, "--screenshot", str(full)).returncode == 0
-    r = _run_app(*common, "--slice", "s=3", "--slice-width", "0.3", "--mapping", "perspective", "--screenshot", str(cut))
+    r = _run_app(*common, "--slice", "s=3", "--slice-width", "0.3", "--mapping", "perspective",
+                 "--screenshot", str(cut))
     assert r.returncode == 0, r.stderr
     a, b = iio.imread(full)[..., :3].astype(int), iio.imread(cut)[..., :3].astype(int)
     assert np.abs(a - b).mean() > 1.0

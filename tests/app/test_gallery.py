@@ -29,16 +29,29 @@ def test_every_example_with_its_picture(gallery):
 
 
 def test_thumbnails_are_real_pictures():
-    from PIL import Image
-    import numpy as np
+    import io
 
-    folder = Path(__file__).resolve().parents[2] / "assets" / "gallery"
+    import numpy as np
+    from PIL import Image
+
+    from app.make_gallery import gallery_files
+
+    folder = gallery_files()      # package data, read as importlib.resources does
     for name in example_names():
-        with Image.open(folder / f"{name}.png") as im:
+        with Image.open(io.BytesIO((folder / f"{name}.png").read_bytes())) as im:
             assert im.size == (320, 240)
             rgb = np.asarray(im.convert("RGB")).reshape(-1, 3)
         # an object in front of the background: many colours, not a blank frame
         assert len(np.unique(rgb, axis=0)) > 200, name
+
+
+def test_thumbnails_ship_inside_the_app_package():
+    import app
+    from app.make_gallery import gallery_dir, thumbnail_path
+
+    package = Path(app.__file__).resolve().parent
+    assert gallery_dir().resolve() == package / "resources" / "gallery"
+    assert thumbnail_path("sphere").resolve().is_file()
 
 
 def test_details_follow_the_selection(gallery):

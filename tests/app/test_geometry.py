@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from app.geometry import Geometry, NormalField, cross_table, polygon_faces, vertex_bivectors
+from app.geometry import Geometry, cross_table, polygon_faces, vertex_bivectors
 from app.projection import ProjectionModel, generic_basis
 
 
@@ -23,7 +23,6 @@ def test_polygon_faces_layout():
 
 def test_sphere_polygons_are_coherently_oriented():
     from gcmh_core import extract
-
     from gcmh_core.analysis import orient_2cells
 
     cx = extract("x^2 + y^2 + z^2 - 1", (-1.5, 1.5), 8, variables="x,y,z")
@@ -88,9 +87,10 @@ def test_curves_are_lines():
 
 def test_mesh_normals_agree_with_bivector_normals_under_a_linear_view():
     """Normals from projected points (nonlinear views) match the exact bivector normals when the view is linear."""
-    from app_helpers import torus_complex
     from app.geometry import Geometry
     from app.projection import ProjectionModel
+
+    from app_helpers import torus_complex
 
     for n in (4, 5):
         cx = torus_complex(40, n)
@@ -112,7 +112,6 @@ def test_mesh_normals_agree_with_bivector_normals_under_a_linear_view():
 def test_mesh_normals_of_a_stereographic_sphere_point_outward():
     """A unit 2-sphere in R^4 (x4 = 0) seen stereographically is the same sphere: normals radial."""
     import gcmh_core
-
     from app.geometry import Geometry
     from app.projection import ProjectionModel
 
@@ -133,10 +132,9 @@ def test_klein_seam_swaps_the_sides():
     """Oriented loops (gcmh_core.analysis.orient_2cells when present) of the Klein sheet: where its s = 0 and
     s = 2 pi edges meet in (x, y, z), the faces on the two sides have opposite normals -- the swap of colours
     that two-sided colouring shows."""
-    from gcmh_core.examples import load_example
-
     from app.geometry import Geometry
-    from app.worker import Job, run_job
+    from app.jobs import Job, run_job
+    from gcmh_core.examples import load_example
 
     ex = load_example("klein-bottle")
     cx = run_job(Job(formulas=list(ex.formulas), variables=list(ex.variables),
@@ -144,7 +142,6 @@ def test_klein_seam_swaps_the_sides():
     geo = Geometry.build(cx)
     X = cx.vertices
     off, vids = geo.offsets, geo.vids
-    F = len(off) - 1
     cent = np.add.reduceat(X[vids], off[:-1], axis=0) / np.diff(off)[:, None]
     # Newell normals of the loops in (x, y, z)
     P = X[:, :3]

@@ -168,7 +168,7 @@ def test_stereographic_maps_known_points():
 
 
 def test_view_frame_and_projector_kinds():
-    from app.projection import Projector, ProjectionModel
+    from app.projection import ProjectionModel, Projector
 
     m = ProjectionModel(n=4)
     F = m.frame()

@@ -121,9 +121,10 @@ def test_window_range_and_bad_input():
 
 def test_any_n_along_a_hidden_direction():
     """A flat torus in R^10, sliced along a direction a generic view hides."""
-    from app_helpers import torus_complex
     from app.projection import ProjectionModel
     from app.slicing import SliceWindow
+
+    from app_helpers import torus_complex
 
     cx = torus_complex(30, 10)
     off, vids = cx.polygons()

@@ -84,7 +84,8 @@ def main(argv=None) -> int:
     a = p.parse_args(argv)
     sizes = [int(s) for s in a.sizes.split(",")]
     dims = [int(s) for s in a.dims.split(",")]
-    print(f"{'vertices':>10} {'n':>3} {'project ms':>11} {'normals ms':>11} {'step ms':>9} {'render ms':>10} {'build s':>8}")
+    print(f"{'vertices':>10} {'n':>3} {'project ms':>11} {'normals ms':>11} {'step ms':>9} {'render ms':>10} "
+          f"{'build s':>8}")
     for V in sizes:
         for n in dims:
             r = bench(V, n, a.steps, a.render, a.mapping)

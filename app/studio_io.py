@@ -1,0 +1,82 @@
+"""Sessions and exports of GCMH Studio, without Qt.
+
+A session is a JSON file (format ``gcmh-session/1``): the title, the Manifold
+tab's system, the View tab's view and the camera. Exports write the cell
+complex (.npz or .vtu) or the projected 3D mesh (.ply, .obj, .vtp, .stl,
+.vtk). The window asks for the paths and reports; the files are written here.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+SESSION_FORMAT = "gcmh-session/1"
+MESH_FORMATS = (".ply", ".obj", ".vtp", ".stl", ".vtk")
+
+
+def camera_state(camera) -> dict:
+    """A pyvista camera as plain numbers."""
+    return {"position": list(camera.position), "focal_point": list(camera.focal_point), "up": list(camera.up),
+            "parallel_scale": float(camera.parallel_scale), "view_angle": float(camera.view_angle)}
+
+
+def apply_camera(camera, state: dict) -> None:
+    """Put a :func:`camera_state` back on a pyvista camera (view angle and scale when given)."""
+    camera.position = state["position"]
+    camera.focal_point = state["focal_point"]
+    camera.up = state["up"]
+    camera.view_angle = state.get("view_angle", camera.view_angle)
+    camera.parallel_scale = state.get("parallel_scale", camera.parallel_scale)
+
+
+def session_dict(model, camera: dict) -> dict:
+    """The session of an :class:`app.model.StudioModel` with a :func:`camera_state`."""
+    return {"format": SESSION_FORMAT, "title": model.title, "system": dict(model.system), "view": dict(model.view),
+            "camera": camera}
+
+
+def write_session(path, session: dict) -> Path:
+    path = Path(path)
+    path.write_text(json.dumps(session, indent=2) + "\n", encoding="utf-8")
+    return path
+
+
+def read_session(path) -> dict:
+    """The session in ``path``; ValueError with a one-line message if it is not one (OSError if unreadable)."""
+    try:
+        d = json.loads(Path(path).read_text(encoding="utf-8"))
+    except json.JSONDecodeError as e:
+        raise ValueError(str(e)) from None
+    if not isinstance(d, dict) or d.get("format") != SESSION_FORMAT:
+        raise ValueError(f"not a GCMH session file (format {SESSION_FORMAT!r} expected)")
+    if not isinstance(d.get("system"), dict):
+        raise ValueError("the session has no system")
+    return d
+
+
+def export_complex(cx, path) -> str:
+    """Write ``cx`` as .vtu (VTK) or .npz (the library's format; added when the name has neither); returns the path."""
+    if cx is None:
+        raise ValueError("nothing to export: no result yet")
+    path = str(path)
+    if path.lower().endswith(".vtu"):
+        cx.save_vtu(path)
+    else:
+        if not path.lower().endswith(".npz"):
+            path += ".npz"
+        cx.save(path)
+    return path
+
+
+def export_mesh(mesh, path, dim: int | None) -> str:
+    """Write a projected pyvista mesh; surfaces are triangulated for .ply, .obj and .stl."""
+    path = str(path)
+    ext = os.path.splitext(path)[1].lower()
+    if ext not in MESH_FORMATS:
+        raise ValueError(f"unknown mesh format {ext!r}: use .ply, .obj or .vtp")
+    if ext in (".ply", ".obj", ".stl") and dim is not None and dim >= 2:
+        mesh = mesh.triangulate()
+    mesh.save(path)
+    return path
