@@ -40,6 +40,7 @@ __all__ = [
     "TooLargeError",
     "Estimate",
     "available_memory",
+    "estimate",
     "estimate_run",
     "check_budget",
     "check_image_size",
@@ -422,6 +423,32 @@ def _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, exp
     )
 
 
+def estimate(
+    F,
+    bounds=None,
+    div=None,
+    *,
+    variables=None,
+    n: int | None = None,
+    k: int | None = None,
+    method: str = "gcmh",
+    scheduler=None,
+) -> Estimate:
+    """The cost of `extract(F, bounds, div, ...)` with the same arguments, without running it
+    (`gcmh extract --dry-run`; the app shows it before a run).  Bad arguments raise the
+    InputError `extract` would."""
+    from ._validate import prepare  # noqa: PLC0415
+    from .runner import METHODS  # noqa: PLC0415
+
+    if method not in METHODS:
+        raise InputError(f"unknown method {method!r}; choose from {', '.join(METHODS)}")
+    if isinstance(div, (list, tuple)) and len(div) == 1:
+        div = div[0]
+    n_, k_, bounds_, div_, system, sampled = prepare(F, variables, n, k, bounds, div)
+    return estimate_run(n_, k_, div_, method=method, bounds=bounds_, system=system, sampled=sampled,
+                        scheduler=scheduler, probe=True)
+
+
 def check_budget(estimate: Estimate, force: bool = False) -> None:
     """Raise TooLargeError when the run won't fit (unless force); the message names
     the estimate and what to change."""
@@ -436,8 +463,11 @@ def check_budget(estimate: Estimate, force: bool = False) -> None:
     else:
         what = f"this run would take about {_format_seconds(e.seconds)} (limit {_format_seconds(e.seconds_limit)})"
     hints = []
-    if e.table_bytes >= 0.5 * e.peak_bytes:
-        hints.append(f"the cube tables for n={e.n}, k={e.k} alone take {format_bytes(e.table_bytes)}")
+    if e.table_bytes >= 0.3 * e.peak_bytes or max(e.div) == 1:
+        hints.append(
+            f"in R^{e.n} a single cube has {3 ** e.n:,} faces (the cube tables alone take "
+            f"{format_bytes(e.table_bytes)}): use fewer variables"
+        )
     else:
         hints.append("use a smaller div")
         if e.method in ("gcmh", "cms"):

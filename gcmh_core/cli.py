@@ -9,9 +9,14 @@ Examples::
     gcmh extract --f "x1**2 + x2**2 - 1/2" --f "x3**2 + x4**2 - 1/2" --bounds -1:1,-1:1,-1:1,-1:1
     gcmh extract --example complex-cosine --div 160 --scheduler local
     gcmh extract --example three-torus --div 12 --scheduler tcp://10.0.0.5:8786 --block 6
+    gcmh extract --example sphere --div 200 --dry-run     # the estimate only
+    gcmh extract --example sphere -o - > sphere.npz       # the .npz on standard output
 
-Exit status: 0 on success, 2 for bad input (one line on stderr, nothing
-written), 1 when an output file cannot be written, 130 when interrupted.
+Exit status: 0 on success, 2 for bad input or a run that would not fit (one line
+on stderr, nothing written; --force runs it anyway), 1 when an output file cannot
+be written or no examples are found, 130 when interrupted (Ctrl-C), 143 when
+terminated (SIGTERM).  Outputs are checked before the run and replaced atomically:
+an interrupted run leaves the old files as they were and no temporary file.
 """
 
 from __future__ import annotations
@@ -20,11 +25,12 @@ import argparse
 import json
 import math
 import os
+import signal
+import stat
 import sys
-import tempfile
-from pathlib import Path
-from typing import Sequence
+from collections.abc import Sequence
 
+from ._safe_io import AtomicFile, check_output
 from .errors import InputError
 from .extract import CONTINUATION_METHODS, METHODS
 
@@ -104,7 +110,10 @@ def _build_parser() -> _Parser:
     )
     grid = p.add_argument_group("grid and method")
     grid.add_argument("--div", metavar="D|D1,...,DN", help="divisions per axis (default: the example's, else 10)")
-    grid.add_argument("--seed", metavar="S", default="0", help="seed of the grid perturbation (default 0)")
+    grid.add_argument(
+        "--seed", metavar="S", default="0",
+        help="seed of the grid perturbation: any non-negative integer (default 0)",
+    )
     grid.add_argument(
         "--method", default="gcmh", metavar="|".join(METHODS),
         help="gcmh: every grid cube (default); gcch: continuation from --start; "
@@ -116,12 +125,27 @@ def _build_parser() -> _Parser:
         "--scheduler", metavar="local|tcp://HOST:PORT",
         help="run on dask: 'local' starts a cluster on this machine; an address uses a running `dask scheduler`",
     )
-    dist.add_argument("--block", metavar="B|B1,...,BN", help="cubes per block along each axis (default: sized to the workers)")
+    dist.add_argument(
+        "--block", metavar="B|B1,...,BN", help="cubes per block along each axis (default: sized to the workers)"
+    )
     out = p.add_argument_group("output")
-    out.add_argument("-o", "--output", metavar="OUT.npz", help="save the cell complex (.npz, gcmh-complex/1)")
+    out.add_argument(
+        "-o", "--output", metavar="OUT.npz",
+        help="save the cell complex (.npz, gcmh-complex/1; '-' writes it to standard output)",
+    )
     out.add_argument("--vtu", metavar="OUT.vtu", help="save the cell complex as a VTK unstructured grid")
     out.add_argument("--json", action="store_true", help="print one JSON object instead of a summary")
     out.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    guard = p.add_argument_group("before the run")
+    guard.add_argument(
+        "--dry-run", action="store_true",
+        help="print the estimated memory and time of the run (with --json: as JSON) and stop",
+    )
+    guard.add_argument(
+        "--force", action="store_true",
+        help="run even when the estimate exceeds the available memory or five minutes "
+        "(limits: $GCMH_MEMORY_LIMIT, $GCMH_TIME_LIMIT seconds)",
+    )
     return parser
 
 
@@ -187,7 +211,9 @@ def _parse_bounds(text: str) -> list[tuple[float, float]]:
             raise InputError(f"--bounds: {err}") from None
         if not lo < hi:
             where = f"interval {i}" if len(items) > 1 else "interval"
-            raise InputError(f"--bounds: lower bound {lo:g} must be below upper bound {hi:g} ({where} {item.strip()!r})")
+            raise InputError(
+                f"--bounds: lower bound {lo:g} must be below upper bound {hi:g} ({where} {item.strip()!r})"
+            )
         pairs.append((lo, hi))
     return pairs
 
@@ -216,14 +242,30 @@ def _parse_start(text: str, n: int):
         raise InputError(f"--start: {err}") from None
 
 
-def _check_writable(path: str, option: str) -> Path:
-    p = Path(path)
-    if p.is_dir():
-        raise InputError(f"{option}: {path!r} is a folder, not a file name")
-    parent = p.parent if str(p.parent) else Path(".")
-    if not parent.is_dir():
-        raise InputError(f"{option}: folder {str(parent)!r} does not exist")
-    return p
+STDOUT = "-"
+
+
+def _check_output(path: str, option: str) -> str:
+    """`path` checked before the run (InputError); '-' for -o is standard output."""
+    if path == STDOUT and option == "-o":
+        if _isatty(sys.stdout):
+            raise InputError("-o -: standard output is a terminal; redirect it to a file or a pipe")
+        return STDOUT
+    try:
+        check_output(path, option)
+    except InputError as err:
+        if option == "-o" and _is_special(path):
+            raise InputError(f"{err}; use -o - to write the .npz to standard output") from None
+        raise
+    return path
+
+
+def _is_special(path: str) -> bool:
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return False
+    return not (stat.S_ISREG(mode) or stat.S_ISDIR(mode))
 
 
 # --------------------------------------------------------------------------
@@ -235,11 +277,11 @@ def _cmd_examples(args) -> int:
     from .examples import list_examples
 
     examples = list_examples()
+    if not examples:
+        where = os.environ.get("GCMH_EXAMPLES_DIR")
+        return _fail(f"no examples found{f' in {where!r} (GCMH_EXAMPLES_DIR)' if where else ''}", status=1)
     if args.json:
         print(json.dumps([{"name": e.name, "n": e.n, "k": e.k, "title": e.title} for e in examples], indent=1))
-        return 0
-    if not examples:
-        print("no examples found")
         return 0
     width = max(len(e.name) for e in examples)
     print(f"{'name':<{width}}  {'n':>2} {'k':>2}  title")
@@ -374,9 +416,13 @@ def _cmd_extract(args) -> int:
     job = _job_from_args(args)
     outputs = []
     if args.output:
-        outputs.append(("npz", _check_writable(args.output, "-o")))
+        outputs.append(("npz", _check_output(args.output, "-o")))
     if args.vtu:
-        outputs.append(("vtu", _check_writable(args.vtu, "--vtu")))
+        outputs.append(("vtu", _check_output(args.vtu, "--vtu")))
+    if any(path == STDOUT for _, path in outputs) and args.json:
+        raise InputError("-o - writes the .npz to standard output: it can't take --json too")
+    if args.dry_run:
+        return _dry_run(args, job)
 
     import gcmh_core
 
@@ -393,16 +439,32 @@ def _cmd_extract(args) -> int:
             progress=progress,
             scheduler=job["scheduler"],
             block=job["block"],
+            force=args.force,
         )
     finally:
         progress.close()
 
     _write_outputs(cx, outputs)
     summary = _summary(cx, job, outputs)
+    report = sys.stderr if any(path == STDOUT for _, path in outputs) else sys.stdout
     if args.json:
-        print(json.dumps(summary))
+        print(json.dumps(summary), file=report)
     else:
-        print(_human(summary, job))
+        print(_human(summary, job), file=report)
+    return 0
+
+
+def _dry_run(args, job) -> int:
+    from .budget import estimate
+
+    cost = estimate(
+        job["F"], job["bounds"], job["div"], variables=job["variables"], method=job["method"],
+        scheduler=job["scheduler"],
+    )
+    if args.json:
+        print(json.dumps(cost.as_dict()))
+    else:
+        print(cost.describe() + ("" if cost.fits else "; would be refused without --force"))
     return 0
 
 
@@ -414,32 +476,55 @@ def _isatty(stream) -> bool:
 
 
 def _write_outputs(cx, outputs) -> None:
-    """Write every output to a temp file beside it, then rename them all (only on success)."""
-    temps = []
+    """Write every output to a temporary file beside it, then move them all into place
+    (signals held meanwhile, so the set is replaced whole).  On any failure or
+    interrupt the temporaries go and the old files stay."""
+    files = []
     try:
         for kind, path in outputs:
-            fd, tmp = tempfile.mkstemp(dir=path.parent if str(path.parent) else ".", prefix=f".{path.name}.", suffix=f".tmp.{kind}")
-            os.close(fd)
-            temps.append(tmp)
+            if path == STDOUT:
+                continue
             try:
+                files.append(out := AtomicFile(path, f".{kind}", "-o" if kind == "npz" else "--vtu"))
                 if kind == "npz":
-                    cx.save(tmp)
+                    with open(out.temp, "wb") as f:
+                        cx.save(f)
                 else:
-                    cx.save_vtu(tmp)
+                    cx.to_pyvista().save(out.temp, binary=True)
             except OSError as err:
-                raise _WriteError(f"cannot write {str(path)!r}: {err.strerror or err}") from None
+                raise _WriteError(f"cannot write {path!r}: {err.strerror or err}") from None
             except ImportError as err:
-                raise _WriteError(f"cannot write {str(path)!r}: {err}") from None
-        for (kind, path), tmp in zip(outputs, temps):
-            os.replace(tmp, path)
-        temps = []
-    finally:
-        for tmp in temps:
-            for candidate in (tmp, tmp + ".npz"):
+                raise _WriteError(f"cannot write {path!r}: {err}") from None
+        if any(path == STDOUT for _, path in outputs):
+            try:
+                cx.save(sys.stdout.buffer)
+                sys.stdout.buffer.flush()
+            except BrokenPipeError:
+                raise _WriteError("standard output was closed before the .npz was written") from None
+        held = _hold_signals()
+        try:
+            for out in files:
                 try:
-                    os.unlink(candidate)
-                except OSError:
-                    pass
+                    out.commit()
+                except OSError as err:
+                    raise _WriteError(f"cannot write {out.path!r}: {err.strerror or err}") from None
+        finally:
+            _release_signals(held)
+    finally:
+        for out in files:
+            out.discard()
+
+
+def _hold_signals():
+    try:
+        return signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+    except (AttributeError, ValueError, OSError):  # not POSIX, or not the main thread
+        return None
+
+
+def _release_signals(previous) -> None:
+    if previous is not None:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
 
 
 class _WriteError(Exception):
@@ -450,7 +535,7 @@ def _as_int_list(value, n):
     try:
         if value is None:
             return None
-        if isinstance(value, (int,)) or (hasattr(value, "ndim") and getattr(value, "ndim") == 0):
+        if isinstance(value, int) or getattr(value, "ndim", None) == 0:
             return [int(value)] * n
         return [int(v) for v in value]
     except (TypeError, ValueError):
@@ -477,6 +562,7 @@ def _summary(cx, job, outputs) -> dict:
         "example": job["name"],
         "scheduler": meta.get("scheduler"),
         "blocks": meta.get("blocks"),
+        "timings": meta.get("timings"),
         "files": {kind: str(path) for kind, path in outputs},
     }
 
@@ -512,12 +598,52 @@ def _fail(message: str, status: int = 2) -> int:
     return status
 
 
+class _Terminated(BaseException):
+    """SIGTERM, raised where the program is (like KeyboardInterrupt for SIGINT), so that
+    every `finally` runs: temporary files are removed, old outputs stay."""
+
+
+def _install_signal_handlers():
+    """SIGINT -> KeyboardInterrupt, SIGTERM -> _Terminated, each raised once only: a second
+    signal during the cleanup must not interrupt the cleanup."""
+    raised = []
+
+    def handler(signum, frame):
+        if raised:
+            return
+        raised.append(signum)
+        raise KeyboardInterrupt if signum == signal.SIGINT else _Terminated
+
+    previous = {}
+    try:
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            previous[sig] = signal.signal(sig, handler)
+    except ValueError:  # not the main thread: leave the handlers alone
+        pass
+    return previous
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``gcmh`` console script; returns the exit status."""
     if argv is None:
         argv = sys.argv[1:]
-    parser = _build_parser()
+    previous = _install_signal_handlers()
     try:
+        return _main(argv)
+    except KeyboardInterrupt:
+        print(f"{PROG}: interrupted", file=sys.stderr)
+        return 130
+    except _Terminated:
+        print(f"{PROG}: terminated", file=sys.stderr)
+        return 143
+    finally:
+        for sig, old in previous.items():
+            signal.signal(sig, old)
+
+
+def _main(argv: Sequence[str]) -> int:
+    try:
+        parser = _build_parser()
         args = parser.parse_args(_glue_values(argv))
         if args.command is None:
             return _fail("choose a command: examples or extract (see gcmh --help)")
@@ -530,9 +656,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _fail(str(err))
     except _WriteError as err:
         return _fail(str(err), status=1)
-    except KeyboardInterrupt:
-        print(f"{PROG}: interrupted", file=sys.stderr)
-        return 130
     except MemoryError:
         return _fail("out of memory: try a smaller --div", status=1)
     except BrokenPipeError:  # e.g. gcmh examples | head -1
