@@ -3,8 +3,7 @@
     >>> from gcmh_core import extract
     >>> M = extract("x1^2 + x2^2 + x3^2 - 1", bounds=(-1.5, 1.5), div=16)
 
-Imports numpy and numba only (sympy once a formula is parsed); never Qt, VTK,
-pyvista or dask.
+Imports numpy, numba and sympy; never Qt, VTK, pyvista or dask.
 """
 
 import importlib
@@ -20,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 os.environ.setdefault("GOMP_SPINCOUNT", "10000")
 
 from .analysis import boundary_components, orient_2cells, refine_vertices, topology_report  # noqa: E402
+from .budget import TooLargeError  # noqa: E402
 from .complex import CellComplex  # noqa: E402
 from .errors import Cancelled, InputError  # noqa: E402
 from .extract import CONTINUATION_METHODS, METHODS, SIMPLICIAL_METHODS, estimate_work, extract  # noqa: E402
@@ -37,6 +37,7 @@ __all__ = [
     "Example",
     "InputError",
     "System",
+    "TooLargeError",
     "boundary_components",
     "estimate_work",
     "evaluate_constant",
@@ -51,7 +52,8 @@ __all__ = [
 __version__ = "0.1.0"
 
 # Loaded on first use (PEP 562): the formula parser brings sympy, about a third of a
-# second, which an extraction from sampled values or a saved complex never needs.
+# second, which an extraction from sampled values or a saved complex never needs
+# (as long as the engine's modules import it only when a formula is parsed).
 _LAZY = {
     "System": "formula",
     "evaluate_constant": "formula",

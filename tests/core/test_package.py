@@ -25,13 +25,13 @@ def _python(code: str, cwd: Path = ROOT) -> str:
     return proc.stdout
 
 
-def test_import_loads_no_gui_no_cluster_no_parser():
+def test_import_loads_no_gui_and_no_cluster():
     # a fresh interpreter: this one has imported whatever the other tests needed
     code = ("import json, sys, gcmh_core; "
             "print(json.dumps(sorted(m.split('.')[0] for m in sys.modules)))")
     top = set(json.loads(_python(code)))
     assert "numpy" in top and "numba" in top
-    for heavy in ("PyQt5", "qtpy", "vtk", "vtkmodules", "pyvista", "pyvistaqt", "dask", "distributed", "sympy", "app"):
+    for heavy in ("PyQt5", "qtpy", "vtk", "vtkmodules", "pyvista", "pyvistaqt", "dask", "distributed", "app"):
         assert heavy not in top, heavy
 
 
