@@ -31,7 +31,6 @@ import functools
 import math
 
 import numpy as np
-import sympy
 
 __all__ = ["Enclosure"]
 
@@ -190,29 +189,38 @@ def _power(b, q):
     return _widen(lo, hi, bok & qok & (blo > 0), _FN)
 
 
-_FUNCTIONS = {
-    sympy.sin: _sin_cos(np.sin, math.pi / 2, -math.pi / 2),
-    sympy.cos: _sin_cos(np.cos, 0.0, math.pi),
-    sympy.tan: _tan,
-    sympy.asin: lambda a: _monotone(np.arcsin, a, domain=lambda lo, hi: (lo >= -1) & (hi <= 1)),
-    sympy.acos: lambda a: _monotone(np.arccos, a, False, domain=lambda lo, hi: (lo >= -1) & (hi <= 1)),
-    sympy.atan: lambda a: _monotone(np.arctan, a),
-    sympy.atan2: _atan2,
-    sympy.sinh: lambda a: _monotone(np.sinh, a),
-    sympy.cosh: _cosh,
-    sympy.tanh: lambda a: _monotone(np.tanh, a),
-    sympy.exp: lambda a: _monotone(np.exp, a),
-    sympy.log: lambda a: _monotone(np.log, a, domain=lambda lo, hi: lo > 0),
-    sympy.Abs: _abs,
-    sympy.sign: _sign,
-    sympy.Heaviside: _heaviside,
-    sympy.Max: _pairwise(np.maximum),
-    sympy.Min: _pairwise(np.minimum),
-}
+@functools.cache
+def _tables():
+    """(sympy function -> bound, its argument counts), built on first use: sympy is
+    imported only when a formula is bounded (`import gcmh_core` loads no sympy)."""
+    import sympy  # noqa: PLC0415
+
+    functions = {
+        sympy.sin: _sin_cos(np.sin, math.pi / 2, -math.pi / 2),
+        sympy.cos: _sin_cos(np.cos, 0.0, math.pi),
+        sympy.tan: _tan,
+        sympy.asin: lambda a: _monotone(np.arcsin, a, domain=lambda lo, hi: (lo >= -1) & (hi <= 1)),
+        sympy.acos: lambda a: _monotone(np.arccos, a, False, domain=lambda lo, hi: (lo >= -1) & (hi <= 1)),
+        sympy.atan: lambda a: _monotone(np.arctan, a),
+        sympy.atan2: _atan2,
+        sympy.sinh: lambda a: _monotone(np.sinh, a),
+        sympy.cosh: _cosh,
+        sympy.tanh: lambda a: _monotone(np.tanh, a),
+        sympy.exp: lambda a: _monotone(np.exp, a),
+        sympy.log: lambda a: _monotone(np.log, a, domain=lambda lo, hi: lo > 0),
+        sympy.Abs: _abs,
+        sympy.sign: _sign,
+        sympy.Heaviside: _heaviside,
+        sympy.Max: _pairwise(np.maximum),
+        sympy.Min: _pairwise(np.minimum),
+    }
+    arity = {sympy.atan2: (2,), sympy.Heaviside: (1, 2), sympy.Max: (2,), sympy.Min: (2,)}
+    return functions, arity
+
+
 # formula's own two-argument max/min (kept as written); matched by name so that this
 # module depends on System's public attributes only
 _BY_NAME = {"_Max2": _pairwise(np.maximum), "_Min2": _pairwise(np.minimum)}
-_ARITY = {sympy.atan2: (2,), sympy.Heaviside: (1, 2), sympy.Max: (2,), sympy.Min: (2,)}
 
 
 def _sum(*terms):
@@ -269,6 +277,8 @@ class Enclosure:
     def _rule(self, expr):
         """(function of the argument triples, argument slots) for one node; mirrors the
         evaluator's reading of the tree (formula._compile) so that the induction holds."""
+        import sympy  # noqa: PLC0415  (loaded already: expr is a sympy expression)
+
         if expr.is_Number or expr.is_NumberSymbol or expr in (sympy.I, sympy.zoo):
             try:
                 value = float(expr)
@@ -296,7 +306,8 @@ class Enclosure:
                     return (lambda: _NOTHING), ()
                 return (lambda b: _power_const(b, c)), [self._node(base)]
             return _power, [self._node(base), self._node(p)]
-        fn, arity = _FUNCTIONS.get(expr.func), _ARITY.get(expr.func, (1,))
+        functions, arities = _tables()
+        fn, arity = functions.get(expr.func), arities.get(expr.func, (1,))
         if fn is None and type(expr).__name__ in _BY_NAME:
             fn, arity = _BY_NAME[type(expr).__name__], (2,)
         if fn is None or len(expr.args) not in arity:
