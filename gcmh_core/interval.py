@@ -339,4 +339,4 @@ class Enclosure:
         has one sign throughout (>= 0 everywhere, or < 0 everywhere: the candidate
         test's two signs), so no cube inside can cross M."""
         L, H, ok = self.bound(lo, hi)
-        return ok.all(axis=1) & ((L >= 0) | (H < 0)).any(axis=1)
+        return np.asarray(ok.all(axis=1) & ((L >= 0) | (H < 0)).any(axis=1))
