@@ -56,7 +56,7 @@ def check_output(path, what: str = "output") -> str:
     target = os.path.realpath(text) if os.path.islink(text) else text
     try:
         st = os.stat(target)
-    except FileNotFoundError:
+    except (FileNotFoundError, NotADirectoryError):  # (the folder is checked below)
         st = None
     except OSError as err:
         raise InputError(f"{what}: cannot use {text!r}: {err.strerror}") from None

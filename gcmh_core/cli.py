@@ -22,6 +22,7 @@ an interrupted run leaves the old files as they were and no temporary file.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import os
@@ -32,7 +33,9 @@ from collections.abc import Sequence
 
 from ._safe_io import AtomicFile, check_output
 from .errors import InputError
-from .extract import CONTINUATION_METHODS, METHODS
+
+# Nothing heavy is imported here: the engine (numba, sympy) is imported inside main(),
+# after the signal handlers are in place, so Ctrl-C while it loads ends in one line too.
 
 PROG = "gcmh"
 
@@ -73,6 +76,8 @@ def _glue_values(argv: Sequence[str]) -> list[str]:
 
 
 def _build_parser() -> _Parser:
+    from .extract import METHODS
+
     parser = _Parser(
         prog=PROG,
         description="Extract implicit manifolds F^-1(0), F: R^n -> R^k, as cell complexes (GCMH).",
@@ -310,6 +315,8 @@ def _job_from_args(args) -> dict:
         if bounds is None:
             bounds = list(ex.bounds)
         div = ex.div
+        from .extract import CONTINUATION_METHODS
+
         start = ex.start if args.method.strip().lower() in CONTINUATION_METHODS else None
         name = ex.name
     else:
@@ -485,12 +492,14 @@ def _write_outputs(cx, outputs) -> None:
             if path == STDOUT:
                 continue
             try:
-                files.append(out := AtomicFile(path, f".{kind}", "-o" if kind == "npz" else "--vtu"))
+                with _signals.held():  # (a temporary made is a temporary listed)
+                    files.append(out := AtomicFile(path, f".{kind}", "-o" if kind == "npz" else "--vtu"))
                 if kind == "npz":
                     with open(out.temp, "wb") as f:
                         cx.save(f)
-                else:
-                    cx.to_pyvista().save(out.temp, binary=True)
+                else:  # VTK crashed when a signal's exception was raised inside it
+                    with _signals.held():
+                        cx.to_pyvista().save(out.temp, binary=True)
             except OSError as err:
                 raise _WriteError(f"cannot write {path!r}: {err.strerror or err}") from None
             except ImportError as err:
@@ -501,30 +510,16 @@ def _write_outputs(cx, outputs) -> None:
                 sys.stdout.buffer.flush()
             except BrokenPipeError:
                 raise _WriteError("standard output was closed before the .npz was written") from None
-        held = _hold_signals()
-        try:
+        with _signals.held():  # the set is replaced whole, then a signal counts
             for out in files:
                 try:
                     out.commit()
                 except OSError as err:
                     raise _WriteError(f"cannot write {out.path!r}: {err.strerror or err}") from None
-        finally:
-            _release_signals(held)
     finally:
-        for out in files:
-            out.discard()
-
-
-def _hold_signals():
-    try:
-        return signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
-    except (AttributeError, ValueError, OSError):  # not POSIX, or not the main thread
-        return None
-
-
-def _release_signals(previous) -> None:
-    if previous is not None:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+        with _signals.held():
+            for out in files:
+                out.discard()
 
 
 class _WriteError(Exception):
@@ -603,31 +598,58 @@ class _Terminated(BaseException):
     every `finally` runs: temporary files are removed, old outputs stay."""
 
 
-def _install_signal_handlers():
-    """SIGINT -> KeyboardInterrupt, SIGTERM -> _Terminated, each raised once only: a second
-    signal during the cleanup must not interrupt the cleanup."""
-    raised = []
+class _Signals:
+    """SIGINT -> KeyboardInterrupt, SIGTERM -> _Terminated, raised where the program is,
+    once only (a second signal must not interrupt the cleanup), and held back while
+    `held()`: inside it a signal is remembered and raised when it ends."""
 
-    def handler(signum, frame):
-        if raised:
+    def __init__(self):
+        self.hold = 0
+        self.pending = None
+        self.raised = False
+
+    def handler(self, signum, frame):
+        if self.raised:
             return
-        raised.append(signum)
+        if self.hold:
+            self.pending = signum
+            return
+        self.fire(signum)
+
+    def fire(self, signum):
+        self.raised = True
         raise KeyboardInterrupt if signum == signal.SIGINT else _Terminated
 
-    previous = {}
-    try:
-        for sig in (signal.SIGINT, signal.SIGTERM):
-            previous[sig] = signal.signal(sig, handler)
-    except ValueError:  # not the main thread: leave the handlers alone
-        pass
-    return previous
+    @contextlib.contextmanager
+    def held(self):
+        self.hold += 1
+        try:
+            yield
+        finally:
+            self.hold -= 1
+            if not self.hold and self.pending is not None and not self.raised:
+                self.fire(self.pending)
+
+    def install(self) -> dict:
+        previous = {}
+        try:
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                previous[sig] = signal.signal(sig, self.handler)
+        except ValueError:  # not the main thread: leave the handlers alone
+            pass
+        return previous
+
+
+_signals = _Signals()
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``gcmh`` console script; returns the exit status."""
     if argv is None:
         argv = sys.argv[1:]
-    previous = _install_signal_handlers()
+    global _signals
+    _signals = _Signals()
+    previous = _signals.install()
     try:
         return _main(argv)
     except KeyboardInterrupt:
