@@ -1,0 +1,185 @@
+"""gcmh_core.budget: the estimate of a run's memory and work, against measured peaks.
+
+The peaks are measured in a child process: its peak RSS (ru_maxrss) after the run,
+minus its peak after importing gcmh_core and compiling the kernels (a tiny run).
+The quick cases run in seconds; GCMH_BUDGET_PROFILE=long measures the whole table
+of the report (n = 2..10, a few minutes):
+
+    GCMH_BUDGET_PROFILE=long .venv/bin/python -m pytest tests/core/test_budget.py -s -p no:xvfb
+"""
+
+import json
+import os
+import subprocess
+import sys
+from math import factorial
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gcmh_core import budget
+from gcmh_core._tables import simplex_tables
+from gcmh_core.errors import InputError
+from gcmh_core.formula import parse_system
+
+REPO = Path(__file__).resolve().parents[2]
+LONG = os.environ.get("GCMH_BUDGET_PROFILE") == "long"
+
+# A child: compile, note the peak, estimate, run, note the peak again.
+CHILD = r"""
+import json, resource, sys
+import gcmh_core
+from gcmh_core import budget
+from gcmh_core.formula import parse_system
+n, k, div, method = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
+gcmh_core.extract("x1^2+x2^2-1", bounds=(-1.5, 1.5), div=4, method=method)
+F = ["+".join(f"x{i}^2" for i in range(1, n + 1)) + "-1"]
+F += [f"x{j} + 0.3*x{j + 1} - 0.1*{j}" for j in range(1, k)]
+system = parse_system(F, n=n)
+est = budget.estimate_run(n, k, div, method=method, bounds=[(-1.5, 1.5)] * n, system=system, probe=True)
+base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+cx = gcmh_core.extract(F, bounds=(-1.5, 1.5), div=div, n=n, method=method, force=True)
+peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+print(json.dumps(dict(measured=(peak - base) * 1024, estimate=est.peak_bytes, seconds=cx.meta["seconds"],
+                      estimate_seconds=est.seconds, cand=cx.meta["candidate_cubes"],
+                      expected=est.candidate_cubes)))
+"""
+
+
+def measure(n, k, div, method="gcmh") -> dict:
+    proc = subprocess.run([sys.executable, "-c", CHILD, str(n), str(k), str(div), method],
+                          capture_output=True, text=True, cwd=REPO, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    return json.loads(proc.stdout.splitlines()[-1])
+
+
+QUICK = [(3, 1, 200, "gcmh"), (4, 1, 24, "gcmh"), (5, 2, 28, "gcmh"), (9, 1, 2, "gcmh")]
+PROFILE = [
+    (3, 1, 100, "gcmh"), (3, 1, 300, "gcmh"), (3, 2, 600, "gcmh"), (4, 1, 48, "gcmh"),
+    (4, 2, 80, "gcmh"), (4, 3, 100, "gcmh"), (5, 1, 12, "gcmh"), (5, 1, 20, "gcmh"),
+    (5, 2, 16, "gcmh"), (5, 3, 20, "gcmh"), (5, 4, 40, "gcmh"), (6, 1, 8, "gcmh"),
+    (6, 1, 12, "gcmh"), (6, 2, 10, "gcmh"), (6, 4, 14, "gcmh"), (7, 1, 4, "gcmh"),
+    (7, 1, 6, "gcmh"), (7, 2, 6, "gcmh"), (8, 1, 4, "gcmh"), (8, 2, 4, "gcmh"),
+    (10, 1, 2, "gcmh"), (2, 1, 4000, "gcmh"), (4, 1, 64, "gcch"), (5, 1, 24, "gcch"),
+]
+
+
+@pytest.mark.parametrize("n, k, div, method", PROFILE if LONG else QUICK)
+def test_estimate_within_a_factor_of_two_of_the_measured_peak(n, k, div, method):
+    m = measure(n, k, div, method)
+    ratio = m["estimate"] / max(m["measured"], 1)
+    print(f"\n  n={n} k={k} div={div} {method}: candidates {m['cand']:,} (expected {m['expected']:,}), "
+          f"peak {m['measured'] / 1e6:.0f} MB, estimate {m['estimate'] / 1e6:.0f} MB ({ratio:.2f}), "
+          f"{m['seconds']:.2f} s (estimate {m['estimate_seconds']:.2f} s)")
+    assert 0.5 <= ratio <= 2.0, m
+
+
+# ------------------------------------------------------------------ the parts
+
+@pytest.mark.parametrize("n, k", [(2, 1), (3, 1), (3, 2), (4, 2), (5, 1), (5, 3)])
+def test_simplicial_rows_count_the_tables(n, k):
+    assert budget.simplicial_rows(n, k) == len(simplex_tables(n, k).c0)
+
+
+def test_table_cost_counts():
+    peak, entries = budget.table_cost(3, 1)
+    # 3-cube: 12 edges + 6 squares + 1 cube; 12 Kuhn edges; 6 squares x (4 + 4) walk entries; template 2! x 3
+    assert entries == 19 + 12 + 48 + 6
+    assert budget.table_cost(16, 1)[0] > 5e9 > budget.table_cost(12, 1)[0]
+
+
+def test_the_exact_probe_counts_the_candidate_cubes():
+    import gcmh_core
+
+    system = parse_system(["x1^2 + x2^2 + x3^2 - 1"], n=3)
+    est = budget.estimate_run(3, 1, 24, bounds=[(-1.5, 1.5)] * 3, system=system, probe=True)
+    cx = gcmh_core.extract("x1^2 + x2^2 + x3^2 - 1", bounds=(-1.5, 1.5), div=24)
+    assert abs(est.candidate_cubes - cx.meta["candidate_cubes"]) <= 0.02 * cx.meta["candidate_cubes"]
+    # a plane crosses a cube's faces as the random-plane count says: 4 edges, 4 squares, 1 cube
+    assert budget._random_plane_faces(3, 1).tolist() == [0.0, 4.0, 4.0, 1.0]
+    assert budget._random_plane_faces(4, 2).tolist() == [0.0, 0.0, 4.0, 4.0, 1.0]
+
+
+def test_sampled_values_are_probed_without_formulas():
+    x = np.linspace(-1.5, 1.5, 41)
+    values = (x[:, None, None] ** 2 + x[None, :, None] ** 2 + x[None, None, :] ** 2 - 1)[..., None]
+    est = budget.estimate_run(3, 1, 40, bounds=[(-1.5, 1.5)] * 3, sampled=values, probe=True)
+    assert 0 < est.candidate_cubes < 40**3 and est.fits
+
+
+def test_grid_too_large_to_index_is_refused_even_forced():
+    with pytest.raises(InputError, match="too large to index"):
+        budget.estimate_run(3, 1, 10**8)
+    with pytest.raises(InputError, match="at most 7"):
+        budget.estimate_run(8, 1, 2, method="cms")
+
+
+def test_small_runs_skip_the_probe(monkeypatch):
+    def no_probe(*args):
+        raise AssertionError("probed")
+
+    monkeypatch.setattr(budget, "_probe", no_probe)
+    system = parse_system(["x1^2 + x2^2 + x3^2 - 1"], n=3)
+    est = budget.estimate_run(3, 1, 16, bounds=[(-1.5, 1.5)] * 3, system=system)
+    assert est.candidate_cubes == 16**3 and est.fits  # the upper bound: every cube crossed
+
+
+def test_limits_from_the_environment(monkeypatch):
+    monkeypatch.setenv("GCMH_MEMORY_LIMIT", "2.5G")
+    assert budget.available_memory() == 2_500_000_000
+    for bad in ("lots", "-1G", "0"):
+        monkeypatch.setenv("GCMH_MEMORY_LIMIT", bad)
+        with pytest.raises(InputError, match="GCMH_MEMORY_LIMIT"):
+            budget.available_memory()
+    monkeypatch.delenv("GCMH_MEMORY_LIMIT")
+    assert 0 < budget.available_memory()
+    monkeypatch.setenv("GCMH_TIME_LIMIT", "0.001")
+    system = parse_system(["x1^2 + x2^2 + x3^2 - 1"], n=3)
+    est = budget.estimate_run(3, 1, 200, bounds=[(-1.5, 1.5)] * 3, system=system, probe=True)
+    assert not est.fits
+    with pytest.raises(budget.TooLargeError, match=r"would take about .* \(limit"):
+        budget.check_budget(est)
+    budget.check_budget(est, force=True)
+
+
+def test_message_names_the_estimate_and_the_remedies(monkeypatch):
+    monkeypatch.setenv("GCMH_MEMORY_LIMIT", "1G")
+    system = parse_system(["x1^2+x2^2+x3^2+x4^2+x5^2+x6^2-1"], n=6)
+    est = budget.estimate_run(6, 1, 40, bounds=[(-1.5, 1.5)] * 6, system=system)
+    with pytest.raises(budget.TooLargeError) as info:
+        budget.check_budget(est)
+    message = str(info.value)
+    assert "\n" not in message
+    for words in ("needs about", "GB", "1 GB is available", "smaller div", "gcch", "cluster", "force"):
+        assert words in message
+    d = est.as_dict()
+    assert d["fits"] is False and d["div"] == [40] * 6 and json.dumps(d)
+
+
+# ------------------------------------------------------------------ images and animations (for the app)
+
+@pytest.mark.parametrize("w, h, words", [
+    (8193, 100, "limit of 8192"), (0, 10, "at least 1"), (8192, 8192, "pixels"), (1.5, 10, "integer"),
+])
+def test_image_size_limits(w, h, words):
+    with pytest.raises(InputError, match=words):
+        budget.check_image_size(w, h)
+
+
+def test_image_and_frame_limits_accept_the_usual(monkeypatch):
+    budget.check_image_size(1920, 1080)
+    budget.check_image_size(8192, 4096)
+    budget.check_frames(120, 800, 600)
+    with pytest.raises(InputError, match="limit of 2000"):
+        budget.check_frames(10000, 800, 600)
+    monkeypatch.setenv("GCMH_MEMORY_LIMIT", "100M")
+    with pytest.raises(budget.TooLargeError, match="fewer frames"):
+        budget.check_frames(1000, 1920, 1080)
+
+
+def test_factorial_growth_of_k_tables_is_counted():
+    # k! Kuhn simplices per k-face: the tables of k = 6 in R^8 took 101 MB to build, of k = 1 about 1 MB
+    assert budget.table_cost(8, 6)[0] > 20 * budget.table_cost(8, 1)[0]
+    assert 50e6 < budget.table_cost(8, 6)[0] < 200e6
+    assert factorial(7) * 8 < budget.table_cost(8, 6)[1]
