@@ -1,4 +1,4 @@
-"""The studio's menus, their actions and shortcuts, and the file dialogs behind them.
+"""The studio's menus, their actions and shortcuts, and the dialogs behind them.
 
 :class:`StudioActions` fills a window's menu bar (File, Run, View, Examples)
 and connects each action to the window's public methods; the File menu's
@@ -20,8 +20,11 @@ from qtpy.QtWidgets import (
     QFormLayout,
     QHBoxLayout,
     QLabel,
+    QMessageBox,
     QSpinBox,
 )
+
+from .inputs import human_bytes
 
 
 class QtScreenshotDialog(QDialog):
@@ -48,6 +51,30 @@ class QtScreenshotDialog(QDialog):
         bb.accepted.connect(self.accept)
         bb.rejected.connect(self.reject)
         f.addRow(bb)
+
+
+def ask_big_run(parent, est: dict, avail: int, gcch: bool):
+    """Ask whether to start a run that needs more memory than is available (``est``: dict(bytes, cubes)).
+
+    Returns "run" (go ahead), "gcch" (switch to continuation and run; offered when ``gcch``) or None.
+    """
+    msg = (f"This run needs about {human_bytes(est.get('bytes', 0))} of memory "
+           f"({est.get('cubes', 0):,} cubes), but only {human_bytes(avail)} is available.\n\n"
+           "Choose a smaller div"
+           + (", or use continuation (GCCH), which only visits the cubes the manifold passes through."
+              if gcch else ".")
+           + "\n\nRun anyway?")
+    box = QMessageBox(QMessageBox.Warning, "A very large run", msg, QMessageBox.NoButton, parent)
+    run_b = box.addButton("Run anyway", QMessageBox.DestructiveRole)
+    gcch_b = box.addButton("Use continuation", QMessageBox.AcceptRole) if gcch else None
+    box.addButton(QMessageBox.Cancel)
+    box.exec_()
+    clicked = box.clickedButton()
+    if clicked is run_b:
+        return "run"
+    if gcch_b is not None and clicked is gcch_b:
+        return "gcch"
+    return None
 
 
 class StudioActions:

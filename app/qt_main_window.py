@@ -26,7 +26,6 @@ from qtpy.QtWidgets import (
     QHBoxLayout,
     QLabel,
     QMainWindow,
-    QMessageBox,
     QProgressBar,
     QPushButton,
     QScrollArea,
@@ -38,7 +37,7 @@ from qtpy.QtWidgets import (
 
 from . import inputs, studio_io
 from .model import EMPTY_RESULT, StudioModel, animation_frames, telling_plane
-from .qt_actions import StudioActions
+from .qt_actions import StudioActions, ask_big_run
 from .qt_animation_panel import QtAnimationPanel
 from .qt_formula_panel import QtFormulaPanel
 from .qt_projection_panel import QtProjectionPanel
@@ -280,24 +279,7 @@ class QtMainWindow(QMainWindow):
 
         Returns "run" (go ahead), "gcch" (switch to continuation and run) or None (don't run).
         """
-        gcch = "gcch" in self.formula_panel.methods
-        msg = (f"This run needs about {inputs.human_bytes(est.get('bytes', 0))} of memory "
-               f"({est.get('cubes', 0):,} cubes), but only {inputs.human_bytes(avail)} is available.\n\n"
-               "Choose a smaller div"
-               + (", or use continuation (GCCH), which only visits the cubes the manifold passes through."
-                  if gcch else ".")
-               + "\n\nRun anyway?")
-        box = QMessageBox(QMessageBox.Warning, "A very large run", msg, QMessageBox.NoButton, self)
-        run_b = box.addButton("Run anyway", QMessageBox.DestructiveRole)
-        gcch_b = box.addButton("Use continuation", QMessageBox.AcceptRole) if gcch else None
-        box.addButton(QMessageBox.Cancel)
-        box.exec_()
-        clicked = box.clickedButton()
-        if clicked is run_b:
-            return "run"
-        if gcch_b is not None and clicked is gcch_b:
-            return "gcch"
-        return None
+        return ask_big_run(self, est, avail, gcch="gcch" in self.formula_panel.methods)
 
     def run(self) -> bool:
         """Start an extraction with the panel's contents; False if refused."""

@@ -1,7 +1,8 @@
 """Fixtures for the window tests (pytest-qt; they need a real X server, e.g. Xvfb).
 
-Run:  xvfb-run -a /work/venv/bin/python -m pytest tests/app -q
-  or: /work/venv/bin/python -m pytest tests/app -q --xvfb-backend xvfb
+Run:  xvfb-run -a .venv/bin/python -m pytest tests/app -q
+  or: .venv/bin/python -m pytest tests/app -q --xvfb-backend xvfb
+test_model.py, test_inputs.py and test_imports.py need no display: ``-p no:xvfb`` runs them anywhere.
 """
 
 import os
