@@ -55,6 +55,7 @@ _TABLE_FACE = 140
 _TABLE_SIMPLEX = 400
 _TABLE_SIMPLEX_CORNER = 120
 _TABLE_WALK = 8
+_TABLE_TEMPLATE = 360  # per entry of the walk template on the (k+1)-cube: (k+1)! (k+2)
 # Peak bytes per record the kernel emits for a crossed face, through the assembly
 # (records are grown by doubling, then concatenated and sorted).
 _RECORD_OVERHEAD = 3.2
@@ -204,8 +205,9 @@ def table_cost(n: int, k: int) -> tuple[int, int]:
     template = factorial(k + 1) * (k + 2)
     peak = (
         _TABLE_FACE * faces
-        + (_TABLE_SIMPLEX + _TABLE_SIMPLEX_CORNER * (k + 1)) * (simplices + 2 * template)
+        + (_TABLE_SIMPLEX + _TABLE_SIMPLEX_CORNER * (k + 1)) * simplices
         + _TABLE_WALK * walk
+        + _TABLE_TEMPLATE * template
     )
     return int(peak), int(faces + simplices + walk + template)
 
