@@ -202,8 +202,10 @@ def _pruned_sweep(grid, axes, system, progress, cancel) -> CellComplex | None:
                     raise Cancelled("extraction cancelled")
                 grid.add_records(f.result())
                 decided += int(size[i:j].sum())
-        finally:
-            stop.set()  # (after a cancel or an error: the other tasks end at their next block)
+        finally:  # (after a cancel or an error: tasks not started are dropped, the others
+            stop.set()  # end at their next block)
+            for f in futures:
+                f.cancel()
     if progress is not None:
         progress("assembling", 1.0)
     result = grid.assemble()
