@@ -88,8 +88,10 @@ def _bounded_candidates(axes, system) -> np.ndarray | None:
     their corners.  None when the bounds leave too many blocks (`_AUTO_MAX_BLOCKS`)."""
     n = len(axes)
     dims = np.array([len(a) for a in axes], np.int64)
-    found = surviving_blocks(enclosure_of(system), axes, np.zeros(n, np.int64), dims - 1, 1,
-                             max_blocks=_AUTO_MAX_BLOCKS)
+    enclosure = enclosure_of(system)
+    if enclosure is None:
+        return None
+    found = surviving_blocks(enclosure, axes, np.zeros(n, np.int64), dims - 1, 1, max_blocks=_AUTO_MAX_BLOCKS)
     if found is None or len(found[0]) == 0:
         return found if found is None else found[0]
     origins = found[0]

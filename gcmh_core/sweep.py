@@ -54,12 +54,15 @@ _BOUND_CHUNK = 1 << 16
 _enclosures: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-def enclosure_of(system) -> Enclosure:
-    """One Enclosure per System (the tree is walked once)."""
-    enc = _enclosures.get(system)
-    if enc is None:
-        enc = _enclosures[system] = Enclosure(system.exprs, system.symbols)
-    return enc
+def enclosure_of(system) -> Enclosure | None:
+    """One Enclosure per System (the tree is walked once); None if the tree defeats it
+    (then the plain sweep runs: the bound is an optimisation, never a requirement)."""
+    if system not in _enclosures:
+        try:
+            _enclosures[system] = Enclosure(system.exprs, system.symbols)
+        except (RecursionError, TypeError, ValueError, ArithmeticError):
+            _enclosures[system] = None
+    return _enclosures[system]
 
 
 def run_sweep(n, k, axes, system, sampled, progress, cancel, grid=None, prune=None) -> CellComplex:
@@ -158,7 +161,10 @@ def _pruned_sweep(grid, axes, system, progress, cancel) -> CellComplex | None:
     leave most of the grid (then the plain sweep is faster)."""
     n = grid.n
     t = time.perf_counter()
-    blocks = surviving_blocks(enclosure_of(system), axes, np.zeros(n, np.int64), grid.dims - 1, _LEAF_CUBES, cancel,
+    enclosure = enclosure_of(system)
+    if enclosure is None:
+        return None
+    blocks = surviving_blocks(enclosure, axes, np.zeros(n, np.int64), grid.dims - 1, _LEAF_CUBES, cancel,
                               max_blocks=_MAX_BLOCKS)
     bound_seconds = time.perf_counter() - t
     if blocks is None:
