@@ -69,6 +69,7 @@ _VERTEX_SECONDS = 4e-9
 _RECORD_SECONDS_PER_N = 1.5e-9  # per byte of records and dimension n (the walks grow with n)
 WORK_LIMIT_SECONDS = 300.0
 _KEY_LIMIT = 2**63
+_LEAF_CUBES = 4096  # cubes of a block the pruned sweep evaluates (sweep._LEAF_CUBES)
 
 # Images and animations the headless renderer (VTK, offscreen) can produce.
 MAX_IMAGE_SIDE = 8192  # pixels per side: larger render targets come back black
@@ -362,18 +363,40 @@ def estimate_run(
     continuation = method in CONTINUATION_METHODS
     plane = _random_plane_faces(n, k)
     cubes = math.prod(div_t)
+    pruned = not continuation and scheduler is None and _prunable(system, sampled, cubes)
     if probe is None:  # every cube crossed, like a plane: an upper bound
-        worst = _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, float(cubes), plane)
+        worst = _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, float(cubes), plane, False)
         if worst.peak_bytes <= worst.available_bytes // 8 and worst.seconds <= worst.seconds_limit / 10:
             return worst
     if system is not None or sampled is not None:
         expected, faces, _ = _probe(n, k, div_t, bounds, system, sampled)
     else:
         expected, faces = min(float(cubes), float(cubes) ** ((n - k) / n)), plane
-    return _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, expected, faces)
+    return _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, expected, faces, pruned)
 
 
-def _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, expected, faces) -> Estimate:
+def _pruned_vertices(n: int, k: int, expected: float, vertices: int):
+    """(leaf blocks, their vertices) of the pruned sweep, or None where it would give up
+    (the blocks would hold over half the grid's vertices) for the plain sweep."""
+    side = _LEAF_CUBES ** (1.0 / n)
+    leaves = max(1.0, expected / min(_LEAF_CUBES, side ** (n - k))) if expected else 0.0
+    block_vertices = leaves * (side + 1) ** n
+    if block_vertices > 0.5 * vertices:
+        return None
+    return leaves, block_vertices
+
+
+def _prunable(system, sampled, cubes: int) -> bool:
+    """Whether the full sweep will drop blocks by F's interval bounds (`sweep`)."""
+    from . import sweep  # noqa: PLC0415
+
+    prune = sweep.PRUNE
+    if prune is None:
+        prune = cubes >= getattr(sweep, "_PRUNE_MIN_CUBES", 1 << 16)
+    return bool(prune) and system is not None and sampled is None and sweep.enclosure_of(system) is not None
+
+
+def _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, expected, faces, pruned) -> Estimate:
     from .sweep import SLAB_VERTICES  # noqa: PLC0415
 
     dims = [d + 1 for d in div_t]
@@ -390,6 +413,11 @@ def _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, exp
         front = expected ** ((n - k - 1) / max(n - k, 1)) if expected else 0.0
         grid += int(front * (1 << n) * (8 * k + 40) + expected * 40)
         work_vertices = expected * (1 << n)
+    elif pruned and _pruned_vertices(n, k, expected, vertices) is not None:
+        # the blocks F's bounds leave (of <= 4096 cubes: 16^3, 8^4), evaluated one per thread
+        leaves, work_vertices = _pruned_vertices(n, k, expected, vertices)
+        side = _LEAF_CUBES ** (1.0 / n) + 1
+        grid += int(leaves * n * 8 * 8 + 2 * side**n * k * 8 * 3)
     elif scheduler is None:
         thickness = max(1, min(div_t[0], SLAB_VERTICES // max(layer * k, 1)))
         slab = (thickness + 1) * layer
