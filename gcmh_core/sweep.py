@@ -8,7 +8,8 @@ per-cube kernel of the `Grid` (hypercube cells for "gcmh", Kuhn simplices for "c
 Pruned (when F is a formula): the grid's box of cubes is cut in halves, longest axis
 first; a block where the interval enclosure of some component of F (`interval`)
 excludes 0 holds no candidate cube and is dropped unevaluated, and the blocks left
-when they are small are processed exactly like slabs.  The work then grows with the
+when they are small (shrunk to what one more cut leaves) are processed exactly like
+slabs, on as many threads as numba may use.  The work then grows with the
 size of M rather than with div^n, and the complex is the plain sweep's, bit for bit:
 a dropped block would have given the candidate pass nothing (no candidate, no
 non-finite vertex), and the others give the same values and the same records.
@@ -36,9 +37,11 @@ SLAB_VERTICES = 1 << 22
 # None: prune when F is a formula and the grid has at least _PRUNE_MIN_CUBES cubes;
 # True / False force either path (tests compare them).
 PRUNE: bool | None = None
-_PRUNE_MIN_CUBES = 1 << 16
+_PRUNE_MIN_CUBES = 1 << 16  # (below, the plain sweep takes a few milliseconds)
 # Cubes of a block that is processed rather than cut again: smaller blocks are
 # bounded more tightly, but each processed block costs a fixed ~0.1 ms of calls.
+# Measured on the complex cosine at div 320 (blocks on one thread): 256 cubes 6.4 s,
+# 1024 3.5 s, 4096 2.5 s, 16384 2.2 s; on two threads 2048..16384 within the noise.
 _LEAF_CUBES = 4096
 # Blocks per task of the threads that process them (progress and cancel between tasks).
 _BLOCKS_PER_TASK = 128
