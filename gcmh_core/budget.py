@@ -34,7 +34,7 @@ from math import comb, factorial
 
 import numpy as np
 
-from .errors import InputError
+from .errors import InputError, TooLargeError
 
 __all__ = [
     "TooLargeError",
@@ -49,7 +49,7 @@ __all__ = [
 ]
 
 # Vertices of the probe grid (per run: milliseconds of F, a few passes over booleans).
-_PROBE_VERTICES = 1 << 18
+_PROBE_VERTICES = 1 << 19
 # Bytes at the peak per Python face / Kuhn simplex / walk entry of the table build.
 _TABLE_FACE = 140
 _TABLE_SIMPLEX = 400
@@ -59,8 +59,10 @@ _TABLE_TEMPLATE = 360  # per entry of the walk template on the (k+1)-cube: (k+1)
 # Peak bytes per record the kernel emits for a crossed face, through the assembly
 # (records are grown by doubling, then concatenated and sorted).
 _RECORD_OVERHEAD = 3.2
-# k >= 2: a face on which every component changes sign need not hold M_A
-_FALSE_CANDIDATES = 0.6
+# k >= 2: per candidate cube, more records than the crossed faces say (measured: the
+# faces where every component changes sign undercount the cells of k >= 2 in a cube)
+_K_FACTOR = {1: 1.0, 2: 1.2}
+_K_FACTOR_MORE = 1.6
 _SIMPLICIAL_FACTOR = 3.0  # CMS/CCS: the cells of n! simplices per cube instead of one cell
 # Seconds: per Python entry of the table build, per vertex and component of F
 # (evaluation and candidate pass), per byte of records.
@@ -75,10 +77,6 @@ _LEAF_CUBES = 4096  # cubes of a block the pruned sweep evaluates (sweep._LEAF_C
 MAX_IMAGE_SIDE = 8192  # pixels per side: larger render targets come back black
 MAX_IMAGE_PIXELS = 8192 * 8192 // 2  # the frame buffer, its RGBA copy and the PNG encoder
 MAX_FRAMES = 2000  # frames of one animation, all held until the GIF/MP4 is written
-
-
-class TooLargeError(InputError):
-    """The run would need more memory or time than this machine gives (see the message)."""
 
 
 @dataclass(frozen=True)
@@ -246,7 +244,7 @@ def _bytes_per_cube(n: int, k: int, faces: np.ndarray) -> float:
     raw = faces[k] * (8 + 8 * n) + (faces[k + 1] * 24 if k + 1 <= n else 0.0)
     for d in range(k + 2, n + 1):
         raw += faces[d] * (16 + 2 * (d - k) * 24)
-    return _RECORD_OVERHEAD * raw * (1.0 if k == 1 else _FALSE_CANDIDATES)
+    return _RECORD_OVERHEAD * raw * _K_FACTOR.get(k, _K_FACTOR_MORE)
 
 
 def _probe_grid(n, div, bounds, system, sampled, budget):

@@ -7,3 +7,8 @@ class InputError(ValueError):
 
 class Cancelled(RuntimeError):
     """Raised inside `extract` when the `cancel` callback returns True."""
+
+
+class TooLargeError(InputError):
+    """A run that would need more memory or time than this machine gives: the message
+    names the estimate (`gcmh_core.budget`) and what to change; `force=True` runs it anyway."""
