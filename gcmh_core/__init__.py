@@ -19,9 +19,8 @@ from typing import TYPE_CHECKING, Any
 os.environ.setdefault("GOMP_SPINCOUNT", "10000")
 
 from .analysis import boundary_components, orient_2cells, refine_vertices, topology_report  # noqa: E402
-from .budget import TooLargeError  # noqa: E402
 from .complex import CellComplex  # noqa: E402
-from .errors import Cancelled, InputError  # noqa: E402
+from .errors import Cancelled, InputError, TooLargeError  # noqa: E402
 from .extract import CONTINUATION_METHODS, METHODS, SIMPLICIAL_METHODS, estimate_work, extract  # noqa: E402
 
 if TYPE_CHECKING:
