@@ -20,12 +20,16 @@ from __future__ import annotations
 
 import operator
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .complex import CellComplex, _component_roots
 from .errors import InputError
 from .newton import gauss_newton
+
+if TYPE_CHECKING:
+    from .formula import System
 
 __all__ = ["Orientation", "boundary_components", "graph_components", "orient_2cells", "refine_vertices",
            "topology_report"]
@@ -35,7 +39,7 @@ __all__ = ["Orientation", "boundary_components", "graph_components", "orient_2ce
 # graph components (vectorised union-find: hook roots to smaller labels, then jump)
 # ----------------------------------------------------------------------------
 
-def graph_components(n_nodes, a, b):
+def graph_components(n_nodes: int, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, int]:
     """Connected components of the graph with nodes 0..n_nodes-1 and edges (a[i], b[i]).
 
     Parameters
@@ -124,7 +128,7 @@ def _check_complex(cx, what):
         raise InputError(f"{what} needs a CellComplex, got {type(cx).__name__}")
 
 
-def orient_2cells(cx) -> Orientation:
+def orient_2cells(cx: CellComplex) -> Orientation:
     """Orient the polygons of a 2-dimensional complex coherently, component by component.
 
     Starting from the loops of :meth:`CellComplex.polygons`, a breadth-first
@@ -319,7 +323,7 @@ def _check_system(cx, system, what):
             f"R^{cx.n} with codimension {cx.k}")
 
 
-def boundary_components(cx) -> int:
+def boundary_components(cx: CellComplex) -> int:
     """Number of connected components of the boundary (dim-1)-complex of `cx`.
 
     The boundary is the union of the (dim-1)-cells with exactly one top-cell
@@ -349,7 +353,7 @@ def _boundary_components(cx):
     return n
 
 
-def topology_report(cx, system=None) -> dict:
+def topology_report(cx: CellComplex, system: System | None = None) -> dict:
     """Facts about an extracted complex, for a panel or a log.
 
     Parameters
@@ -421,7 +425,7 @@ def _max_abs_F(system, X):
     return float(values[finite].max()) if finite.any() else float("nan")
 
 
-def refine_vertices(cx, system, steps=3):
+def refine_vertices(cx: CellComplex, system: System, steps: int = 3) -> tuple[CellComplex, float, float]:
     """Move every vertex closer to M by Gauss-Newton steps ``x <- x - J(x)^+ F(x)``.
 
     ``J^+`` is the Moore-Penrose pseudo-inverse of the exact Jacobian (k, n),

@@ -145,7 +145,9 @@ def start_cubes(n, axes, bounds, system, sampled, starts) -> np.ndarray:
     return np.unique(_cubes_of(axes, X), axis=0)
 
 
-def run_continuation(n, k, axes, bounds, system, sampled, starts, progress, cancel, grid=None, process=None) -> CellComplex:
+def run_continuation(
+    n, k, axes, bounds, system, sampled, starts, progress, cancel, grid=None, process=None
+) -> CellComplex:
     """Continuation: process only cubes reached from the start cubes across crossed facets.
 
     Each wave (the cubes first reached in the same step) is one batch: F at its
@@ -203,7 +205,8 @@ def run_continuation(n, k, axes, bounds, system, sampled, starts, progress, canc
     cx = grid.assemble()
     # the continuation's path, for showing how it went (an attribute: not saved with the complex)
     processed = np.sort(visited.keys())
-    cx.processed_cubes = _frozen(np.stack(np.unravel_index(processed, tuple(div)), axis=1).astype(np.int64).reshape(-1, n))
+    cubes = np.stack(np.unravel_index(processed, tuple(div)), axis=1).astype(np.int64)
+    cx.processed_cubes = _frozen(cubes.reshape(-1, n))
     return cx
 
 

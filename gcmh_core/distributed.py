@@ -47,15 +47,14 @@ import tempfile
 import threading
 import time
 import uuid
-from numbers import Integral
 
 import numpy as np
 
-from .errors import Cancelled, InputError
 from ._validate import per_axis_ints
 from .continuation import run_continuation
-from .runner import CONTINUATION_METHODS, Grid, block_values
+from .errors import Cancelled, InputError
 from .formula import parse_system
+from .runner import CONTINUATION_METHODS, Grid, block_values
 
 # Default block: at most this many vertices (bounds a worker's memory, see the module doc) ...
 BLOCK_VERTICES = 1 << 23
@@ -94,14 +93,17 @@ def run_distributed(method, n, k, axes, bounds, system, sampled, starts, schedul
     try:
         import distributed  # noqa: F401, PLC0415
     except ImportError:
-        raise InputError("scheduler needs dask.distributed, which is not installed: pip install gcmh[cluster]") from None
+        raise InputError(
+            'scheduler needs dask.distributed, which is not installed: pip install -e ".[cluster]"'
+        ) from None
     grid = Grid(n, k, axes, method)  # validates the grid's size before any cluster starts
     if progress is not None:  # starting a cluster takes a second or two: say so
         progress("starting a local dask cluster" if address == "local" else f"connecting to {address}", 0.0)
     with _Session(address, sampled) as session:
         if method in CONTINUATION_METHODS:
             process = functools.partial(_process_wave, session, method, system, sampled, cancel)
-            cx = run_continuation(n, k, axes, bounds, system, sampled, starts, progress, cancel, grid=grid, process=process)
+            cx = run_continuation(n, k, axes, bounds, system, sampled, starts, progress, cancel,
+                                  grid=grid, process=process)
         else:
             cx = _run_blocks(session, grid, method, div, block_, system, sampled, progress, cancel)
         cx.meta["scheduler"] = scheduler

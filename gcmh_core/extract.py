@@ -10,8 +10,9 @@ public function (validates every argument, `_validate`)
 from __future__ import annotations
 
 import time
+from collections.abc import Callable, Sequence
 from numbers import Integral
-from typing import Callable, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -24,10 +25,17 @@ from .grid import PERTURBATION, perturbed_axes
 from .runner import CONTINUATION_METHODS, METHODS, SIMPLICIAL_METHODS, Grid
 from .sweep import SLAB_VERTICES, run_sweep
 
+if TYPE_CHECKING:
+    from .formula import System
+
+# one (lo, hi) pair for every axis, or one per axis; entries are numbers or constant text ("-pi/2")
+Bound = float | str
+Bounds = tuple[Bound, Bound] | Sequence[tuple[Bound, Bound]] | Sequence[Sequence[Bound]] | np.ndarray
+
 __all__ = ["METHODS", "CONTINUATION_METHODS", "SIMPLICIAL_METHODS", "extract", "estimate_work"]
 
 
-def estimate_work(n: int, k: int, div) -> dict:
+def estimate_work(n: int, k: int, div: int | Sequence[int]) -> dict:
     """Rough size of a full-grid run: cubes, and peak bytes of the slab buffers."""
     d = as_div(div, n)
     cubes = int(np.prod(d.astype(np.float64)))
@@ -40,20 +48,20 @@ def estimate_work(n: int, k: int, div) -> dict:
 
 
 def extract(
-    F,
-    bounds=None,
-    div=None,
+    F: str | Sequence[str] | System | np.ndarray,
+    bounds: Bounds | None = None,
+    div: int | Sequence[int] | None = None,
     *,
     variables: Sequence[str] | str | None = None,
     n: int | None = None,
     k: int | None = None,
     seed: int = 0,
     method: str = "gcmh",
-    start=None,
+    start: str | Sequence[float] | Sequence[Sequence[float]] | np.ndarray | None = None,
     progress: Callable[[str, float], None] | None = None,
     cancel: Callable[[], bool] | None = None,
-    scheduler=None,
-    block=None,
+    scheduler: str | None = None,
+    block: int | Sequence[int] | None = None,
     force: bool = False,
 ) -> CellComplex:
     """Approximate M = F^-1(0), F: R^n -> R^k, by a cell complex (GCMH).
@@ -116,7 +124,8 @@ def extract(
     if continuation:
         starts = as_starts("auto" if start is None else start, n_)
     elif start is not None:
-        raise InputError(f"a start point is used by continuation only: pass method={' or '.join(map(repr, CONTINUATION_METHODS))}")
+        methods = " or ".join(map(repr, CONTINUATION_METHODS))
+        raise InputError(f"a start point is used by continuation only: pass method={methods}")
     else:
         starts = None
     if block is not None and scheduler is None:
@@ -124,7 +133,8 @@ def extract(
     if scheduler is not None:
         from .distributed import run_distributed  # noqa: PLC0415  (dask is imported only when asked for)
 
-        result = run_distributed(method, n_, k_, axes, bounds_, system, sampled, starts, scheduler, block, progress, cancel)
+        result = run_distributed(method, n_, k_, axes, bounds_, system, sampled, starts, scheduler, block,
+                                 progress, cancel)
     elif continuation:
         result = run_continuation(n_, k_, axes, bounds_, system, sampled, starts, progress, cancel,
                                   grid=Grid(n_, k_, axes, method, cancel))

@@ -219,7 +219,8 @@ class Grid:
         n, k = self.n, self.k
         widths = dict(vk=None, vp=n, e=_kernels.EDGE_COLS, c=_kernels.CELL_COLS, i=_kernels.INC_COLS)
         cat = {
-            key: np.concatenate(arrs) if arrs else np.zeros((0,) if w is None else (0, w), np.float64 if key == "vp" else np.int64)
+            key: np.concatenate(arrs) if arrs
+            else np.zeros((0,) if w is None else (0, w), np.float64 if key == "vp" else np.int64)
             for (key, arrs), w in zip(self.parts.items(), widths.values())
         }
         cx = assemble_records(n, k, cat["vk"], cat["vp"], cat["e"], cat["c"], cat["i"])

@@ -35,7 +35,6 @@ def test_a_lens_between_two_squares_collapses():
 
 
 def test_lens_faces_leave_their_3_cells():
-    V = np.zeros((3, 4))
     E = np.array([[0, 1], [0, 1], [1, 2], [2, 0]])
     cells = {2: (np.array([0, 2, 5, 8]), np.array([0, 1, 0, 2, 3, 1, 2, 3])),
              3: (np.array([0, 3]), np.array([0, 1, 2]))}
