@@ -9,15 +9,42 @@
     gcmh-app --example clifford-torus --mapping stereographic --animate tour --mp4 tour.mp4
     gcmh-app --example klein-bottle --animate slice:s --slice-width 0.2 --gif sweep.gif
                                                # no window: an animation as GIF and/or MP4
+
+Sizes and frame counts are checked first (``gcmh_core.budget.check_image_size`` /
+``check_frames``): what the renderer cannot draw is refused with its limit (exit 2).
+Ctrl-C in a mode without a window ends with one line and exit status 130.
 """
 
 from __future__ import annotations
 
-import argparse
+import os
+import signal
 import sys
+import threading
 
-from .headless import Options, fail, parse_size, prepare_env, render
-from .projection import MAPPINGS
+
+def _interrupted(signum, frame) -> None:
+    """Ctrl-C (130) or SIGTERM (143), at any moment: one line and out. (A KeyboardInterrupt raised inside
+    VTK's rendering crashes the process, and one raised in an import prints a traceback.)"""
+    try:
+        sys.stderr.write("gcmh-app: interrupted\n" if signum == signal.SIGINT else "gcmh-app: terminated\n")
+        sys.stderr.flush()
+    finally:
+        os._exit(128 + signum)
+
+
+def install_interrupt_handlers() -> None:
+    if threading.current_thread() is threading.main_thread():
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(sig, _interrupted)
+
+
+if __name__ == "__main__":   # python -m app: before the imports below (gcmh-app: main() installs them)
+    install_interrupt_handlers()
+
+import argparse  # noqa: E402
+
+from .headless import Options, fail, parse_size, prepare_env, render  # noqa: E402
 
 
 def _div(text: str):
@@ -31,6 +58,8 @@ def _div(text: str):
 
 
 def build_parser() -> argparse.ArgumentParser:
+    from .projection import MAPPINGS
+
     p = argparse.ArgumentParser(prog="gcmh-app", description="GCMH Studio: see implicit manifolds of any dimension.")
     p.add_argument("--example", metavar="NAME", help="open this example (see --list)")
     p.add_argument("--session", metavar="FILE", help="open a saved session (.json)")
@@ -102,9 +131,38 @@ def _session_screenshot(args) -> int:
     return 0
 
 
+def check_output_size(args) -> str | None:
+    """Why the renderer cannot make what ``args`` asks for (size, frames), or None."""
+    from gcmh_core.errors import InputError
+
+    from gcmh_core import budget
+
+    try:
+        if args.animate:
+            budget.check_frames(args.frames, *args.size)
+        elif args.screenshot or args.window_screenshot:
+            budget.check_image_size(*args.size)
+    except InputError as e:
+        return f"--size {args.size[0]}x{args.size[1]}" + (f" --frames {args.frames}" if args.animate else "") + \
+            f": {e}"
+    return None
+
+
 def main(argv=None) -> int:
+    install_interrupt_handlers()
+    try:
+        return _main(argv)
+    except KeyboardInterrupt:
+        print("gcmh-app: interrupted", file=sys.stderr)
+        return 130
+
+
+def _main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     prepare_env()
+    problem = check_output_size(args)
+    if problem:
+        return fail(problem)
     if args.list:
         from gcmh_core.examples import list_examples
         for ex in list_examples():

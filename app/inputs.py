@@ -79,6 +79,18 @@ def check_variables(text: str, n: int) -> str | None:
     return None
 
 
+def check_formula(text: str, names, index: int) -> str | None:
+    """None when ``text`` parses as component ``index`` of F in ``names``, else the parser's message.
+    (The panel calls this in a worker thread: a long formula never blocks the window.)"""
+    from gcmh_core.formula import check_component
+
+    try:
+        check_component(text, list(names), index)
+    except Exception as e:  # noqa: BLE001 - FormulaError or any InputError
+        return str(e)
+    return None
+
+
 def check_nk(n: int, k: int) -> str | None:
     if n < 1:
         return "n must be at least 1"
@@ -144,6 +156,20 @@ def human_bytes(b: float) -> str:
             return f"{b:.0f} {unit}" if unit == "B" else f"{b:.1f} {unit}"
         b /= 1024
     return f"{b:.1f} TB"
+
+
+def human_seconds(s: float) -> str:
+    """A duration said the way a person would: 0.3 s, 12 s, 4 min, 2.5 h."""
+    s = float(s)
+    if s < 10:
+        return f"{s:.1g} s" if s < 1 else f"{s:.0f} s"
+    if s < 90:
+        return f"{s:.0f} s"
+    if s < 5400:
+        return f"{s / 60:.0f} min"
+    if s < 2 * 86400:
+        return f"{s / 3600:.1f} h"
+    return f"{s / 86400:.0f} days"
 
 
 def available_memory() -> int | None:

@@ -11,10 +11,16 @@ numpy, so it is tested without a display (tests/app/test_model.py).
 Changes are announced through :class:`Event` callbacks (``model.events.result``,
 ``.status``, ``.system``, ``.view``, ``.picked``), which the window connects to
 its widgets.
+
+:class:`History` keeps the states of the system and the view for Undo / Redo
+(``model.history``; the window applies what ``model.undo()`` / ``model.redo()``
+return to its panels).
 """
 
 from __future__ import annotations
 
+import copy
+import time
 from collections.abc import Callable
 from typing import Any
 
@@ -46,6 +52,104 @@ class Event:
             callback(*args)
 
 
+def changed_paths(a: Any, b: Any, prefix: str = "") -> frozenset[str]:
+    """The places (``"system.formulas.0"``) where two nested dicts/lists differ."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        out: set[str] = set()
+        for key in set(a) | set(b):
+            out |= changed_paths(a.get(key), b.get(key), f"{prefix}.{key}" if prefix else str(key))
+        return frozenset(out)
+    if isinstance(a, (list, tuple)) and isinstance(b, (list, tuple)) and len(a) == len(b):
+        out = set()
+        for i, (x, y) in enumerate(zip(a, b)):
+            out |= changed_paths(x, y, f"{prefix}.{i}")
+        return frozenset(out)
+    return frozenset() if a == b else frozenset({prefix})
+
+
+class History:
+    """Undo / Redo over snapshots (plain dicts: ``{"system": ..., "view": ...}``).
+
+    ``record(state)`` pushes a state that differs from the current one.  A change of
+    the same places as the previous change, within ``merge_seconds`` of it, replaces
+    that entry instead of adding one: typing a formula or dragging a slider is one
+    step to undo, not one per keystroke or pixel.  ``undo()`` / ``redo()`` return the
+    state to show (a copy) or None at either end; recording after an undo drops the
+    states that could be redone.  ``clock``: seconds (replaced by tests).
+    """
+
+    def __init__(self, limit: int = 200, merge_seconds: float = 1.5, clock: Callable[[], float] = time.monotonic):
+        self.limit = int(limit)
+        self.merge_seconds = float(merge_seconds)
+        self.clock = clock
+        self._states: list[dict] = []
+        self._i = -1
+        self._last: tuple[frozenset, float] | None = None   # (places, time) of the last change recorded
+
+    @property
+    def current(self) -> dict | None:
+        return copy.deepcopy(self._states[self._i]) if self._i >= 0 else None
+
+    def can_undo(self) -> bool:
+        return self._i > 0
+
+    def can_redo(self) -> bool:
+        return 0 <= self._i < len(self._states) - 1
+
+    def record(self, state: dict) -> bool:
+        """Note ``state`` as the current one; False when nothing changed."""
+        state = copy.deepcopy(state)
+        if self._i < 0:
+            self._states, self._i = [state], 0
+            return True
+        top = self._states[self._i]
+        places = changed_paths(top, state)
+        if not places:
+            return False
+        now = self.clock()
+        merge = (self._last is not None and self._last[0] == places and now - self._last[1] <= self.merge_seconds
+                 and self._i == len(self._states) - 1 and self._i > 0)
+        del self._states[self._i + 1:]
+        if merge and not changed_paths(self._states[self._i - 1], state):
+            # the change undid itself (n 4 -> 3 -> 4): no step left to undo
+            self._states.pop()
+            self._i -= 1
+            self._last = None
+            return True
+        if merge:
+            self._states[self._i] = state
+        else:
+            self._states.append(state)
+            if len(self._states) > self.limit:
+                del self._states[0]
+            self._i = len(self._states) - 1
+        self._last = (places, now)
+        return True
+
+    def undo(self) -> dict | None:
+        if not self.can_undo():
+            return None
+        self._i -= 1
+        self._last = None
+        return self.current
+
+    def redo(self) -> dict | None:
+        if not self.can_redo():
+            return None
+        self._i += 1
+        self._last = None
+        return self.current
+
+    def sync(self, state: dict) -> None:
+        """Replace the current entry by ``state`` (the panels' reading of a state just restored), keeping
+        what can be undone and redone."""
+        if self._i >= 0:
+            self._states[self._i] = copy.deepcopy(state)
+
+    def clear(self) -> None:
+        self._states, self._i, self._last = [], -1, None
+
+
 class StudioEvents:
     """The model's events and what they carry."""
 
@@ -55,6 +159,7 @@ class StudioEvents:
         self.view = Event()      # (the view dict)
         self.result = Event()    # (the CellComplex now on screen)
         self.picked = Event()    # (the picked cell's facts, or None)
+        self.history = Event()   # (can_undo, can_redo)
 
 
 class StudioModel:
@@ -76,6 +181,8 @@ class StudioModel:
         self.animation = Clock()
         self._expected: tuple | None = None   # (title, (formulas, variables)) of the system an example filled in
         self._pending_view: dict | None = None
+        self.history = History()
+        self.recording = True           # False while an undo is applied, or while an animation plays
 
     # ------------------------------------------------------------ state written by the window
     def set_status(self, text: str, error: bool = False) -> None:
@@ -84,11 +191,36 @@ class StudioModel:
 
     def set_system(self, system: dict) -> None:
         self.system = dict(system)
+        self._record()
         self.events.system.emit(self.system)
 
     def set_view(self, view: dict) -> None:
         self.view = dict(view)
+        self._record()
         self.events.view.emit(self.view)
+
+    # ------------------------------------------------------------ undo / redo
+    def snapshot(self) -> dict:
+        """What Undo restores: the system and the view."""
+        return {"system": copy.deepcopy(self.system), "view": copy.deepcopy(self.view)}
+
+    def _record(self) -> None:
+        if self.recording and self.history.record(self.snapshot()):
+            self.events.history.emit(self.history.can_undo(), self.history.can_redo())
+
+    def undo(self) -> dict | None:
+        """Step back: the snapshot to show (the model's system and view are set to it), or None."""
+        return self._step(self.history.undo())
+
+    def redo(self) -> dict | None:
+        """Step forward again after :meth:`undo`: the snapshot to show, or None."""
+        return self._step(self.history.redo())
+
+    def _step(self, state: dict | None) -> dict | None:
+        if state is not None:
+            self.system, self.view = dict(state["system"]), dict(state["view"])
+        self.events.history.emit(self.history.can_undo(), self.history.can_redo())
+        return state
 
     # ------------------------------------------------------------ what the next result is called
     def expect(self, title: str, formulas, variables, view: dict | None = None) -> None:

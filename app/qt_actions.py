@@ -1,6 +1,6 @@
 """The studio's menus, their actions and shortcuts, and the dialogs behind them.
 
-:class:`StudioActions` fills a window's menu bar (File, Run, View, Examples)
+:class:`StudioActions` fills a window's menu bar (File, Edit, Run, View, Examples)
 and connects each action to the window's public methods; the File menu's
 entries ask for a path here and hand it to the window, whose status line
 reports what happened.
@@ -24,7 +24,7 @@ from qtpy.QtWidgets import (
     QSpinBox,
 )
 
-from .inputs import human_bytes
+from .inputs import human_bytes, human_seconds
 
 
 class QtScreenshotDialog(QDialog):
@@ -53,17 +53,26 @@ class QtScreenshotDialog(QDialog):
         f.addRow(bb)
 
 
-def ask_big_run(parent, est: dict, avail: int, gcch: bool):
-    """Ask whether to start a run that needs more memory than is available (``est``: dict(bytes, cubes)).
+def big_run_text(est, gcch: bool) -> str:
+    """What the big-run question says about ``est`` (a gcmh_core.budget.Estimate that doesn't fit)."""
+    if est.peak_bytes > est.available_bytes:
+        what = (f"This run needs about {human_bytes(est.peak_bytes)} of memory "
+                f"({est.cubes:,} cubes), but only {human_bytes(est.available_bytes)} is available.")
+    else:
+        what = (f"This run would take about {human_seconds(est.seconds)} ({est.cubes:,} cubes; "
+                f"{human_bytes(est.peak_bytes)} of memory).")
+    return (what + "\n\nChoose a smaller div"
+            + (", or use continuation (GCCH), which only visits the cubes the manifold passes through."
+               if gcch else ".")
+            + "\n\nRun anyway?")
+
+
+def ask_big_run(parent, est, gcch: bool):
+    """Ask whether to start a run that won't fit (``est``: its gcmh_core.budget.Estimate).
 
     Returns "run" (go ahead), "gcch" (switch to continuation and run; offered when ``gcch``) or None.
     """
-    msg = (f"This run needs about {human_bytes(est.get('bytes', 0))} of memory "
-           f"({est.get('cubes', 0):,} cubes), but only {human_bytes(avail)} is available.\n\n"
-           "Choose a smaller div"
-           + (", or use continuation (GCCH), which only visits the cubes the manifold passes through."
-              if gcch else ".")
-           + "\n\nRun anyway?")
+    msg = big_run_text(est, gcch)
     box = QMessageBox(QMessageBox.Warning, "A very large run", msg, QMessageBox.NoButton, parent)
     run_b = box.addButton("Run anyway", QMessageBox.DestructiveRole)
     gcch_b = box.addButton("Use continuation", QMessageBox.AcceptRole) if gcch else None
@@ -100,6 +109,11 @@ class StudioActions:
                                     "save a PNG picture of the view")
         fm.addSeparator()
         self.quit = self._add(fm, "&Quit", w.close, "Ctrl+Q")
+
+        em = mb.addMenu("&Edit")
+        self.undo = self._add(em, "&Undo", w.undo, "Ctrl+Z", "back to the previous system or view")
+        self.redo = self._add(em, "&Redo", w.redo, ["Ctrl+Shift+Z", "Ctrl+Y"], "forward again after an undo")
+        self.set_history(False, False)
 
         rm = mb.addMenu("&Run")
         self.run = self._add(rm, "&Run", w.run, "Ctrl+R", "extract the manifold")
@@ -149,6 +163,10 @@ class StudioActions:
         a.triggered.connect(slot)
         menu.addAction(a)
         return a
+
+    def set_history(self, can_undo: bool, can_redo: bool) -> None:
+        self.undo.setEnabled(can_undo)
+        self.redo.setEnabled(can_redo)
 
     def set_running(self, running: bool, can_run: bool) -> None:
         self.run.setEnabled(can_run)

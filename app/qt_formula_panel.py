@@ -3,6 +3,13 @@
 Everything is checked as the user types: a wrong field gets a red mark and a
 one-line message under it (the formula parser's own message for formulas), and
 ``validityChanged(False)`` keeps Run disabled. No dialog ever opens for a typo.
+Formulas are parsed off the GUI thread (:class:`FormulaChecker`), a moment after
+the last keystroke: a long formula never blocks the window. Until its answer
+comes, a field keeps its last mark and :meth:`QtFormulaPanel.checking` is True;
+``checked`` is emitted when no check is left.
+
+Changing n or k hides fields rather than deleting them: formulas, bounds and
+names come back as they were when n or k grows again.
 
 ``state()`` / ``set_state(d)`` give the panel's contents as a plain dict (the
 session file stores it); ``job()`` builds a :class:`app.worker.Job` when valid.
@@ -11,9 +18,10 @@ session file stores it); ``job()`` builds a :class:`app.worker.Job` when valid.
 from __future__ import annotations
 
 import math
+import threading
 from fractions import Fraction
 
-from qtpy.QtCore import Signal
+from qtpy.QtCore import QObject, QTimer, Signal
 from qtpy.QtGui import QColor
 from qtpy.QtWidgets import (
     QAbstractItemView,
@@ -79,6 +87,55 @@ def engine_methods() -> tuple[str, ...]:
     return ("gcmh",)
 
 
+class FormulaChecker(QObject):
+    """Checks formulas in a worker thread, one batch at a time.
+
+    ``submit(keys)`` (keys: (text, names tuple, index)) replaces any batch not yet
+    started: only the newest texts are checked; the rest of a batch is dropped
+    when a newer one arrives. Each answer comes as ``checked(key, message or None)``,
+    queued to the GUI thread.
+    """
+
+    checked = Signal(object, object)
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self._lock = threading.Lock()
+        self._next: list | None = None
+        self._busy = False
+
+    def submit(self, keys) -> None:
+        with self._lock:
+            self._next = list(keys)
+            if self._busy:
+                return
+            self._busy = True
+        threading.Thread(target=self._loop, name="gcmh-formula-check", daemon=True).start()
+
+    def busy(self) -> bool:
+        with self._lock:
+            return self._busy
+
+    def _loop(self) -> None:
+        while True:
+            with self._lock:
+                batch, self._next = self._next, None
+                if batch is None:
+                    self._busy = False
+                    return
+            for key in batch:
+                with self._lock:
+                    if self._next is not None:   # newer texts came: this batch is stale
+                        break
+                message = inputs.check_formula(*key)
+                try:
+                    self.checked.emit(key, message)
+                except RuntimeError:   # the panel is gone
+                    with self._lock:
+                        self._busy = False
+                    return
+
+
 def format_number(v: float) -> str:
     """Short text for a bound: simple multiples of pi as ``-pi/2``, others as ``%g``."""
     v = float(v)
@@ -110,6 +167,9 @@ class QtFormulaPanel(QWidget):
     validityChanged = Signal(bool)
     changed = Signal()
     estimateChanged = Signal(object)   # dict(cubes, bytes) or None
+    checked = Signal()                 # every formula on show has its check's answer
+
+    CHECK_DELAY_MS = 200   # the check starts this long after the last keystroke
 
     def __init__(self, parent=None):
         super().__init__(parent)
@@ -118,6 +178,19 @@ class QtFormulaPanel(QWidget):
         self.errors: dict[str, str] = {}
         self._auto_names = True
         self.methods = engine_methods()
+        # what n or k hid, to bring back: formulas, domain rows (lower, upper, div), names
+        self._kept_formulas: list[str] = []
+        self._kept_rows: list[tuple[str, str, str]] = []
+        self._kept_names: list[str] = []
+        # formula checks: answers by (text, names, index), and the keys still waiting for one
+        self._answers: dict[tuple, str | None] = {}
+        self._waiting: set[tuple] = set()
+        self.checker = FormulaChecker(self)
+        self.checker.checked.connect(self._on_checked)
+        self._check_timer = QTimer(self)
+        self._check_timer.setSingleShot(True)
+        self._check_timer.setInterval(self.CHECK_DELAY_MS)
+        self._check_timer.timeout.connect(self.check_now)
 
         lay = panel_layout(self)
 
@@ -261,15 +334,17 @@ class QtFormulaPanel(QWidget):
         self._rebuild(self.n, self.k)
         self._validate()
 
-    def _rebuild(self, n: int, k: int) -> None:
-        """Resize the variable list, the formula fields and the table, keeping what was typed."""
+    def _rebuild(self, n: int, k: int, fresh: bool = False) -> None:
+        """Resize the variable list, the formula fields and the table, keeping what was typed (and what an
+        earlier n or k hid). ``fresh``: the fields' contents belong to the old system: take only the kept ones."""
         self._building = True
         try:
             names = self.variables()
             if self._auto_names or not names:
                 names = inputs.default_variables(n)
             else:
-                names = (names + [f"x{i + 1}" for i in range(len(names), n)])[:n]
+                self._kept_names = names + self._kept_names[len(names):]
+                names = (self._kept_names + [f"x{i + 1}" for i in range(len(self._kept_names), n)])[:n]
                 # fill in defaults that would clash
                 for i in range(len(names)):
                     if names[i] in names[:i]:
@@ -277,7 +352,8 @@ class QtFormulaPanel(QWidget):
             self.vars_edit.setText(", ".join(names))
             # formulas: k fields (k may be invalid, show at least 1 and at most n_max)
             kk = max(1, min(k, N_MAX))
-            texts = [e.text() for e in self.formula_edits]
+            texts = [] if fresh else [e.text() for e in self.formula_edits]
+            texts = self._kept_formulas = texts + self._kept_formulas[len(texts):]
             clear_layout(self.formula_layout)
             self.formula_edits, self.formula_errors, self.formula_labels = [], [], []
             for i in range(kk):
@@ -299,7 +375,9 @@ class QtFormulaPanel(QWidget):
                 self.formula_errors.append(err)
                 self.formula_labels.append(lab)
             # domain table
-            old = [(self._cell(r, 0), self._cell(r, 1), self._cell(r, 2)) for r in range(self.table.rowCount())]
+            old = [] if fresh else [(self._cell(r, 0), self._cell(r, 1), self._cell(r, 2))
+                                    for r in range(self.table.rowCount())]
+            old = self._kept_rows = old + self._kept_rows[len(old):]
             self.table.setRowCount(n)
             for r in range(n):
                 lo, hi, dv = old[r] if r < len(old) else ("-1", "1", self.div_edit.text() or "10")
@@ -374,6 +452,7 @@ class QtFormulaPanel(QWidget):
             self._update_table_headers()
         names = self.variables()
 
+        wanted: set[tuple] = set()
         for i, (ed, lab) in enumerate(zip(self.formula_edits, self.formula_errors)):
             msg = None
             if i >= k:
@@ -383,10 +462,16 @@ class QtFormulaPanel(QWidget):
             elif "variables" in errs:
                 msg = None
             else:
-                msg = self._check_formula(ed.text(), names, i)
+                key = (ed.text(), tuple(names), i)
+                if key in self._answers:
+                    msg = self._answers[key]
+                else:   # not checked yet: keep the field's mark until the answer comes
+                    wanted.add(key)
+                    msg = lab.text() if lab.isVisible() else None
             _mark(ed, lab, msg)
             if msg:
                 errs[f"F{i + 1}"] = msg
+        self._ask(wanted)
 
         # domain
         dom_msgs = []
@@ -450,17 +535,36 @@ class QtFormulaPanel(QWidget):
         self.changed.emit()
         return valid
 
-    @staticmethod
-    def _check_formula(text: str, names, index: int) -> str | None:
-        try:
-            from gcmh_core.formula import check_component
-        except ImportError:
-            return "the formula parser (gcmh_core.formula) is not installed"
-        try:
-            check_component(text, names, index)
-        except Exception as e:  # noqa: BLE001 - FormulaError or any InputError
-            return str(e)
-        return None
+    # ------------------------------------------------------------ formula checks, off the GUI thread
+    def _ask(self, wanted: set) -> None:
+        """Wait for answers on ``wanted`` (what the fields show now); older questions are dropped."""
+        if wanted != self._waiting:
+            self._waiting = wanted
+            if wanted:
+                self._check_timer.start()   # (restarted by every keystroke: the debounce)
+            else:
+                self._check_timer.stop()
+
+    def check_now(self) -> None:
+        """Send the formulas waiting for a check to the worker now (Run does not wait for the debounce)."""
+        self._check_timer.stop()
+        if self._waiting:
+            self.checker.submit(sorted(self._waiting, key=lambda key: key[2]))
+
+    def checking(self) -> bool:
+        """Is a formula on show still waiting for its check?"""
+        return bool(self._waiting)
+
+    def _on_checked(self, key, message) -> None:
+        if key not in self._waiting:
+            return   # stale: the field changed since
+        if len(self._answers) > 512:
+            self._answers.clear()
+        self._answers[key] = message
+        self._waiting = self._waiting - {key}
+        self._validate()
+        if not self._waiting:
+            self.checked.emit()
 
     def is_valid(self) -> bool:
         return self._valid
@@ -560,8 +664,15 @@ class QtFormulaPanel(QWidget):
             self._building = False
         variables = d.get("variables") or inputs.default_variables(n)
         self._auto_names = list(variables) == inputs.default_variables(n)
-        self.vars_edit.setText(", ".join(variables))
-        self._rebuild(n, k)
+        self._building = True   # (no check, no history entry, for the half-filled panel)
+        try:
+            self.vars_edit.setText(", ".join(variables))
+        finally:
+            self._building = False
+        # a new system: what an earlier one hid does not come back in it
+        self._kept_formulas, self._kept_names = [str(t) for t in d.get("formulas", [])], list(variables)
+        self._kept_rows = []
+        self._rebuild(n, k, fresh=True)
         self._building = True
         try:
             for e, t in zip(self.formula_edits, d.get("formulas", [])):

@@ -4,9 +4,15 @@ Layout: a side panel (tabs "Manifold" = :class:`QtFormulaPanel`, "View" =
 :class:`QtProjectionPanel` (projection, mapping, slice, style), "Animate" =
 :class:`QtAnimationPanel` and, when the library has its analysis module,
 "Topology" = ``QtTopologyPanel``; with Run / Cancel, a progress bar and a
-status line always visible below) and the 3D view (:class:`app.qt_viewer.QtViewer`)
-in the centre. Double-click a cell to see its vertices' coordinates in R^n and
-its grid cube.
+status line always visible below, and the example's description above them) and
+the 3D view (:class:`app.qt_viewer.QtViewer`) in the centre. Double-click a cell
+to see its vertices' coordinates in R^n and its grid cube.
+
+Waits explain themselves: the kernels compile (once per install) in the
+background from the start (:func:`app.jobs.start_warm_up`, said in the status
+bar), a run first shows its estimate (memory and time) and asks before one that
+won't fit. Edit > Undo / Redo (Ctrl+Z, Ctrl+Shift+Z) step through the system
+and the view (:class:`app.model.History`).
 
 The parts: the state is an :class:`app.model.StudioModel` (no Qt); runs and
 refinements go through an :class:`app.qt_run_controller.QtRunController` (worker
@@ -23,6 +29,7 @@ import os
 import numpy as np
 from qtpy.QtCore import Qt, QTimer, Signal
 from qtpy.QtWidgets import (
+    QGroupBox,
     QHBoxLayout,
     QLabel,
     QMainWindow,
@@ -36,6 +43,7 @@ from qtpy.QtWidgets import (
 )
 
 from . import inputs, studio_io
+from .jobs import COMPILE_NOTE, current_warm_up, start_warm_up
 from .model import EMPTY_RESULT, StudioModel, animation_frames, telling_plane
 from .qt_actions import StudioActions, ask_big_run
 from .qt_animation_panel import QtAnimationPanel
@@ -43,6 +51,10 @@ from .qt_formula_panel import QtFormulaPanel
 from .qt_projection_panel import QtProjectionPanel
 from .qt_run_controller import QtRunController
 from .qt_viewer import QtViewer
+from .worker import COMPILING
+
+# phases whose fraction means nothing yet: shown without a percentage
+_WAITING_PHASES = ("starting", "estimating", COMPILING)
 
 try:   # written alongside this window; the window works without them
     from .qt_topology_panel import QtTopologyPanel
@@ -60,14 +72,17 @@ class QtMainWindow(QMainWindow):
     """The application window. ``example``: the example to open and run at start (None: nothing)."""
 
     resultChanged = Signal(object)
-    runFinished = Signal(str)   # "done", "cancelled" or "failed"
+    runFinished = Signal(str)   # "done", "cancelled", "failed" or "declined" (a run that won't fit, refused)
     refineFinished = Signal(str)  # "done", "failed" or "dropped" (the result changed meanwhile)
 
-    def __init__(self, example: str | None = DEFAULT_EXAMPLE, parent=None, div=None, method: str = "gcmh"):
+    def __init__(self, example: str | None = DEFAULT_EXAMPLE, parent=None, div=None, method: str = "gcmh",
+                 warm_up: bool = True):
         super().__init__(parent)
         self.setWindowTitle("GCMH Studio")
         self.resize(1400, 900)
         self._closing = False
+        self._run_waiting = False   # Run was pressed while a formula check was under way
+        self.last_estimate = None   # the gcmh_core.budget.Estimate of the last run started
         self._session: tuple[dict, dict | None] = ({}, None)   # the view and camera of the session being opened
         self.model = StudioModel()
         self.runs = QtRunController(self)
@@ -112,11 +127,20 @@ class QtMainWindow(QMainWindow):
         self.pick_label.setTextInteractionFlags(Qt.TextSelectableByMouse)
         self.pick_label.setStyleSheet("font-family: monospace; font-size: 11px;")
         self.pick_label.setVisible(False)
+        # the example's description, kept in view while its result is on screen
+        self.about_box = QGroupBox("")
+        self.about_label = QLabel("")
+        self.about_label.setWordWrap(True)
+        self.about_label.setTextInteractionFlags(Qt.TextSelectableByMouse)
+        self.about_label.setStyleSheet("font-size: 11px;")
+        QVBoxLayout(self.about_box).addWidget(self.about_label)
+        self.about_box.setVisible(False)
 
         side = QWidget()
         sl = QVBoxLayout(side)
         sl.setContentsMargins(6, 6, 6, 6)
         sl.addWidget(self.tabs, 1)
+        sl.addWidget(self.about_box)
         br = QHBoxLayout()
         br.addWidget(self.run_button, 1)
         br.addWidget(self.cancel_button)
@@ -141,12 +165,22 @@ class QtMainWindow(QMainWindow):
 
         self.menu_actions = StudioActions(self, with_gallery=QtGallery is not None)
         self.statusBar()   # shows the menus' status tips (example descriptions)
+        self.kernel_label = QLabel("")   # the kernels' warm-up (hidden by the menus' tips while they show)
+        self.statusBar().addWidget(self.kernel_label, 1)
         self._timer = QTimer(self)
         self._timer.setInterval(100)
         self._timer.timeout.connect(self._tick)
         self._wire()
         self._update_buttons()
         self.set_status("Choose an example or type a system, then Run (Ctrl+R).")
+        self.model.set_system(self.formula_panel.state())   # the first state Undo comes back to
+        self._sync_view()
+        self.warm_up = start_warm_up(self.formula_panel.methods) if warm_up else current_warm_up()
+        self._warm_timer = QTimer(self)
+        self._warm_timer.setInterval(250)
+        self._warm_timer.timeout.connect(self._show_warm_up)
+        if self.warm_up is not None and self.warm_up.running():
+            self._warm_timer.start()
 
         if example:
             QTimer.singleShot(0, lambda: self.load_example(example, div=div, method=method))
@@ -172,6 +206,11 @@ class QtMainWindow(QMainWindow):
         self.runs.done.connect(self._on_done)
         self.runs.failed.connect(self._on_failed)
         self.runs.cancelled.connect(self._on_cancelled)
+        self.runs.declined.connect(self._on_declined)
+        self.runs.estimated.connect(self._on_estimated)
+        self.runs.confirm.connect(self._on_confirm)
+        self.formula_panel.checked.connect(self._on_checked)
+        m.events.history.connect(self.menu_actions.set_history)
         self.runs.refined.connect(self._on_refined)
         self.runs.refineFailed.connect(self._on_refine_failed)
         if self.topology_panel is not None:
@@ -219,10 +258,63 @@ class QtMainWindow(QMainWindow):
         self.pick_label.setVisible(info is not None)
 
     def _sync_view(self) -> None:
-        self.model.set_view(self.projection_panel.state())
+        playing = self.animation_panel.is_playing()
+        self.model.recording = not playing   # a playing animation is not a step to undo (its end is)
+        try:
+            self.model.set_view(self.projection_panel.state())
+        finally:
+            self.model.recording = True
+
+    def _show_warm_up(self) -> None:
+        """The status bar while the kernels compile; a second after a cached load, nothing is said."""
+        warm = self.warm_up
+        if warm is None:
+            return
+        if warm.running():
+            if warm.elapsed() > 1.0:
+                self.kernel_label.setText(
+                    f"Compiling the numerical kernels: once per install, {COMPILE_NOTE} "
+                    f"({warm.elapsed():.0f} s so far); later runs start at once.")
+            return
+        self._warm_timer.stop()
+        if warm.error:
+            self.kernel_label.setText(f"Kernel warm-up failed ({warm.error}); the first run compiles them.")
+        elif warm.seconds is not None and warm.seconds > 3.0:
+            self.kernel_label.setText(f"Kernels compiled in {warm.seconds:.0f} s; they are kept for later runs.")
+        else:
+            self.kernel_label.setText("")
+
+    # ------------------------------------------------------------------ undo / redo
+    def undo(self) -> bool:
+        """Back to the previous system and view (Ctrl+Z); False at the start of the history."""
+        return self._restore(self.model.undo(), "undo")
+
+    def redo(self) -> bool:
+        """Forward again after an undo (Ctrl+Shift+Z); False when nothing was undone."""
+        return self._restore(self.model.redo(), "redo")
+
+    def _restore(self, state: dict | None, what: str) -> bool:
+        if state is None:
+            self.set_status(f"Nothing to {what}.")
+            return False
+        fp, pp = self.formula_panel, self.projection_panel
+        self.model.recording = False
+        try:
+            if state.get("system") and state["system"] != fp.state():
+                fp.set_state(state["system"])
+            view = state.get("view")
+            current = pp.state()
+            # a view belongs to a result's variables: one of another result's is skipped
+            if view and view != current and view.get("planes") == current.get("planes"):
+                pp.set_state(view)
+        finally:
+            self.model.recording = True
+        self.model.system, self.model.view = fp.state(), pp.state()
+        self.model.history.sync(self.model.snapshot())
+        return True
 
     def _update_buttons(self, *_):
-        running = self.runs.is_running()
+        running = self.is_running()
         ok = self.formula_panel.is_valid() and not running
         self.run_button.setEnabled(ok)
         self.cancel_button.setEnabled(running)
@@ -257,10 +349,17 @@ class QtMainWindow(QMainWindow):
             method=method, seed=0, start=list(ex.start) if ex.start else None))
         self.model.expect(ex.title, ex.formulas, ex.variables, view=ex.view or {})
         self.setWindowTitle(f"GCMH Studio \u2014 {ex.title}")
-        self.set_status(" ".join(str(ex.description).split()))
+        self.show_description(ex.title, " ".join(str(ex.description).split()))
+        self.set_status("")
         if run:
             return self.run()
         return True
+
+    def show_description(self, title: str, text: str) -> None:
+        """The example's title and description above Run (hidden for a system typed in)."""
+        self.about_box.setTitle(title)
+        self.about_label.setText(text)
+        self.about_box.setVisible(bool(title or text))
 
     def open_gallery(self):
         """Show the example gallery (window-modal, not blocking); choosing an example opens and runs it."""
@@ -274,43 +373,86 @@ class QtMainWindow(QMainWindow):
         return g
 
     # ------------------------------------------------------------------ runs
-    def confirm_big_run(self, est: dict, avail: int):
-        """Ask before a run that would clearly exhaust memory (tests may replace this).
+    def confirm_big_run(self, est):
+        """Ask before a run that won't fit (``est``: its gcmh_core.budget.Estimate; tests may replace this).
 
         Returns "run" (go ahead), "gcch" (switch to continuation and run) or None (don't run).
         """
-        return ask_big_run(self, est, avail, gcch="gcch" in self.formula_panel.methods)
+        return ask_big_run(self, est, gcch="gcch" in self.formula_panel.methods and not self.formula_panel.continuation())
 
     def run(self) -> bool:
-        """Start an extraction with the panel's contents; False if refused."""
-        if self.runs.is_running():
+        """Start an extraction with the panel's contents; False if refused.
+
+        While a formula is still being checked, the run starts when the answer comes (True is returned:
+        ``runFinished`` says how it ended). The worker waits for the kernels' warm-up, estimates the run
+        and, when it won't fit, asks (:meth:`confirm_big_run`) before the engine starts."""
+        if self.is_running():
             self.set_status("A run is already in progress: cancel it first (Esc).", error=True)
             return False
+        if self.formula_panel.checking():
+            self._run_waiting = True
+            self.formula_panel.check_now()
+            self.progress.setValue(0)
+            self.progress.setFormat("checking the formulas\u2026")
+            self._update_buttons()
+            return True
         if not self.formula_panel.is_valid():
             errs = self.formula_panel.errors
             self.set_status("Cannot run: " + "; ".join(f"{k}: {v}" for k, v in errs.items()), error=True)
             return False
-        est = self.formula_panel.estimate()
-        avail = inputs.available_memory()
-        if not self.formula_panel.continuation() and est and avail and est.get("bytes", 0) > 0.8 * avail:
-            answer = self.confirm_big_run(est, avail)
-            if answer == "gcch":
-                self.formula_panel.set_method("gcch")
-            elif answer != "run":
-                self.set_status("Run not started: choose a smaller div, or continuation (GCCH).", error=True)
-                return False
         job = self.formula_panel.job()
         self.model.job = job
         self.progress.setValue(0)
-        self.progress.setFormat("starting\u2026")
+        warm = current_warm_up()
+        self.progress.setFormat(f"{COMPILING}\u2026" if warm is not None and warm.waits_for(job.method)
+                                else "starting\u2026")
         return self.runs.start(job)
 
+    def _on_checked(self) -> None:
+        """The formula checks are answered: a Run pressed meanwhile starts now (or is refused)."""
+        if not self._run_waiting:
+            return
+        self._run_waiting = False
+        self._update_buttons()
+        if self.formula_panel.is_valid():
+            if self.run():
+                return
+        else:
+            self.run()   # says "Cannot run: ..." on the status line
+        self.progress.setFormat("idle")
+        self.runFinished.emit("failed")
+
     def cancel(self) -> None:
-        if self.runs.cancel():
+        if self._run_waiting:
+            self._run_waiting = False
+            self._update_buttons()
+            self.progress.setFormat("cancelled")
+            self.set_status("Cancelled before the run started.")
+            self.runFinished.emit("cancelled")
+        elif self.runs.cancel():
             self.progress.setFormat("cancelling\u2026")
 
     def is_running(self) -> bool:
-        return self.runs.is_running()
+        """A run under way (or waiting for its formulas' check)."""
+        return self.runs.is_running() or self._run_waiting
+
+    def _on_estimated(self, est) -> None:
+        self.last_estimate = est
+        self.set_status(f"This run: about {inputs.human_bytes(est.peak_bytes)} of memory "
+                        f"(of {inputs.human_bytes(est.available_bytes)} available), "
+                        f"about {inputs.human_seconds(est.seconds)}.")
+
+    def _on_confirm(self, est) -> None:
+        answer = self.confirm_big_run(est)
+        if answer == "gcch":
+            self.formula_panel.set_method("gcch")
+        self.runs.answer(answer)
+
+    def _on_declined(self) -> None:
+        self.progress.setValue(0)
+        self.progress.setFormat("not started")
+        self.set_status("Run not started: choose a smaller div, or continuation (GCCH).", error=True)
+        self.runFinished.emit("declined")
 
     def _on_busy(self, running: bool) -> None:
         (self._timer.start if running else self._timer.stop)()
@@ -325,16 +467,24 @@ class QtMainWindow(QMainWindow):
 
     def _on_progress(self, phase: str, fraction: float, seconds: float) -> None:
         self.progress.setValue(int(round(1000 * max(0.0, min(1.0, fraction)))))
-        self.progress.setFormat(f"{phase} {100 * fraction:.0f}% \u00b7 {seconds:.1f} s")
+        if phase in _WAITING_PHASES:
+            self.progress.setFormat(f"{phase}\u2026 \u00b7 {seconds:.1f} s")
+        else:
+            self.progress.setFormat(f"{phase} {100 * fraction:.0f}% \u00b7 {seconds:.1f} s")
+        if phase == COMPILING:
+            self.set_status(f"The numerical kernels compile once per install ({COMPILE_NOTE}); "
+                            "this run starts when they are ready.")
 
     def _on_done(self, cx, geometry, report) -> None:
         job = self.model.job
         self.progress.setValue(1000)
         self.progress.setFormat(f"done \u00b7 {self.runs.elapsed():.1f} s")
         view = self.model.take_view()
+        title = self.model.title_for(job.formulas, job.variables)
+        if not title:   # a system typed in: the last example's description no longer applies
+            self.show_description("", "")
         try:
-            self.show_result(cx, job.variables, view=view, title=self.model.title_for(job.formulas, job.variables),
-                             geometry=geometry, report=report)
+            self.show_result(cx, job.variables, view=view, title=title, geometry=geometry, report=report)
         except Exception as e:  # noqa: BLE001 - a drawing problem must not take the window down
             self.set_status(f"Could not draw the result: {type(e).__name__}: {e}", error=True)
             self.runFinished.emit("failed")
@@ -576,7 +726,7 @@ class QtMainWindow(QMainWindow):
         self.formula_panel.set_state(d["system"])
         self.model.expect(d.get("title", ""), self.formula_panel.formulas(), self.formula_panel.variables())
         self._session = (d.get("view") or {}, d.get("camera"))
-        if run and self.formula_panel.is_valid():
+        if run and (self.formula_panel.is_valid() or self.formula_panel.checking()):
             self.runFinished.connect(self._apply_session_view)
             return self.run()
         return True
@@ -615,6 +765,7 @@ class QtMainWindow(QMainWindow):
     def closeEvent(self, event) -> None:
         self._closing = True
         self._timer.stop()
+        self._warm_timer.stop()
         self.animation_panel.set_playing(False)
         self.runs.shutdown()
         try:

@@ -29,8 +29,12 @@ class QtRunController(QObject):
         From the running worker only.
     done(cx, geometry, report)
         The run's complex, its drawing arrays (app.geometry.Geometry or None) and topology report (or None).
-    failed(message), cancelled(seconds)
-        The run ended without a result.
+    failed(message), cancelled(seconds), declined()
+        The run ended without a result (declined: the user did not want a run that won't fit).
+    estimated(est)
+        The running job's gcmh_core.budget.Estimate, before the engine starts.
+    confirm(est)
+        The run won't fit: the window asks the user and calls :meth:`answer`.
     refined(serial, cx, geometry, report, before, after)
         A refinement of the result ``serial`` ended (max |F| at the vertices before and after).
     refineFailed(message)
@@ -41,6 +45,9 @@ class QtRunController(QObject):
     done = Signal(object, object, object)
     failed = Signal(str)
     cancelled = Signal(float)
+    declined = Signal()
+    estimated = Signal(object)
+    confirm = Signal(object)
     refined = Signal(int, object, object, object, float, float)
     refineFailed = Signal(str)
 
@@ -61,6 +68,9 @@ class QtRunController(QObject):
         w.done.connect(self._on_done)
         w.failed.connect(self._on_failed)
         w.cancelled.connect(self._on_cancelled)
+        w.declined.connect(self._on_declined)
+        w.estimated.connect(lambda est, w=w: w is self.worker and self.estimated.emit(est))
+        w.confirm.connect(lambda est, w=w: w is self.worker and self.confirm.emit(est))
         w.finished.connect(lambda w=w: self._on_thread_finished(w))
         self.worker = w
         self._t0 = time.perf_counter()
@@ -74,6 +84,11 @@ class QtRunController(QObject):
             return False
         self.worker.cancel()
         return True
+
+    def answer(self, what) -> None:
+        """Pass the user's answer to ``confirm`` to the running worker ("run", "gcch" or None)."""
+        if self.worker is not None:
+            self.worker.answer(what)
 
     def is_running(self) -> bool:
         return self.worker is not None
@@ -112,6 +127,11 @@ class QtRunController(QObject):
             seconds = self.elapsed()
             self._finish()
             self.cancelled.emit(seconds)
+
+    def _on_declined(self) -> None:
+        if self._current():
+            self._finish()
+            self.declined.emit()
 
     def _on_thread_finished(self, w) -> None:
         if w in self._old_workers:

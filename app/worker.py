@@ -8,6 +8,11 @@ are prepared here too, so the GUI thread only hands them to VTK),
 ``failed(message)`` or ``cancelled()`` ends a run. ``cancel()`` sets a flag the
 engine polls through its ``cancel`` callback; the engine then raises
 ``gcmh_core.errors.Cancelled``. No VTK, pyvista or widget is touched here.
+
+Before the engine starts, the worker waits (cancellably) for the kernels' warm-up
+(:func:`app.jobs.start_warm_up`) and estimates the run (``estimated(est)``); a run
+that won't fit asks first (``confirm(est)``, answered by :meth:`ExtractWorker.answer`
+from the GUI thread: "run", "gcch" or None, which ends the run with ``declined()``).
 What a run computes (:class:`app.jobs.Job`, ``run_job``, ``view_data``) is in
 :mod:`app.jobs`, without Qt: the headless path runs the same code.
 """
@@ -20,7 +25,16 @@ import traceback
 
 from qtpy.QtCore import QThread, Signal
 
-from .jobs import Job, run_job, system_of, view_data  # noqa: F401 - run_job is looked up here (tests replace it)
+from .jobs import (  # noqa: F401 - run_job and estimate_job are looked up here (tests replace them)
+    Job,
+    current_warm_up,
+    estimate_job,
+    run_job,
+    system_of,
+    view_data,
+)
+
+COMPILING = "compiling kernels (once per install)"
 
 
 class RefineWorker(QThread):
@@ -59,8 +73,12 @@ class ExtractWorker(QThread):
     done = Signal(object, object)          # the CellComplex, its Geometry (or None)
     failed = Signal(str)                   # a one-line message for the status area
     cancelled = Signal()
+    estimated = Signal(object)             # the run's gcmh_core.budget.Estimate
+    confirm = Signal(object)               # the Estimate of a run that won't fit: answer() says what to do
+    declined = Signal()                    # the user did not want the run that won't fit
 
     PROGRESS_INTERVAL = 0.05
+    POLL = 0.1   # seconds between looks at the cancel flag while waiting
 
     def __init__(self, job: Job, parent=None):
         super().__init__(parent)
@@ -73,10 +91,18 @@ class ExtractWorker(QThread):
         self.error: str | None = None
         self.traceback: str | None = None
         self.report: dict | None = None    # gcmh_core.analysis.topology_report of the result, when available
+        self.estimate = None
+        self._answer = None
+        self._answered = threading.Event()
 
     # called from the GUI thread
     def cancel(self) -> None:
         self._cancel.set()
+
+    def answer(self, what) -> None:
+        """The user's answer to ``confirm``: "run" (force), "gcch" (continuation instead) or None (don't run)."""
+        self._answer = what
+        self._answered.set()
 
     def is_cancelled(self) -> bool:
         return self._cancel.is_set()
@@ -95,6 +121,43 @@ class ExtractWorker(QThread):
     def _should_cancel(self) -> bool:
         return self._cancel.is_set()
 
+    def _wait(self, done) -> None:
+        """Wait until ``done()``, looking at the cancel flag every POLL seconds."""
+        from gcmh_core.errors import Cancelled
+
+        while not done():
+            if self._cancel.is_set():
+                raise Cancelled("cancelled while waiting")
+            time.sleep(self.POLL)
+
+    def _wait_for_kernels(self) -> None:
+        warm = current_warm_up()
+        if warm is not None and warm.waits_for(self.job.method):
+            self.progress.emit(COMPILING, 0.0, time.perf_counter() - self._t0)
+            self._wait(lambda: warm.wait(self.POLL) or not warm.waits_for(self.job.method))
+
+    def _estimate_and_ask(self) -> bool:
+        """Estimate the run; when it won't fit, ask (through ``confirm``) and follow the answer.
+        False: the user declined."""
+        self.progress.emit("estimating", 0.0, time.perf_counter() - self._t0)
+        est = self.estimate = estimate_job(self.job)
+        self.estimated.emit(est)
+        if est.fits or self.job.force:
+            return True
+        self.confirm.emit(est)
+        self._wait(self._answered.is_set)
+        if self._answer == "gcch":
+            self.job.method = "gcch"
+            self.job.start = self.job.start or "auto"
+            est = self.estimate = estimate_job(self.job)
+            self.estimated.emit(est)
+            self.job.force = not est.fits   # the user agreed to run this one
+            return True
+        if self._answer == "run":
+            self.job.force = True
+            return True
+        return False
+
     def run(self) -> None:  # the thread body
         from gcmh_core.errors import Cancelled, InputError
 
@@ -103,6 +166,10 @@ class ExtractWorker(QThread):
         try:
             if self._cancel.is_set():
                 raise Cancelled("cancelled before start")
+            self._wait_for_kernels()
+            if not self._estimate_and_ask():
+                self.declined.emit()
+                return
             cx = run_job(self.job, progress=self._on_progress, cancel=self._should_cancel)
         except Cancelled:
             self.cancelled.emit()
