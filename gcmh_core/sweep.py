@@ -68,11 +68,11 @@ def enclosure_of(system) -> Enclosure | None:
     return _enclosures[system]
 
 
-def run_sweep(n, k, axes, system, sampled, progress, cancel, grid=None, prune=None) -> CellComplex:
+def run_sweep(n, k, axes, system, sampled, progress, cancel, grid=None) -> CellComplex:
     """Every cube of the grid: pruned by F's bounds when F is a formula and the grid is
     large (see PRUNE), else in slabs along axis 0.  Same complex either way."""
     grid = Grid(n, k, axes) if grid is None else grid
-    prune = PRUNE if prune is None else prune
+    prune = PRUNE
     if prune is None:
         prune = grid.stats["cubes"] >= _PRUNE_MIN_CUBES
     if prune and system is not None and sampled is None:
