@@ -305,6 +305,7 @@ class Geometry:
     edges: np.ndarray | None = None
     cell_ids: np.ndarray | None = None
     signs: np.ndarray | None = None
+    coarse: Geometry | None = None      # a coarse level of detail of a very large result (drawn while moving)
     _mesh_normals: MeshNormals | None = None
 
     def mesh_normals(self) -> MeshNormals | None:
@@ -337,7 +338,15 @@ class Geometry:
                    offsets=sl.offsets, vids=sl.vids, cell_ids=ids, signs=signs)
 
     @classmethod
-    def build(cls, cx) -> Geometry:
+    def build(cls, cx, lod: bool = True) -> Geometry:
+        """Drawing arrays of ``cx``; with ``lod``, above ``LOD_VERTICES`` vertices also a coarse copy."""
+        geo = cls._build(cx)
+        if lod and len(np.asarray(cx.vertices)) > LOD_VERTICES:
+            geo.coarse = coarse_geometry(geo, np.asarray(cx.vertices), LOD_TARGET)
+        return geo
+
+    @classmethod
+    def _build(cls, cx) -> Geometry:
         V = np.asarray(cx.vertices)
         dim = int(cx.dim)
         projector = Projector(V)
@@ -359,6 +368,66 @@ class Geometry:
                 normals = NormalField(Bv, cx.n)
         return cls(dim, cx.n, "polygons", polygon_faces(offsets, vids), projector, normals,
                    offsets=offsets, vids=vids, cell_ids=cell_ids, signs=signs)
+
+
+LOD_VERTICES = 150_000    # above this a result also gets a coarse level of detail ...
+LOD_TARGET = 30_000       # ... of about this many vertices
+
+
+def coarse_geometry(geo: Geometry, V: np.ndarray, target: int = LOD_TARGET) -> Geometry:
+    """A coarse copy of ``geo`` (vertices ``V`` (V, n)) by vertex clustering in R^n: vertices in one cube
+    of side h merge into their mean, loops keep the corners that remain distinct (those with fewer than
+    three, and edges with one, vanish). Clustering in R^n, not on screen, makes it valid for every
+    projection, so it is made once, in the worker, like the full arrays."""
+    X = np.asarray(V, dtype=np.float64)
+    fin = np.all(np.isfinite(X), axis=1)
+    Xf = np.where(fin[:, None], X, 0.0)
+    dim = max(1, min(int(geo.dim), 2))
+    lo = Xf[fin].min(axis=0) if fin.any() else np.zeros(X.shape[1])
+    span = np.ptp(Xf[fin], axis=0) if fin.any() else np.ones(X.shape[1])
+    # the clusters of a d-manifold grow like h^-d: start from the mean spacing, correct once by the count
+    h = float(np.linalg.norm(span)) / max(len(X), 1) ** (1.0 / dim) * (len(X) / max(target, 1)) ** (1.0 / dim)
+    for _ in range(3):
+        key = np.floor((Xf - lo) / max(h, 1e-300)).astype(np.int64)
+        _, cid = np.unique(key, axis=0, return_inverse=True)
+        cid = cid.ravel()
+        m = int(cid.max()) + 1
+        if m <= 1.5 * target:
+            break
+        h *= (m / target) ** (1.0 / dim)
+    cnt = np.bincount(cid, minlength=m).astype(np.float64)
+    C = np.stack([np.bincount(cid, weights=Xf[:, j], minlength=m) for j in range(X.shape[1])], 1) / cnt[:, None]
+    center = geo.projector.center
+    if geo.kind == "lines":
+        E = cid[np.asarray(geo.edges, dtype=np.int64)]
+        E = E[E[:, 0] != E[:, 1]]
+        E = np.unique(np.sort(E, axis=1), axis=0)
+        lines = np.empty((len(E), 3), dtype=np.int64)
+        lines[:, 0] = 2
+        lines[:, 1:] = E
+        pr = Projector(C, center=center)
+        pr.set_radii(geo.projector.radii())
+        return Geometry(geo.dim, geo.n, "lines", lines.ravel(), pr, edges=E)
+    offsets = np.asarray(geo.offsets, dtype=np.int64)
+    vids = cid[np.asarray(geo.vids, dtype=np.int64)]
+    sizes = np.diff(offsets)
+    nxt = np.arange(1, len(vids) + 1)
+    nxt[offsets[1:] - 1] = offsets[:-1]
+    keep = vids != vids[nxt]                          # drop a corner equal to the next one
+    face_of = np.repeat(np.arange(len(sizes)), sizes)
+    new_sizes = np.bincount(face_of[keep], minlength=len(sizes))
+    good = new_sizes >= 3
+    keep &= good[face_of]
+    vids = vids[keep]
+    offsets = np.concatenate([[0], np.cumsum(new_sizes[good])]).astype(np.int64)
+    pr = Projector(C, center=center)
+    pr.set_radii(geo.projector.radii())
+    normals = signs = None
+    if geo.normals is not None and len(vids):
+        Bv, signs = vertex_bivectors(C, offsets, vids, return_signs=True)
+        normals = NormalField(Bv, geo.n)
+    return Geometry(geo.dim, geo.n, "polygons", polygon_faces(offsets, vids), pr, normals,
+                    offsets=offsets, vids=vids, signs=signs)
 
 
 # ---------------------------------------------------------------------- overlays and picking (numpy only)

@@ -485,3 +485,58 @@ class Projector:
         else:
             out[...] = (P @ self.XT).T
         return out
+
+
+def givens_angles(R: np.ndarray) -> np.ndarray:
+    """The angles (radians, in the order of :func:`planes`) with ``rotation(n, angles) == R``.
+
+    ``R`` (n, n) orthogonal with determinant +1. Peels the Givens factors off the left
+    in the order they compose: ``G(0,1)^T`` zeroes ``R[1, 0]``, then ``G(0,2)^T``
+    ``R[2, 0]``, ..., so the first column becomes ``e_0``; then the same for column 1
+    with the planes (1, j), and so on. Each angle is in (-pi, pi].
+    """
+    A = np.array(R, dtype=np.float64)
+    n = A.shape[0]
+    out = []
+    for i, j in planes(n):
+        t = math.atan2(A[j, i], A[i, i])
+        c, s = math.cos(t), math.sin(t)
+        ri, rj = A[i].copy(), A[j].copy()
+        A[i] = c * ri + s * rj           # G(i, j)^T from the left
+        A[j] = -s * ri + c * rj
+        out.append(t)
+    return np.array(out)
+
+
+def plane_rotation(d: np.ndarray, h: np.ndarray, theta: float) -> np.ndarray:
+    """The (n, n) rotation by ``theta`` in the plane of unit vectors ``d`` and ``h`` taking ``h``
+    towards ``d`` (``Q h = cos h + sin d``); ``d`` is made orthogonal to ``h`` first."""
+    h = np.asarray(h, dtype=float) / np.linalg.norm(h)
+    d = np.asarray(d, dtype=float) - np.dot(d, h) * h
+    nd = np.linalg.norm(d)
+    n = len(h)
+    if nd < 1e-12:
+        return np.eye(n)
+    d = d / nd
+    c, s = math.cos(theta), math.sin(theta)
+    return np.eye(n) + (c - 1.0) * (np.outer(d, d) + np.outer(h, h)) + s * (np.outer(d, h) - np.outer(h, d))
+
+
+def turned_angles(model: ProjectionModel, screen: np.ndarray, hidden: int, degrees: float) -> np.ndarray:
+    """The model's angles (degrees) after turning the 3D direction ``screen`` (a unit 3-vector in the
+    projected space, e.g. the camera's right or up) against the ``hidden``-th hidden direction of the
+    frame by ``degrees``: what hidden lies along that axis comes into view along ``screen``.
+
+    The whole turn happens in R^n (``R' = R Q``, Q the plane rotation of the frame's directions),
+    then is written back as the plane angles the sliders show (:func:`givens_angles`).
+    """
+    n = model.n
+    if n <= 3:
+        return model.angles.copy()
+    F = model.frame()                             # (n, n): screen rows, then the hidden rows
+    hidden = int(min(max(hidden, 0), n - 4))
+    d = np.asarray(screen, dtype=float) @ F[:3]   # the R^n direction shown along ``screen``
+    h = F[3 + hidden]
+    Q = plane_rotation(d, h, math.radians(degrees))
+    R = model.rotation() @ Q
+    return np.degrees(givens_angles(R))

@@ -9,6 +9,13 @@ direction, sliders for c and w as fractions of the range the window reports);
 plus the drawing style (colour by a coordinate, opacity, edges, two-sided
 colours, boundary and grid overlays).
 
+Many planes (n = 10 has 45): the planes that bring a hidden axis into view come
+first, then the screen's own, then the hidden ones among themselves (marked: they
+move nothing alone in an orthographic view); a filter box keeps the rows naming
+a variable. Shift-drag on the view turns the screen against the hidden direction
+chosen in "Shift-drag turns" (Ctrl+Shift: the next one). "Keep camera" holds the
+camera when results, mappings and slices change.
+
 Signals: ``projectionChanged`` (angles, base or mapping changed: update points
 in place), ``baseChanged`` (a new base: the viewer may refit the camera),
 ``styleChanged`` (colour, opacity, edges, overlays), ``sliceChanged``.
@@ -25,6 +32,7 @@ from qtpy.QtWidgets import (
     QGridLayout,
     QHBoxLayout,
     QLabel,
+    QLineEdit,
     QPushButton,
     QScrollArea,
     QSlider,
@@ -94,9 +102,25 @@ class QtProjectionPanel(QWidget):
         form.addRow(self.mapping_error)
         bl.addLayout(form)
 
+        cam_row = QHBoxLayout()
+        self.keep_camera_check = QCheckBox("keep camera")
+        self.keep_camera_check.setToolTip("hold the camera still: no refitting when a result, the mapping or "
+                                          "a slice changes the object's extent")
+        cam_row.addWidget(self.keep_camera_check)
+        cam_row.addStretch(1)
+        cam_row.addWidget(QLabel("Shift-drag turns"))
+        self.drag_combo = QComboBox()
+        self.drag_combo.setToolTip("Shift-drag on the view turns the screen's x and y against this hidden "
+                                   "direction; Ctrl+Shift-drag (or Shift with the right button) against the next")
+        cam_row.addWidget(self.drag_combo)
+        bl.addLayout(cam_row)
         rot_head = QHBoxLayout()
-        rot_head.addWidget(QLabel("rotations (degrees) in the planes"))
-        rot_head.addStretch(1)
+        rot_head.addWidget(QLabel("rotations (degrees)"))
+        self.plane_filter = QLineEdit()
+        self.plane_filter.setPlaceholderText("filter planes, e.g. x4")
+        self.plane_filter.setClearButtonEnabled(True)
+        self.plane_filter.setToolTip("show only the planes whose names contain this text")
+        rot_head.addWidget(self.plane_filter, 1)
         self.reset_button = QPushButton("Reset")
         self.reset_button.setToolTip("all rotation angles back to 0")
         rot_head.addWidget(self.reset_button)
@@ -148,6 +172,8 @@ class QtProjectionPanel(QWidget):
             c.currentIndexChanged.connect(self._on_axes)
         self.seed_spin.valueChanged.connect(self._on_seed)
         self.reset_button.clicked.connect(self.reset)
+        self.plane_filter.textChanged.connect(self._filter_planes)
+        self.baseChanged.connect(self._rows_for_base)
         connect_all((self.color_combo.currentIndexChanged, self.opacity_slider.valueChanged,
                      self.edges_check.toggled, self.two_sided_check.toggled, self.boundary_check.toggled,
                      self.grid_check.toggled), self._on_style)
@@ -208,6 +234,16 @@ class QtProjectionPanel(QWidget):
         finally:
             self._updating = False
 
+    def plane_order(self) -> list[int]:
+        """Rows of the planes in the order shown: a screen axis against a hidden one first (they bring
+        the hidden into view), then the screen's own, then hidden against hidden."""
+        shown = {int(a) for a in self.model.axes if a >= 0} if self.model.kind == "coordinates" else {0, 1, 2}
+        def rank(row):
+            i, j = self.model.planes[row]
+            k = (i in shown) + (j in shown)
+            return ({1: 0, 2: 1, 0: 2}[k], row)
+        return sorted(range(len(self.model.planes)), key=rank)
+
     def _build_sliders(self) -> None:
         clear_layout(self.slider_grid)
         for r in range(self.slider_grid.rowCount()):
@@ -224,14 +260,62 @@ class QtProjectionPanel(QWidget):
             val.setMinimumWidth(40)
             val.setAlignment(Qt.AlignRight | Qt.AlignVCenter)
             s.valueChanged.connect(lambda v, r=row: self._on_slider(r, v))
-            self.slider_grid.addWidget(lab, row, 0)
-            self.slider_grid.addWidget(s, row, 1)
-            self.slider_grid.addWidget(val, row, 2)
             self.sliders.append(s)
             self.slider_labels.append(lab)
             self.value_labels.append(val)
+        self._place_sliders()
         self.slider_grid.setColumnStretch(1, 1)
         self.slider_grid.setRowStretch(len(self.sliders), 1)
+        self._fill_drag_combo()
+
+    def _place_sliders(self) -> None:
+        """Put the rows in :meth:`plane_order` (the lists stay in plane order) and mark the hidden-only planes."""
+        order = self.plane_order()
+        shown = {int(a) for a in self.model.axes if a >= 0} if self.model.kind == "coordinates" else {0, 1, 2}
+        for pos, row in enumerate(order):
+            i, j = self.model.planes[row]
+            lab = self.slider_labels[row]
+            hidden_only = self.model.n > 3 and i not in shown and j not in shown
+            lab.setStyleSheet("color: #888;" if hidden_only else "")
+            if hidden_only:
+                lab.setToolTip(f"rotate in the plane of {self.names[i]} and {self.names[j]} (both hidden: "
+                               "moves nothing alone in an orthographic view; it acts with the other planes, "
+                               "or under perspective and stereographic)")
+            for col, w in enumerate((lab, self.sliders[row], self.value_labels[row])):
+                self.slider_grid.addWidget(w, pos, col)
+        self._filter_planes(self.plane_filter.text())
+
+    def _filter_planes(self, text: str = "") -> None:
+        words = str(text).replace(",", " ").split()
+        for row, (i, j) in enumerate(self.model.planes):
+            names = (self.names[i].lower(), self.names[j].lower())
+            ok = all(any(w.lower() == nm or w.lower() in nm for nm in names) for w in words)
+            for w in (self.slider_labels[row], self.sliders[row], self.value_labels[row]):
+                w.setVisible(ok)
+
+    def _fill_drag_combo(self) -> None:
+        from .projection import axis_label, hidden_directions
+
+        prev = self.drag_combo.currentIndex()
+        self.drag_combo.blockSignals(True)
+        self.drag_combo.clear()
+        if self.model.n >= 4:
+            H = hidden_directions(self.model.base())
+            for r in range(len(H)):
+                self.drag_combo.addItem(axis_label(H[r], self.names) or f"hidden {r + 1}", r)
+        self.drag_combo.setCurrentIndex(min(max(prev, 0), self.drag_combo.count() - 1))
+        self.drag_combo.setEnabled(self.model.n >= 4)
+        self.drag_combo.blockSignals(False)
+
+    def _rows_for_base(self) -> None:
+        """A new base: other planes bring hidden axes into view, other directions are hidden."""
+        if self.sliders:
+            self._place_sliders()
+            self._fill_drag_combo()
+
+    def drag_hidden(self) -> int:
+        """The hidden direction a Shift-drag turns against (0: the first)."""
+        return max(0, self.drag_combo.currentIndex())
 
     def _sync_kind_widgets(self) -> None:
         kind = self.model.kind
@@ -397,6 +481,7 @@ class QtProjectionPanel(QWidget):
                 self.mapping_combo.setCurrentIndex(self.mapping_combo.findData(mapping))
                 self.mapping_error.setVisible(False)
                 self._sync_kind_widgets()
+            self._rows_for_base()
         finally:
             self._updating = False
 

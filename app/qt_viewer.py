@@ -6,6 +6,19 @@ the View tab (:class:`app.qt_projection_panel.QtProjectionPanel`) sets: the
 projection in place, the style, the slice and the overlays, picking a cell,
 the camera, and pictures of the view. Only the GUI thread touches it; problems
 go to the model's status line.
+
+Never frozen: a new result is drawn with one render (pyvista would render after
+every actor it adds), the window anti-aliases with FXAA (super-sampling only for
+screenshots), and very large results are drawn at a coarse level of detail while
+a slider or a drag moves them, in full once they rest (``SETTLE_MS``).
+
+Always framed: the camera refits, keeping its direction, when a result arrives and
+when the base, the mapping or a slice changes the object's extent, and whenever a
+turn carries the object out of the picture; the View tab's "keep camera" holds it.
+
+Steering: Shift-drag turns the screen's x (horizontal drag) and y (vertical drag)
+against the hidden direction the View tab names; Ctrl+Shift-drag, or Shift with
+the right button, against the next one (:func:`app.projection.turned_angles`).
 """
 
 from __future__ import annotations
@@ -13,10 +26,44 @@ from __future__ import annotations
 import copy
 
 import numpy as np
+from qtpy.QtCore import QEvent, QObject, Qt, QTimer
 
 from .model import StudioModel, slice_params
-from .projection import ProjectionModel
-from .scene import PICK_COLOR, Scene, Style, copy_camera, default_camera, draw_overlays, render_image, view_subtitle
+from .projection import ProjectionModel, turned_angles
+from .scene import (MARGIN_X, MARGIN_Y, PICK_COLOR, Scene, Style, copy_camera, default_camera, draw_overlays,
+                    refit_camera, render_image, screen_coordinates, view_subtitle)
+
+SETTLE_MS = 250          # a view at rest this long is drawn in full again
+DRAG_DEGREES = 0.4       # per pixel of a Shift-drag
+
+
+class _DragFilter(QObject):
+    """Shift-drag on the 3D view turns hidden planes (the events never reach VTK's trackball)."""
+
+    def __init__(self, viewer: QtViewer):
+        super().__init__()
+        self.viewer = viewer
+        self.last = None
+        self.hidden = 0
+
+    def eventFilter(self, obj, ev) -> bool:  # noqa: N802 - Qt's name
+        t = ev.type()
+        v = self.viewer
+        if t == QEvent.MouseButtonPress and ev.modifiers() & Qt.ShiftModifier and v.can_turn():
+            nxt = bool(ev.modifiers() & Qt.ControlModifier) or ev.button() == Qt.RightButton
+            self.hidden = v.panel.drag_hidden() + (1 if nxt else 0)
+            self.last = (ev.x(), ev.y())
+            return True
+        if t == QEvent.MouseMove and self.last is not None:
+            x, y = ev.x(), ev.y()
+            dx, dy = x - self.last[0], y - self.last[1]
+            self.last = (x, y)
+            v.turn_hidden(dx, -dy, self.hidden)
+            return True
+        if t == QEvent.MouseButtonRelease and self.last is not None:
+            self.last = None
+            return True
+        return False
 
 
 class QtViewer:
@@ -27,9 +74,18 @@ class QtViewer:
 
         self.model = model
         self.panel = panel
-        self.plotter = QtInteractor(parent, auto_update=False)
+        # no multi-sampling: with software GL it doubles every frame; FXAA smooths the edges instead
+        self.plotter = QtInteractor(parent, auto_update=False, multi_samples=0)
         self.widget = self.plotter.interactor
-        self.scene = Scene(self.plotter)
+        self.scene = Scene(self.plotter, anti_aliasing="fxaa")
+        self.renders = 0                     # full renders of the window (the benchmark counts them)
+        self._mapping = None                 # the mapping the camera was fitted for
+        self._settle = QTimer()
+        self._settle.setSingleShot(True)
+        self._settle.setInterval(SETTLE_MS)
+        self._settle.timeout.connect(self._at_rest)
+        self._drag = _DragFilter(self)
+        self.widget.installEventFilter(self._drag)
 
     # ------------------------------------------------------------ drawing
     def style(self) -> Style:
@@ -41,34 +97,122 @@ class QtViewer:
         return Style(color_by=pp.color_by(), opacity=pp.opacity(), show_edges=pp.show_edges(),
                      title=self.model.title, subtitle=sub, two_sided=two)
 
+    def render(self) -> None:
+        """Ask for one render of the window: Qt paints it once, however many changes came before
+        (``plotter.render()`` renders now and then once more in the paint it schedules)."""
+        self.renders += 1
+        self.widget.update()
+
+    def keep_camera(self) -> bool:
+        return bool(self.panel.keep_camera_check.isChecked())
+
     def show(self, geometry=None) -> None:
-        """Draw the model's result (its drawing arrays ``geometry`` if made beforehand) and fit the camera."""
-        self.scene.set_complex(self.model.result, self.model.names, self.panel.model.view(), self.style(),
-                               geometry=geometry)
-        self.clear_pick()
-        self.apply_overlays(self.scene)
-        self.apply_slice(render=False)
-        self.reset_camera()
+        """Draw the model's result (its drawing arrays ``geometry`` if made beforehand), frame it, render once.
+
+        The first result gets the default oblique view; later ones keep the camera's direction
+        (and, with "keep camera", the whole camera)."""
+        first = self.scene.mesh is None and self._mapping is None
+        with self.scene.held_render(render=False):
+            self.scene.set_complex(self.model.result, self.model.names, self.panel.model.view(), self.style(),
+                                   geometry=geometry)
+            self.clear_pick()
+            self.apply_overlays(self.scene)
+            self.apply_slice(render=False)
+            if first:
+                default_camera(self.plotter)
+            elif not self.keep_camera():
+                refit_camera(self.plotter)
+            self.plotter.renderer.ResetCameraClippingRange()
+        self._mapping = self.panel.model.view().mapping
+        self.render()
 
     def on_projection(self) -> None:
         """The angles, base or mapping changed: move the points in place (and re-slice a turning direction)."""
         if self.scene.complex is None:
             return
         pp = self.panel
-        self.scene.set_projection(pp.model.view(), render=False)
-        sw = pp.slice_window()
-        if sw is not None and sw.hidden:    # the hidden directions turn with the view
-            self.apply_slice(render=False)
-        if self.scene.style.subtitle != self.style().subtitle:
-            self.scene.set_style(self.style(), render=False)
-        self.plotter.renderer.ResetCameraClippingRange()
-        self.plotter.render()
+        view = pp.model.view()
+        moving = self.scene.lod_available()
+        with self.scene.held_render(render=False):
+            self.scene.set_projection(view, render=False, coarse=moving)
+            sw = pp.slice_window()
+            if sw is not None and sw.hidden:    # the hidden directions turn with the view
+                self.apply_slice(render=False)
+            if self.scene.style.subtitle != self.style().subtitle:
+                self.scene.set_style(self.style(), render=False)
+            if view.mapping != self._mapping:   # another mapping: another extent
+                self._mapping = view.mapping
+                self.refit()
+            else:
+                self.keep_in_view()
+            self.plotter.renderer.ResetCameraClippingRange()
+        self.render()
+        if moving:
+            self._settle.start()
+
+    def _at_rest(self) -> None:
+        """The view stopped moving: the full mesh again."""
+        if self.scene.complex is None or not self.scene.coarse_shown():
+            return
+        with self.scene.held_render(render=False):
+            self.scene.set_projection(self.panel.model.view(), render=False, coarse=False)
+            self.plotter.renderer.ResetCameraClippingRange()
+        self.render()
 
     def on_base(self) -> None:
         if self.scene.complex is None:
             return
         self.on_projection()
-        self.reset_camera()
+        self.refit(render=True)
+
+    def refit(self, render: bool = False) -> None:
+        """Frame the object again from the current direction (nothing with "keep camera")."""
+        if self.keep_camera() or self.scene.complex is None:
+            return
+        refit_camera(self.plotter)
+        if render:
+            self.render()
+
+    def keep_in_view(self) -> None:
+        """Refit when the object left the picture (or ran under the title), or shrank to under half of
+        what the picture could show; a turn that stays inside keeps the camera still."""
+        if self.keep_camera() or self.scene.complex is None:
+            return
+        b = np.array(self.plotter.renderer.ComputeVisiblePropBounds(), dtype=float)
+        if not np.all(np.isfinite(b)) or b[1] < b[0]:
+            return
+        corners = np.array([[x, y, z] for x in b[0:2] for y in b[2:4] for z in b[4:6]])
+        S = screen_coordinates(self.plotter, corners)
+        u = S[:, 0] - 0.5 * (S[:, 0].min() + S[:, 0].max())
+        v = S[:, 1] - 0.5 * (S[:, 1].min() + S[:, 1].max())
+        out = (np.abs(S[:, 0]).max() > 1.0 or S[:, 1].min() < -1.0 or S[:, 1].max() > 2 * 0.88 - 1)
+        small = max(np.abs(u).max() / MARGIN_X, np.abs(v).max() / MARGIN_Y) < 0.5
+        if out or small:
+            refit_camera(self.plotter)
+
+    # ------------------------------------------------------------ steering hidden planes
+    def can_turn(self) -> bool:
+        return self.scene.complex is not None and self.panel.model.n >= 4
+
+    def turn_hidden(self, dx: float, dy: float, hidden: int = 0) -> None:
+        """Turn the screen's x by ``dx`` and y by ``dy`` (pixels of a drag) against hidden direction ``hidden``."""
+        pm = self.panel.model
+        if pm.n < 4 or (dx == 0 and dy == 0):
+            return
+        cam = self.plotter.camera
+        right = np.cross(np.asarray(cam.direction, float), np.asarray(cam.up, float))
+        right /= max(np.linalg.norm(right), 1e-12)
+        up = np.asarray(cam.up, float) - np.dot(cam.up, right) * right
+        up /= max(np.linalg.norm(up), 1e-12)
+        hidden = hidden % (pm.n - 3)
+        a = pm.angles.copy()
+        if dx:
+            pm.angles[:] = turned_angles(pm, right, hidden, DRAG_DEGREES * dx)
+        if dy:
+            pm.angles[:] = turned_angles(pm, up, hidden, DRAG_DEGREES * dy)
+        new = pm.angles.copy()
+        pm.angles[:] = a
+        self.panel.set_angles(new)   # the sliders follow; projectionChanged redraws
 
     def on_style(self) -> None:
         if self.scene.complex is None:
@@ -82,12 +226,16 @@ class QtViewer:
             self.scene.set_show_edges(st.show_edges, render=False)
         else:
             self.scene.set_style(st, render=False)
-        self.apply_overlays(self.scene)
-        self.plotter.render()
+        with self.scene.held_render(render=False):
+            self.apply_overlays(self.scene)
+        self.render()
 
     def on_slice(self) -> None:
         if self.scene.complex is not None:
-            self.apply_slice()
+            with self.scene.held_render(render=False):
+                self.apply_slice(render=False)
+                self.keep_in_view()
+            self.render()
 
     def apply_overlays(self, scene: Scene) -> None:
         """Boundary facets, grid cubes and the picked cell on ``scene`` (this view's, or an off-screen copy)."""
@@ -120,7 +268,7 @@ class QtViewer:
             pp.set_slice_readout(f"{what} in [{c - w:.3g}, {c + w:.3g}] of [{lo:.3g}, {hi:.3g}] \u00b7 "
                                  f"{k:,} cells" + ("" if k else " (nothing here)"))
         if render:
-            self.plotter.render()
+            self.render()
 
     # ------------------------------------------------------------ picking
     def pick_cell(self, cell_id: int) -> dict:
@@ -134,7 +282,7 @@ class QtViewer:
         self.model.set_picked(info)
         X, E = info["lines"]
         self.scene.set_overlay("pick", X, E, PICK_COLOR, width=5.0, render=False)
-        self.plotter.render()
+        self.render()
         return info
 
     def clear_pick(self) -> None:
@@ -146,27 +294,31 @@ class QtViewer:
         cid = self.scene.cell_at(display_xy)
         if cid is None:
             self.clear_pick()
-            self.plotter.render()
+            self.render()
             return None
         return self.pick_cell(cid)
 
     # ------------------------------------------------------------ camera and pictures
     def reset_camera(self) -> None:
+        """The default oblique view, framed."""
         default_camera(self.plotter)
-        self.plotter.render()
+        self.render()
 
     def size(self) -> tuple[int, int]:
         return self.widget.width(), self.widget.height()
 
     def screenshot_array(self) -> np.ndarray:
         """The current view as an (h, w, 3) uint8 array."""
+        self._at_rest()
         self.plotter.render()
         return self.plotter.screenshot(return_img=True)
 
     def save_screenshot(self, path, size=None, transparent: bool = False) -> np.ndarray:
         """Write a PNG of the current view at ``size`` (w, h) pixels, re-rendered off screen."""
         size = tuple(int(s) for s in (size or self.size()))
-        return render_image(self.scene, path, size=size, transparent=transparent, camera=self.plotter.camera)
+        self._at_rest()
+        return render_image(self.scene, path, size=size, transparent=transparent, camera=self.plotter.camera,
+                            fit=not self.keep_camera(), camera_size=self.size())
 
     def write_animation(self, path, frames, window, projection: ProjectionModel, size, fps: float,
                         progress=None, cancel=None) -> int:
@@ -178,4 +330,6 @@ class QtViewer:
                            geometry=self.scene.geometry)
             self.apply_overlays(sc)
             copy_camera(self.plotter.camera, sc.plotter.camera)
+            if not self.keep_camera():   # the window's direction, framed for this picture's shape
+                refit_camera(sc.plotter)
             return write_frames(sc, projection, frames, window, [path], fps, progress=progress, cancel=cancel)

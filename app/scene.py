@@ -23,6 +23,7 @@ into an off-screen ``pyvista.Plotter`` for headless screenshots and animations.
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -93,7 +94,7 @@ class Scene:
     plotter : pyvista.Plotter or pyvistaqt.QtInteractor
     """
 
-    def __init__(self, plotter):
+    def __init__(self, plotter, anti_aliasing: str | None = "fxaa"):
         self.plotter = plotter
         self.complex = None
         self.names: list[str] = []
@@ -119,11 +120,53 @@ class Scene:
         self.overlays: dict = {}
         self._overlay_src: dict = {}               # name -> (vertices (m, n), edges (E, 2)) before slicing
         self._ghost = None                         # (mesh, actor): the whole result, faint, while slicing
+        self._coarse = None                        # (geometry, mesh, actor, normals array): drawn while moving
+        self._coarse_on = False
+        self._actor_kw: dict = {}
         plotter.set_background(BACKGROUND, top=BACKGROUND_TOP)
+        self.anti_aliasing = None
+        self.set_anti_aliasing(anti_aliasing)
+
+    def set_anti_aliasing(self, kind: str | None) -> None:
+        """"fxaa" (cheap: the window), "ssaa" (four times the pixels: screenshots) or None.
+
+        Super-sampling multiplies a software render's cost by four to eight (three-torus:
+        0.3 s -> 4 s a frame), so only pictures that are kept pay for it."""
+        if kind == self.anti_aliasing:
+            return
+        import warnings
+
         try:
-            plotter.enable_anti_aliasing("ssaa")
+            self.plotter.disable_anti_aliasing()
+            if kind:
+                with warnings.catch_warnings():   # EGL builds warn that FXAA falls back to SSAA
+                    warnings.simplefilter("ignore")
+                    self.plotter.enable_anti_aliasing(kind)
         except Exception:  # noqa: BLE001 - not every render window supports it
             pass
+        self.anti_aliasing = kind
+
+    @contextmanager
+    def held_render(self, render: bool = True):
+        """Draw nothing inside the block (pyvista renders after every added actor and camera
+        reset: a new result cost seven renders); then one render when ``render``."""
+        pl = self.plotter
+        if getattr(pl, "_gcmh_held", False):   # already held: the outer block renders
+            yield
+            return
+        saved = vars(pl).get("render")          # an instance's own render (a test's counter) comes back
+        pl.render = lambda *a, **k: None
+        pl._gcmh_held = True
+        try:
+            yield
+        finally:
+            pl._gcmh_held = False
+            if saved is None:
+                del pl.render
+            else:
+                pl.render = saved
+        if render:
+            pl.render()
 
     # ------------------------------------------------------------------ build
     @property
@@ -142,6 +185,7 @@ class Scene:
         self.geometry = self.draw_geo = None
         self.slice = None
         self._mesh_normals = None
+        self._drop_coarse()
         self._set_ghost(False)
         for name in list(self.overlays):
             self.remove_overlay(name, render=False)
@@ -167,7 +211,7 @@ class Scene:
         self._set_view(P)
         self._show_geometry(geo, np.asarray(cx.vertices))
         self._update_axes_labels()
-        self.plotter.reset_camera(render=False)
+        self.plotter.renderer.reset_camera(render=False)   # (the plotter's wrapper renders)
 
     def _set_view(self, P) -> None:
         if isinstance(P, View):
@@ -276,6 +320,8 @@ class Scene:
             kw["show_scalar_bar"] = False
         if two_sided:
             kw["backface_params"] = dict(color=BACK_COLOR)
+        self._drop_coarse()
+        self._actor_kw = {k: v for k, v in kw.items() if k not in ("show_scalar_bar", "scalar_bar_args", "name")}
         self.actor = self.plotter.add_mesh(self.mesh, **kw)
         if self._bar_title is not None:
             try:
@@ -312,18 +358,25 @@ class Scene:
                                                          name="gcmh-subtitle")
 
     # ----------------------------------------------------------- fast update
-    def set_projection(self, P, render: bool = True) -> None:
+    def set_projection(self, P, render: bool = True, coarse: bool = False) -> None:
         """Write the points (and normals) for view ``P`` (a View or a (3, n) matrix) in place.
 
-        A slice along a direction that depends on the view is the caller's to redo
-        (:meth:`set_slice`); overlays follow here.
+        ``coarse``: draw the coarse level of detail instead (when the result has one and no slice
+        is shown), e.g. while a slider moves; the full mesh is then written only when asked again
+        without ``coarse``. A slice along a direction that depends on the view is the caller's to
+        redo (:meth:`set_slice`); overlays follow here.
         """
         self._set_view(P)
-        if self.mesh is not None:
-            self.projector.project_view(self.view, out=self._pts)
-            self.mesh.GetPoints().Modified()
-            self._write_normals()
-            self.mesh.Modified()
+        coarse = coarse and self.lod_available()
+        if coarse:
+            self._show_coarse()
+        else:
+            self._hide_coarse()
+            if self.mesh is not None:
+                self.projector.project_view(self.view, out=self._pts)
+                self.mesh.GetPoints().Modified()
+                self._write_normals()
+                self.mesh.Modified()
         if self._ghost is not None:
             self.geometry.projector.project_view(self.view, out=self._ghost[0].points)
             self._ghost[0].GetPoints().Modified()
@@ -337,6 +390,65 @@ class Scene:
         if render:
             self.plotter.renderer.ResetCameraClippingRange()
             self.plotter.render()
+
+    # ------------------------------------------------------- level of detail
+    def lod_available(self) -> bool:
+        """A coarse copy exists for the whole result on screen (no slice, an actor to stand in for)."""
+        g = self.geometry
+        return (g is not None and g.coarse is not None and self.slice is None and self.actor is not None
+                and self.draw_geo is g)
+
+    def coarse_shown(self) -> bool:
+        return self._coarse_on
+
+    def _show_coarse(self) -> None:
+        geo = self.geometry.coarse
+        if self._coarse is None:
+            pts = geo.projector.project_view(self.view)
+            mesh = (pv.PolyData(pts, lines=geo.cells) if geo.kind == "lines" else pv.PolyData(pts, faces=geo.cells))
+            C = geo.projector.XT.T + np.asarray(geo.projector.center, dtype=np.float32)   # back to R^n
+            for i, name in enumerate(self.names):
+                mesh.point_data[name] = np.ascontiguousarray(C[:, i], dtype=np.float64)
+            normals = None
+            if geo.normals is not None:
+                mesh.point_data["Normals"] = np.zeros((mesh.n_points, 3), dtype=np.float32)
+                mesh.point_data.active_normals_name = "Normals"
+                normals = mesh.point_data["Normals"]
+            kw = dict(self._actor_kw)
+            kw.update(render=False, reset_camera=False, name="gcmh-complex-coarse", show_scalar_bar=False,
+                      pickable=False)
+            actor = self.plotter.add_mesh(mesh, **kw)
+            if normals is not None:
+                actor.prop.interpolation = "phong"
+            self._coarse = (geo, mesh, actor, normals)
+        geo, mesh, actor, normals = self._coarse
+        geo.projector.project_view(self.view, out=mesh.points)
+        mesh.GetPoints().Modified()
+        if normals is not None:
+            if self.view.linear:
+                geo.normals.write(self._P, normals)
+            else:
+                geo.mesh_normals().write(mesh.points, normals)
+            mesh.GetPointData().GetNormals().Modified()
+        mesh.Modified()
+        actor.SetVisibility(True)
+        self.actor.SetVisibility(False)
+        self._coarse_on = True
+
+    def _hide_coarse(self) -> None:
+        if self._coarse_on:
+            self._coarse[2].SetVisibility(False)
+            if self.actor is not None:
+                self.actor.SetVisibility(True)
+            self._coarse_on = False
+
+    def _drop_coarse(self) -> None:
+        if self._coarse is not None:
+            self.plotter.remove_actor(self._coarse[2], render=False)
+            self._coarse = None
+        if self._coarse_on and self.actor is not None:
+            self.actor.SetVisibility(True)
+        self._coarse_on = False
 
     def _write_normals(self) -> None:
         if self._normals is None or self._normal_field is None:
@@ -607,19 +719,29 @@ def draw_overlays(scene: Scene, cx, boundary: bool = False, grid: bool = False,
     return problem
 
 
+# Where the object may lie, in halves of the picture from its centre: clear of the title (top), the colour
+# bar (right) and the axes (bottom left) -- the picture a window, a screenshot and a thumbnail all share.
+MARGIN_X = 0.68
+MARGIN_Y = 0.76
+VIEW_DIRECTION = (1.0, -1.6, 1.1)
+
+
 def default_camera(plotter) -> None:
     """An oblique view from above, zoomed so the object fills the picture between title and colour bar."""
-    plotter.view_vector((1.0, -1.6, 1.1), viewup=(0.0, 0.0, 1.0), render=False)
-    plotter.reset_camera(render=False)
-    fit_camera(plotter, margin_x=0.68, margin_y=0.76)
+    plotter.renderer.view_vector(VIEW_DIRECTION, viewup=(0.0, 0.0, 1.0))
+    refit_camera(plotter)
+
+
+def refit_camera(plotter) -> None:
+    """Frame the shown object again from the camera's current direction (the user's view kept):
+    the new extent of a projection, mapping or slice, or another picture size."""
+    plotter.renderer.reset_camera(render=False)    # focal point on the bounds' centre, direction kept
+    fit_camera(plotter, margin_x=MARGIN_X, margin_y=MARGIN_Y)
     plotter.renderer.ResetCameraClippingRange()
 
 
-def fit_camera(plotter, margin_x: float = 0.9, margin_y: float = 0.9, max_points: int = 50_000) -> None:
-    """Change the view angle so the shown points just fit (perspective camera, direction kept).
-
-    The points fill at most ``margin_x`` of the half-width and ``margin_y`` of the half-height.
-    """
+def shown_points(plotter, max_points: int = 400_000) -> np.ndarray:
+    """(m, 3) points of the visible meshes (every ``step``-th of a very large one), finite only."""
     pts = []
     for actor in plotter.renderer.actors.values():
         try:
@@ -635,20 +757,55 @@ def fit_camera(plotter, margin_x: float = 0.9, margin_y: float = 0.9, max_points
         step = max(1, n // max_points)
         pts.append(np.asarray(P[::step], dtype=float))
     if not pts:
-        return
+        return np.zeros((0, 3))
     X = np.concatenate(pts)
-    X = X[np.all(np.isfinite(X), axis=1)]
+    return X[np.all(np.isfinite(X), axis=1)]
+
+
+def screen_coordinates(plotter, X: np.ndarray, size=None) -> np.ndarray:
+    """(m, 2) normalised picture coordinates (-1..1 across the picture) of points ``X`` (m, 3) under the
+    plotter's camera, for a picture of ``size`` (w, h) (default: the plotter's)."""
+    w, h = size or plotter.window_size
+    M = plotter.camera.GetCompositeProjectionTransformMatrix(w / max(h, 1), -1.0, 1.0)
+    A = np.array([[M.GetElement(i, j) for j in range(4)] for i in range(4)])
+    Y = np.asarray(X, dtype=float) @ A[:, :3].T + A[:, 3]
+    wq = Y[:, 3:4]
+    wq = np.where(np.abs(wq) < 1e-12, 1e-12, wq)
+    return Y[:, :2] / wq
+
+
+def inside_share(plotter, X: np.ndarray | None = None, size=None, title_band: bool = True) -> float:
+    """The share of points ``X`` (default: every shown point) that the picture shows: inside it and, with
+    ``title_band``, below the title and subtitle (the top 12 %)."""
+    X = shown_points(plotter, max_points=10**9) if X is None else np.asarray(X, dtype=float)
+    if len(X) == 0:
+        return 1.0
+    S = screen_coordinates(plotter, X, size)
+    top = 2 * 0.88 - 1 if title_band else 1.0
+    ok = (np.abs(S[:, 0]) <= 1.0) & (S[:, 1] >= -1.0) & (S[:, 1] <= top)
+    return float(np.mean(ok))
+
+
+def fit_camera(plotter, margin_x: float = 0.9, margin_y: float = 0.9, max_points: int = 400_000) -> None:
+    """Change the view angle so the shown points just fit (perspective camera, direction kept).
+
+    The points fill at most ``margin_x`` of the half-width and ``margin_y`` of the half-height.
+    """
+    X = shown_points(plotter, max_points)
     if len(X) == 0:
         return
     cam = plotter.camera
     w, h = plotter.window_size
     aspect = max(1e-6, w / max(h, 1))
-    for _ in range(2):  # centre the points on screen, then fit them
+    for _ in range(3):  # centre the points on screen, then fit them
         M = np.array([[cam.GetViewTransformMatrix().GetElement(i, j) for j in range(4)] for i in range(4)])
         Y = X @ M[:3, :3].T + M[:3, 3]
         depth = -Y[:, 2]
-        if np.any(depth <= 1e-9):
-            return
+        if np.any(depth <= 1e-9):   # points behind the eye: back off along the view direction first
+            d = np.asarray(cam.direction, dtype=float)
+            back = float(np.max(-depth)) + 2.0 * float(np.ptp(Y[:, 2])) + 1.0
+            cam.position = tuple(np.asarray(cam.position) - back * d)
+            continue
         u = Y[:, 0] / depth
         v = Y[:, 1] / depth
         u0 = 0.5 * (u.min() + u.max())
@@ -657,10 +814,29 @@ def fit_camera(plotter, margin_x: float = 0.9, margin_y: float = 0.9, max_points
         shift = D * (u0 * M[0, :3] + v0 * M[1, :3])   # rows of M: camera right, up, -forward
         cam.focal_point = tuple(np.asarray(cam.focal_point) + shift)
         cam.position = tuple(np.asarray(cam.position) + shift)
-    need = max(np.max(np.abs(v - v0)) / margin_y, np.max(np.abs(u - u0)) / (aspect * margin_x))
+    M = np.array([[cam.GetViewTransformMatrix().GetElement(i, j) for j in range(4)] for i in range(4)])
+    Y = X @ M[:3, :3].T + M[:3, 3]
+    depth = -Y[:, 2]
+    if np.any(depth <= 1e-9):
+        return
+    u = Y[:, 0] / depth
+    v = Y[:, 1] / depth
+    need = max(np.max(np.abs(v - 0.5 * (v.min() + v.max()))) / margin_y,
+               np.max(np.abs(u - 0.5 * (u.min() + u.max()))) / (aspect * margin_x))
     if not np.isfinite(need) or need <= 0:
         return
     cam.view_angle = float(min(max(2 * np.degrees(np.arctan(need)), 1.0), 120.0))
+
+
+def keep_framing(camera, src_size, dst_size) -> None:
+    """Widen ``camera``'s view angle so a picture of ``dst_size`` shows at least what one of ``src_size``
+    showed (a taller picture would otherwise crop the sides: the view angle is vertical)."""
+    a_src = src_size[0] / max(src_size[1], 1)
+    a_dst = dst_size[0] / max(dst_size[1], 1)
+    if a_dst >= a_src:
+        return
+    t = np.tan(np.radians(camera.view_angle) / 2) * a_src / a_dst
+    camera.view_angle = float(min(2 * np.degrees(np.arctan(t)), 170.0))
 
 
 def copy_camera(src, dst) -> None:
@@ -696,20 +872,28 @@ def animation_images(scene: Scene, model, frames, window=None, progress=None):
         yield img
 
 
-def render_image(scene: Scene, path=None, size=(1600, 1200), transparent: bool = False, camera=None):
-    """Render ``scene`` off screen at ``size`` (w, h) and write a PNG to ``path``.
+def render_image(scene: Scene, path=None, size=(1600, 1200), transparent: bool = False, camera=None,
+                 fit: bool = True, camera_size=None):
+    """Render ``scene`` off screen at ``size`` (w, h), super-sampled, and write a PNG to ``path``.
 
     The mesh is shared, not rebuilt. ``camera``: a pyvista Camera to copy (the
-    window's), else the default oblique view. Returns the (h, w, 3 or 4) image.
+    window's), else the default oblique view. ``fit``: frame the object for this
+    picture's shape from the camera's direction, as the window frames it (a 3840x2160
+    picture of a 4:3 window must not crop); else keep the camera and only widen it so
+    the picture shows what the window of ``camera_size`` showed. Returns the (h, w, 3 or 4) image.
     """
     import copy
 
     pl = pv.Plotter(off_screen=True, window_size=[int(size[0]), int(size[1])])
     try:
-        other = Scene(pl)
+        other = Scene(pl, anti_aliasing="ssaa")
         other.adopt(scene, copy.copy(scene.style))
         if camera is not None:
             copy_camera(camera, pl.camera)
+            if fit:
+                refit_camera(pl)
+            elif camera_size is not None:
+                keep_framing(pl.camera, camera_size, size)
             pl.renderer.ResetCameraClippingRange()
         else:
             default_camera(pl)
