@@ -20,6 +20,11 @@ def small_div(ex):
     return [max(4, int(d * f)) for d in divs]
 
 
+def settle(qtbot, panel, timeout=20_000):
+    """Wait until the formula panel's checks (done in a worker thread) have answered."""
+    qtbot.waitUntil(lambda: not panel.checking(), timeout=timeout)
+
+
 def wait_run(qtbot, window, timeout=120_000):
     """Wait for the current run to end; return "done", "cancelled" or "failed"."""
     with qtbot.waitSignal(window.runFinished, timeout=timeout) as blocker:

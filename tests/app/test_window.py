@@ -12,7 +12,7 @@ pytest.importorskip("pytestqt")
 
 from gcmh_core.examples import list_examples  # noqa: E402
 
-from app_helpers import picture_stats, run_and_wait, small_div, wait_run  # noqa: E402
+from app_helpers import picture_stats, run_and_wait, settle, small_div, wait_run  # noqa: E402
 
 EXAMPLES = [ex.name for ex in list_examples()]
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -39,6 +39,7 @@ def set_system(qtbot, w, n, k, formulas, bounds=("-1.5", "1.5"), div="8", variab
     p.per_axis.setChecked(False)
     p.div_edit.clear()
     qtbot.keyClicks(p.div_edit, str(div))
+    settle(qtbot, p)
 
 
 # --------------------------------------------------------------------------- examples
@@ -270,6 +271,7 @@ def test_bad_input_is_refused_next_to_the_field(qtbot, window):
     assert p.is_valid() and window.run_button.isEnabled()
 
     def refused(label, key=None):
+        settle(qtbot, p)
         assert not p.is_valid()
         assert not window.run_button.isEnabled()
         assert not window.menu_actions.run.isEnabled()
@@ -278,6 +280,7 @@ def test_bad_input_is_refused_next_to_the_field(qtbot, window):
         assert window.last_status.startswith("Cannot run")
 
     def fixed():
+        settle(qtbot, p)
         assert p.is_valid(), p.errors
         assert window.run_button.isEnabled()
 
@@ -335,20 +338,38 @@ def test_bad_input_is_refused_next_to_the_field(qtbot, window):
 
 
 def test_big_run_asks_first(qtbot, window, monkeypatch):
+    import dataclasses
+
+    import app.worker
+    from app.qt_actions import big_run_text
+
     set_system(qtbot, window, 3, 1, ["x1^2 + x2^2 + x3^2 - 1"], div="8")
-    asked = []
-    monkeypatch.setattr(window.formula_panel, "estimate", lambda: {"cubes": 10**12, "bytes": 10**15})
-    monkeypatch.setattr(window, "confirm_big_run", lambda est, avail: asked.append(est) or None)
-    assert not window.run()
-    assert asked and "smaller div" in window.last_status
+    real = app.worker.estimate_job
+    # the real estimate of this run, said to need a petabyte (gcmh) so that it won't fit
+    monkeypatch.setattr(app.worker, "estimate_job", lambda job: dataclasses.replace(
+        real(job), peak_bytes=10**15 if job.method == "gcmh" else real(job).peak_bytes))
+    asked, forced = [], []
+    monkeypatch.setattr(window, "confirm_big_run", lambda est: asked.append(est) or None)
+    with qtbot.waitSignal(window.runFinished, timeout=30_000) as b:
+        assert window.run()
+    assert b.args[0] == "declined" and window.result is None
+    assert asked and not asked[0].fits and "smaller div" in window.last_status
+    text = big_run_text(asked[0], gcch=True)
+    assert "TB of memory" in text and "available" in text and "GCCH" in text
     assert not window.is_running()
+
+    real_run = app.worker.run_job
+    monkeypatch.setattr(app.worker, "run_job", lambda job, **kw: forced.append(job.force) or real_run(job, **kw))
+    monkeypatch.setattr(window, "confirm_big_run", lambda est: "run")   # the user agrees: force=True
+    assert run_and_wait(qtbot, window) == "done"
+    assert forced == [True]
     import gcmh_core
 
     if "gcch" in gcmh_core.METHODS:   # the dialog's other answer: switch to continuation and run
-        monkeypatch.setattr(window, "confirm_big_run", lambda est, avail: "gcch")
-        assert window.run()
-        assert window.formula_panel.method() == "gcch"
-        assert wait_run(qtbot, window) == "done"
+        monkeypatch.setattr(window, "confirm_big_run", lambda est: "gcch")
+        window.formula_panel.set_method("gcmh")
+        assert run_and_wait(qtbot, window) == "done"
+        assert window.formula_panel.method() == "gcch" and forced[-1] is False   # gcch fits: no force
         assert window.result.euler_characteristic() == 2
 
 
