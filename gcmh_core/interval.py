@@ -16,11 +16,13 @@ included); the endpoints themselves are computed in float64, and the evaluator's
 result at a point differs from the exact operation on its (computed) operands by
 its own rounding.  Both errors are relative to the magnitude of the result:
 + - * / and sqrt are correctly rounded (1/2 ulp); numpy's sin, exp, log, pow, ...
-are not, but stay within 4 ulp; the evaluator sums and multiplies in an order of
-its own (cse and smallest-support-first), whose error is at most (m-1) u times the
-sum of the terms' magnitudes (u = 2^-53).  So every bound is widened outward by a
-multiple of u that covers both errors with a margin of 2 or more (16 u for one
-function call; 4 (m+1) u times the sum of magnitudes for a sum of m terms), plus
+are not, but stay within 4 ulp (numpy's accuracy tests; 1 ulp <= 2 u |value|); the
+evaluator sums and multiplies in an order of its own (cse and smallest-support-first),
+whose error is at most (m-1) u times the sum of the terms' magnitudes (u = 2^-53).
+So every bound is widened outward by a multiple of u that covers both errors with a
+margin of 2 or more (32 u of the larger end for one function call: 4 ulp at the end
+plus 4 ulp at the point are 16 u at most; 4 (m+1) u times the sum of magnitudes for a
+sum of m terms), plus
 2^-1000 against underflow, whose errors are absolute.  The widening subtraction
 rounds too, by at most 1/2 ulp, which the margin covers.
 """
@@ -36,7 +38,7 @@ __all__ = ["Enclosure"]
 
 _U = 2.0**-53  # unit roundoff of float64
 _TINY = 2.0**-1000  # absolute pad: subnormal results carry absolute, not relative, errors
-_FN = 16.0  # pad of one function call or power, in units of u times the result's magnitude
+_FN = 32.0  # pad of one function call or power, in units of u times the result's magnitude
 _PERIODIC_MAX = 1e6  # beyond this |x|, sin/cos bound [-1, 1] and tan gives up
 _SLACK = 1e-8  # a critical point this close to the box (in periods) counts as inside
 _TWO_PI = 2.0 * math.pi
