@@ -259,7 +259,7 @@ def test_sampled_continuation_through_the_cluster(cluster, monkeypatch):
 
 def test_missing_dask_says_what_to_install(monkeypatch):
     monkeypatch.setitem(sys.modules, "distributed", None)  # import distributed -> ImportError
-    with pytest.raises(InputError, match=r"pip install gcmh\[cluster\]"):
+    with pytest.raises(InputError, match=r"pip install -e \"\.\[cluster\]\""):
         extract("x^2 + y^2 + z^2 - 1", (-1.5, 1.5), 6, variables="x,y,z", scheduler="local")
 
 
