@@ -29,6 +29,7 @@ import math
 import operator
 import re
 import unicodedata
+import warnings
 from collections.abc import Sequence
 
 import numpy as np
@@ -44,6 +45,15 @@ MAX_NODES = 2000  # expression nodes in one component
 MAX_DEPTH = 100  # nesting depth of one component
 MAX_EXPONENT = 64  # |constant exponent|
 _MAX_BITS = 1024  # exact rational constants larger than this are folded to float
+
+
+def _parse_quietly(src: str) -> ast.Expression:
+    """ast.parse without its SyntaxWarnings ("1if x" -> invalid decimal literal) on stderr:
+    the one-line error is the whole message."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", SyntaxWarning)
+        warnings.simplefilter("ignore", DeprecationWarning)
+        return ast.parse(src, mode="eval")
 
 
 class FormulaError(InputError):
@@ -258,7 +268,7 @@ class _Builder:
         if "#" in self.src:
             self.error("'#' is not allowed", self.src.index("#"))
         try:
-            tree = ast.parse(self.src, mode="eval")
+            tree = _parse_quietly(self.src)
         except SyntaxError as e:
             msg = (e.msg or "invalid syntax").replace("Perhaps you forgot a comma?",
                                                       "Missing operator such as '*'?")
@@ -713,7 +723,7 @@ def evaluate_constant(text: str | int | float) -> float:
     if len(src) > _CONST_MAX_TEXT:
         raise InputError(f"constant expression longer than {_CONST_MAX_TEXT} characters")
     try:
-        tree = ast.parse(src, mode="eval")
+        tree = _parse_quietly(src)
     except SyntaxError:
         raise InputError(f"cannot read {src!r} as a number (e.g. 1.5, -pi/2, 2*pi)") from None
     try:

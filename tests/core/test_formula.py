@@ -369,3 +369,17 @@ def test_max_and_min_of_many_arguments_are_numpys():
     np.testing.assert_allclose(J[:, 0, 0], top / 7)
     np.testing.assert_allclose(J[:, 0, 1], -1.0)
     assert np.isnan(F.evaluate_points([[np.nan, 0.0]])).all()
+
+
+def test_syntax_warnings_stay_off_stderr(capsys):
+    # "1if x" makes ast.parse warn (invalid decimal literal): one line of error is the message
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for text in ("1if x1 else 2", "2x1", "'\\d'"):
+            with pytest.raises(FormulaError):
+                check_component(text, ["x1"])
+            with pytest.raises(InputError):
+                formula.evaluate_constant(text)
+    assert capsys.readouterr().err == ""
