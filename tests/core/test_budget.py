@@ -1,9 +1,10 @@
 """gcmh_core.budget: the estimate of a run's memory and work, against measured peaks.
 
 The peaks are measured in a child process: its peak RSS after the run minus its RSS
-after importing gcmh_core, estimating and compiling the kernels (a tiny run), with
-the freed heap given back (malloc_trim) and the high-water mark reset in between (/proc/self/clear_refs; else ru_maxrss, which the compile's
-transient peak can hide).
+after importing gcmh_core, estimating and compiling the kernels (a tiny run), with the
+freed heap given back (malloc_trim) and the high-water mark reset in between
+(/proc/self/clear_refs; else ru_maxrss, which the compile's transient peak can hide).
+Runs whose peak is tens of MB at least: below that the allocator decides the RSS.
 The quick cases run in seconds; GCMH_BUDGET_PROFILE=long measures the whole table
 of the report (n = 2..10, a few minutes):
 
@@ -53,7 +54,9 @@ try:  # reset the high-water mark: the compile's transient peak must not hide th
         f.write("5")
     base, peak_of = status("VmRSS:"), lambda: status("VmHWM:")
 except OSError:
-    base, peak_of = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, lambda: resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    def peak_of():
+        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    base = peak_of()
 cx = gcmh_core.extract(F, bounds=(-1.5, 1.5), div=div, n=n, method=method, force=True)
 peak = peak_of()
 print(json.dumps(dict(measured=(peak - base) * 1024, estimate=est.peak_bytes, seconds=cx.meta["seconds"],

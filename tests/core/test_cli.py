@@ -44,7 +44,7 @@ def test_examples_lists_every_example(capsys):
     assert code == 0 and err == ""
     lines = out.splitlines()
     for name in example_names():
-        line = next(l for l in lines if l.split()[0] == name)
+        line = next(row for row in lines if row.split()[0] == name)
         ex = gcmh_core.examples.load_example(name)
         assert line.split()[1:3] == [str(ex.n), str(ex.k)]
         assert ex.title in line

@@ -289,7 +289,7 @@ def test_polygons_cached():
 def test_cell_vertices_matches_naive():
     coords = np.vstack([np.zeros(4), np.eye(4)])
     for cx in (cube_boundary(), solid_cube(), simplex_boundary(5, coords), quad_torus(5, 7)):
-        def verts(r, i):
+        def verts(r, i, cx=cx):
             if r == 0:
                 return {i}
             if r == 1:
@@ -313,7 +313,7 @@ def test_connected_components():
 
 def test_connected_components_random_against_bfs():
     rng = np.random.default_rng(7)
-    for trial in range(20):
+    for _ in range(20):
         nv = int(rng.integers(1, 200))
         ne = int(rng.integers(0, 2 * nv))
         edges = rng.integers(0, nv, size=(ne, 2))
