@@ -393,7 +393,7 @@ class _Progress:
             bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}<{remaining}",
             desc="gcmh",
         )
-        self.phase = None
+        self.phase: str | None = None
 
     def __call__(self, phase: str, fraction: float) -> None:
         bar = self.bar

@@ -296,7 +296,7 @@ def _read_checked(archive, bad) -> dict:
     n, k = int(small["n"]), int(small["k"])
     if not (1 <= n <= 64 and 0 <= k <= n):
         raise bad(f"n = {n}, k = {k} (need 1 <= n <= 64, 0 <= k <= n)")
-    expect = {"vertices": (2, "f", n), "cells_1": (2, "iu", 2)}
+    expect: dict[str, tuple[int, str, int | None]] = {"vertices": (2, "f", n), "cells_1": (2, "iu", 2)}
     for r in range(2, max(n - k, 1) + 1):
         ko, kf = f"cells_{r}_offsets", f"cells_{r}_faces"
         if ko not in members or kf not in members:

@@ -30,7 +30,7 @@ import operator
 import re
 import unicodedata
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 import sympy
@@ -139,7 +139,7 @@ def _maximum(*a):
 
 
 # user name -> (sympy builder, numpy function, min args, max args (None: any))
-_FUNCTIONS = {
+_FUNCTIONS: dict[str, tuple[Callable, Callable, int, int | None]] = {
     "sin": (sympy.sin, np.sin, 1, 1),
     "cos": (sympy.cos, np.cos, 1, 1),
     "tan": (sympy.tan, np.tan, 1, 1),
@@ -160,7 +160,7 @@ _FUNCTIONS = {
 _CONSTANTS = {"pi": sympy.pi, "e": sympy.E}
 
 # sympy function class -> numpy function, for evaluation (Heaviside/sign come from derivatives)
-_NUMPY = {sym: fn for sym, fn, _, _ in _FUNCTIONS.values() if isinstance(sym, type)}
+_NUMPY: dict[object, Callable] = {sym: fn for sym, fn, _, _ in _FUNCTIONS.values() if isinstance(sym, type)}
 _NUMPY.update({sympy.sign: np.sign, sympy.Heaviside: lambda x, h0=0.5: np.heaviside(x, h0),
                _Max2: np.maximum, _Min2: np.minimum})
 
@@ -241,11 +241,12 @@ class _Builder:
     def __init__(self, text: str, index: int, variables: tuple[str, ...], symbols: dict):
         self.text, self.index, self.variables, self.symbols = text, index, variables, symbols
         # '^' -> '**' and line breaks -> ' '; cols maps each source char to its column in text
-        src, cols = [], []
+        parts: list[str] = []
+        cols: list[int] = []
         for i, ch in enumerate(text):
-            src.append("**" if ch == "^" else " " if ch in "\r\n\t\f\v" else ch)
-            cols += [i] * len(src[-1])
-        src = "".join(src)
+            parts.append("**" if ch == "^" else " " if ch in "\r\n\t\f\v" else ch)
+            cols += [i] * len(parts[-1])
+        src = "".join(parts)
         lead = len(src) - len(src.lstrip(" "))  # ast rejects leading spaces
         self.src, self.cols = src[lead:], cols[lead:]
         self.utf8 = self.src.encode("utf-8")
@@ -253,7 +254,7 @@ class _Builder:
     def error(self, detail, where=None):
         """Raise FormulaError; where is an AST node, or a 0-based index into self.src."""
         if isinstance(where, ast.AST):  # ast columns are utf-8 byte offsets
-            where = len(self.utf8[:where.col_offset].decode("utf-8", "ignore"))
+            where = len(self.utf8[:getattr(where, "col_offset", 0)].decode("utf-8", "ignore"))
         pos = None
         if where is not None:
             pos = self.cols[where] + 1 if where < len(self.cols) else len(self.text) + 1
@@ -493,9 +494,10 @@ def _compile(expr, slots, deps):
             return lambda env: np.power(b(env), c)
         q = _compile(p, slots, deps)
         return lambda env: np.power(b(env), q(env))
-    fn = _NUMPY.get(expr.func)
-    if fn is None:
+    found = _NUMPY.get(expr.func)
+    if found is None:
         raise TypeError(f"cannot evaluate {expr.func.__name__} in {expr}")
+    fn: Callable = found
     fs = [_compile(a, slots, deps) for a in expr.args]
     return lambda env: fn(*[g(env) for g in fs])
 
@@ -512,7 +514,8 @@ class _Program:
         slots = {s: i for i, s in enumerate(symbols)}
         deps = {s: frozenset([i]) for i, s in enumerate(symbols)}
         self.nslots = len(symbols) + len(temps)
-        self.steps, uses = [], []
+        self.steps: list[tuple[int | None, Callable]] = []
+        uses = []
         for t, e in temps:
             self.steps.append((len(slots), _compile(e, slots, deps)))
             deps[t], slots[t] = _support(e, deps), len(slots)
@@ -527,7 +530,7 @@ class _Program:
 
     def run(self, columns) -> list:
         env = list(columns) + [None] * (self.nslots - len(columns))
-        out = []
+        out: list = []
         with np.errstate(all="ignore"):
             for (slot, fn), drop in zip(self.steps, self.drops):
                 if slot is None:
@@ -768,7 +771,8 @@ def _walk_constant(node: ast.AST, src: str) -> float:
         and len(node.args) == 1
         and not node.keywords
     ):
-        return float(_CONST_FUNCS[node.func.id](_walk_constant(node.args[0], src)))
+        function: Callable[[float], float] = _CONST_FUNCS[node.func.id]  # type: ignore[assignment]
+        return float(function(_walk_constant(node.args[0], src)))
     col = getattr(node, "col_offset", None)
     where = f" at column {col + 1}" if col is not None else ""
     raise InputError(f"cannot read {src!r} as a number: unsupported syntax{where}")
