@@ -87,4 +87,5 @@ class IntTable:
         by_slot[: self.size] = kept
         self._by_slot = by_slot
         # re-inserting in slot order gives every key its old slot back
-        _insert(self._keys, self._slots, 0, kept, np.empty(len(kept), np.int64), np.empty(len(kept), np.bool_), self._shift())
+        unused_slots, unused_new = np.empty(len(kept), np.int64), np.empty(len(kept), np.bool_)
+        _insert(self._keys, self._slots, 0, kept, unused_slots, unused_new, self._shift())

@@ -1,18 +1,49 @@
 """The numba kernels of GCMH.  They see only arrays: F's values at grid vertices,
 the grid lines, and the cube tables of `_tables`.  Nothing here depends on F.
 
-Per candidate cube the kernel computes, in the cube's own frame:
-  1. vertices of M_A on the Kuhn k-simplices of its k-faces (barycentric solve);
-  2. edges on its (k+1)-faces (two vertices: join them; more: the paper's walk
-     through the face's Kuhn (k+1)-simplices);
-  3. for r = 2..n-k, the r-cells: connected components of the vertex-edge graph
-     restricted to each (r+k)-face, with their (r-1)-faces.
+Per candidate cube H, `cubes_chunk` follows paper Section 3.1, in the cube's own frame:
+  1. vertices of M_H on the CFK k-simplices of its k-faces (barycentric solve);
+  2. edges of M_H on its (k+1)-faces: two vertices are joined; more are paired by
+     the walk of Section 3.1.1 (Fig. 3) through the face's CFK (k+1)-simplices (`_walk`);
+  3. cells (Section 3.1.2): for r = 2..n-k, the r-cells are the connected pieces of
+     the vertex-edge graph G_H restricted to each (r+k)-face of H, written with their
+     (r-1)-faces.
 Everything is emitted with global keys computed from grid indices alone, so
 the same vertex, edge or cell produced by two neighbouring cubes is recognised
-in the global assembly (`extract._assemble`).
+in the global assembly (`runner.assemble_records`).  `simplices_chunk` does the same
+for the simplicial baselines CMS and CCS (Section 4).
 
 A chunk of cubes returns its records in cube order, and chunks are joined in
 order: the output does not depend on the number of threads.
+
+The three steps stay in one function, the walk excepted (it runs only on faces with
+more than two vertices).  Tried as three functions called per cube, each taking some 20
+arrays, they cost 0.5 to 1.6 us more per cube, where a sphere's whole cube takes 0.6 us.
+
+Glossary: the paper's terms -> the names here and in `_tables`
+--------------------------------------------------------------
+F = (F_1..F_k), its values    `values[row, j]`: F_j at a grid vertex.  Corner c of cube i
+                              is row `cube_row[i] + corner_row[c]`
+hypercube H, its corners      a cube; a corner is a bit mask c (bit a: +1 along axis a)
+r-face of H (Def. 2.9)        `CubeTables` row f: free axes `face_free[f]`, anchor corner
+                              `face_fixed[f]`; the r-faces are rows face_start[r]:face_start[r+1]
+face label l(f) (Def. 3.1)    `_face_key`: f's anchor grid vertex and the rank of its free axes
+CFK triangulation of a k-face `ksimplex_*`: the k! Kuhn k-simplices of each k-face (a chain of
+                              corners, one per permutation of the face's axes)
+lambda_0..lambda_k (3.1.1)    `lam`, found by `simplex_crosses`
+sign of F_j at the corners    `corner_signs[c]` (bit j: F_j >= 0 at c) and
+                              `positive_corners[j]` (bit c: the same), for the sign prune
+vertex of M_H                 a crossed k-simplex s: `vertex_of_ksimplex[s]` >= 0; the vertex
+                              v sits on the k-face `vertex_face[v]`, global key `vertex_key[v]`
+edge of M_H on a (k+1)-face   `edge_a[e]`, `edge_b[e]` (vertices) on the face `edge_face[e]`
+the walk (3.1.1, Fig. 3)      `walk_*`: a (k+1)-face's CFK (k+1)-simplices; the walk's nodes are
+                              their k-facets, boundary nodes (the face's own k-simplices) first,
+                              then interior ones; `walk_next0/1[node]` link the crossed nodes
+graph G_H (step 2.1)          the cube's vertices and edges
+r-cell of M_H (step 2.2)      a connected piece (union-find `parent`) of G_H in an (r+k)-face
+                              of H, keyed by the face and its smallest vertex code `_local_code`
+its (r-1)-faces (Alg. 1)      the (r-1)-cells in the faces of that (r+k)-face: incidence rows
+crossed facets (Sec. 5.2)     `crossed_facets[i]`, bit 2a + side: where continuation goes next
 """
 
 import numba as nb
@@ -32,36 +63,39 @@ INC_COLS = 3  # r, key of the r-cell X, key of its (r-1)-face Y
 
 
 @nb.njit(**INLINE_JIT)
-def simplex_crosses(vals, o, value_off, table, s, k, pos_mask, full, mat, rhs, lam):
-    """Does the Kuhn simplex with cube corners table[s, 0..k] (chain order) hold a zero?
+def simplex_crosses(values, o, corner_row, simplices, s, k, corner_signs, all_signs, work):
+    """Does the CFK simplex with cube corners simplices[s, 0..k] (chain order) hold a zero?
 
-    vals (NV, k) values; corner c of the cube is row o + value_off[c]; lam (k+1,) receives the
-    barycentric coordinates.  Sign prune first: every component needs a value >= 0
-    and one < 0 among the simplex's corners, else there is no solve at all.
+    values (NV, k); corner c of the cube is row o + corner_row[c].  work (k + 2, k + 1)
+    float64 is scratch: rows 0..k-1 the matrix, row k the right-hand side, and row k + 1
+    receives the barycentric coordinates lambda_0..lambda_k.  (One scratch array, not
+    three: an inlined call takes a reference to each array argument, and these atomic
+    updates cost as much as the solve.)  Sign prune first: every component needs a
+    value >= 0 and one < 0 among the simplex's corners, else there is no solve at all.
     The simplex comes as a table and a row, not as the row itself: a slice made per
     simplex costs reference counting that was once most of a cube's work.  Kernels
     prune in their own loops first and call this for the few simplices that pass.
     """
     m = k + 1
     any_pos = 0
-    all_pos = full
+    all_pos = all_signs
     for i in range(m):
-        p = pos_mask[table[s, i]]
+        p = corner_signs[simplices[s, i]]
         any_pos |= p
         all_pos &= p
-    if any_pos != full or all_pos != 0:
+    if any_pos != all_signs or all_pos != 0:
         return False
     # Solve sum_{i>=1} lam_i (F(v_i) - F(v_0)) = -F(v_0), a k x k system.
-    r0 = o + value_off[table[s, 0]]
+    r0 = o + corner_row[simplices[s, 0]]
     for j in range(k):
-        f0 = vals[r0, j]
-        rhs[j] = -f0
+        f0 = values[r0, j]
+        work[k, j] = -f0
         for i in range(1, m):
-            mat[j, i - 1] = vals[o + value_off[table[s, i]], j] - f0
+            work[j, i - 1] = values[o + corner_row[simplices[s, i]], j] - f0
     scale = 0.0
     for j in range(k):
         for i in range(k):
-            a = abs(mat[j, i])
+            a = abs(work[j, i])
             if a > scale:
                 scale = a
     if scale == 0.0:
@@ -69,9 +103,9 @@ def simplex_crosses(vals, o, value_off, table, s, k, pos_mask, full, mat, rhs, l
     tiny = scale * 1e-14
     for c in range(k):  # Gaussian elimination with partial pivoting
         piv = c
-        best = abs(mat[c, c])
+        best = abs(work[c, c])
         for rr in range(c + 1, k):
-            a = abs(mat[rr, c])
+            a = abs(work[rr, c])
             if a > best:
                 best = a
                 piv = rr
@@ -79,28 +113,28 @@ def simplex_crosses(vals, o, value_off, table, s, k, pos_mask, full, mat, rhs, l
             return False
         if piv != c:
             for i in range(k):
-                t = mat[c, i]
-                mat[c, i] = mat[piv, i]
-                mat[piv, i] = t
-            t = rhs[c]
-            rhs[c] = rhs[piv]
-            rhs[piv] = t
+                t = work[c, i]
+                work[c, i] = work[piv, i]
+                work[piv, i] = t
+            t = work[k, c]
+            work[k, c] = work[k, piv]
+            work[k, piv] = t
         for rr in range(c + 1, k):
-            fac = mat[rr, c] / mat[c, c]
+            fac = work[rr, c] / work[c, c]
             if fac != 0.0:
                 for i in range(c, k):
-                    mat[rr, i] -= fac * mat[c, i]
-                rhs[rr] -= fac * rhs[c]
+                    work[rr, i] -= fac * work[c, i]
+                work[k, rr] -= fac * work[k, c]
     total = 0.0
     for c in range(k - 1, -1, -1):
-        s = rhs[c]
+        acc = work[k, c]
         for i in range(c + 1, k):
-            s -= mat[c, i] * lam[i + 1]
-        lam[c + 1] = s / mat[c, c]
-        total += lam[c + 1]
-    lam[0] = 1.0 - total
+            acc -= work[c, i] * work[m, i + 1]
+        work[m, c + 1] = acc / work[c, c]
+        total += work[m, c + 1]
+    work[m, 0] = 1.0 - total
     for i in range(m):
-        if not (lam[i] >= 0.0):
+        if not (work[m, i] >= 0.0):
             return False
     return True
 
@@ -186,349 +220,418 @@ def _records_upto(vk, vp, e, c, i, used_v, used_e, used_c, used_i):
 
 
 @nb.njit(**JIT)
-def cubes_chunk(
-    lo, hi, vals, cube_lin, cube_origin, cube_key, axes, value_off, corner_off, n, k,
-    face_start, face_free, face_fixed, face_rank, n_subsets,
-    ks_corners, ks_face, ks_perm, kfact, binom, n_codes,
-    t_corners, t_facets, t_interior, nb_nodes, w_cmap, w_bsimp, ks_cmask, kf_cmask, k1f_cmask,
+def _walk(
+    tables, kf1, values, o, corner_row, corner_signs, all_signs, work, vertex_of_ksimplex,
+    boundary_found, n_found, walked, walk_next0, walk_next1, interior_crossed, interior_simplex,
+    edge_a, edge_b, edge_face, ne,
 ):
-    """GCMH on cubes lo..hi-1, in the calling thread, with one set of scratch buffers.
+    """The walk of paper 3.1.1 (Fig. 3) on the (k+1)-face kf1 (counted among the (k+1)-faces),
+    whose boundary nodes boundary_found[:n_found] hold a vertex: pairs them by edges, written
+    from edge ne on.  Returns (the new number of edges, degenerate events).
 
-    vals (NV, k) float64: F at grid vertices; corner c of cube i is row cube_lin[i] + value_off[c];
-    cube_origin (m, n) global multi-index of each cube's origin; cube_key (m,) its global
-    linear vertex index (corner c adds corner_off[c]; keys come from these, never from rows).
+    A function of its own: it runs only on faces with more than two vertices, so its call
+    costs nothing measurable, and the per-cube kernel stays short."""
+    k = tables.k
+    k1 = k + 1
+    walk_simplex_corners = tables.walk_simplex_corners
+    walk_simplex_nodes = tables.walk_simplex_nodes
+    walk_interior_corners = tables.walk_interior_corners
+    walk_corner_map = tables.walk_corner_map
+    walk_boundary_simplex = tables.walk_boundary_simplex
+    n_boundary = tables.walk_boundary_nodes
+    n_interior = walk_interior_corners.shape[0]
+    n_nodes = n_boundary + n_interior
+    k1face0 = tables.face_start[k1]
+    degenerate = 0
+    # The walk (Fig. 3): in each crossed (k+1)-simplex of the face, link its two crossed
+    # k-facets (nodes); then follow the links from each boundary node to the next.
+    for i in range(n_nodes):
+        walk_next0[i] = -1
+        walk_next1[i] = -1
+    for i in range(n_interior):
+        interior_crossed[i] = -1
+    for t in range(walk_simplex_corners.shape[0]):
+        any_pos = 0
+        all_pos = all_signs
+        for j in range(k1 + 1):
+            p = corner_signs[walk_corner_map[kf1, walk_simplex_corners[t, j]]]
+            any_pos |= p
+            all_pos &= p
+        if any_pos != all_signs or all_pos != 0:
+            continue
+        n_crossed = 0
+        node_a = -1
+        node_b = -1
+        for j in range(k1 + 1):
+            node = walk_simplex_nodes[t, j]
+            if node < n_boundary:
+                crossed = vertex_of_ksimplex[walk_boundary_simplex[kf1, node]] >= 0
+            else:
+                ii = node - n_boundary
+                if interior_crossed[ii] < 0:
+                    for q in range(k + 1):
+                        interior_simplex[0, q] = walk_corner_map[kf1, walk_interior_corners[ii, q]]
+                    interior_crossed[ii] = 1 if simplex_crosses(
+                        values, o, corner_row, interior_simplex, 0, k, corner_signs, all_signs, work
+                    ) else 0
+                crossed = interior_crossed[ii] == 1
+            if crossed:
+                if n_crossed == 0:
+                    node_a = node
+                elif n_crossed == 1:
+                    node_b = node
+                n_crossed += 1
+        if n_crossed == 2:
+            for pair in range(2):
+                u = node_a if pair == 0 else node_b
+                w = node_b if pair == 0 else node_a
+                if walk_next0[u] < 0:
+                    walk_next0[u] = w
+                elif walk_next1[u] < 0:
+                    walk_next1[u] = w
+                else:
+                    degenerate += 1
+        elif n_crossed != 0:
+            degenerate += 1
+    for q in range(n_found):
+        walked[q] = 0
+    for q in range(n_found):
+        if walked[q]:
+            continue
+        start = boundary_found[q]
+        before = -1
+        at = start
+        end = -1
+        for _step in range(n_nodes + 1):
+            nxt = walk_next0[at] if walk_next0[at] != before else walk_next1[at]
+            if nxt < 0:
+                break
+            before = at
+            at = nxt
+            if at < n_boundary:
+                end = at
+                break
+        if end < 0 or end == start:
+            degenerate += 1
+            walked[q] = 1
+            continue
+        for q2 in range(n_found):
+            if boundary_found[q2] == end:
+                walked[q2] = 1
+        walked[q] = 1
+        edge_a[ne] = vertex_of_ksimplex[walk_boundary_simplex[kf1, start]]
+        edge_b[ne] = vertex_of_ksimplex[walk_boundary_simplex[kf1, end]]
+        edge_face[ne] = k1face0 + kf1
+        ne += 1
+    return ne, degenerate
+
+
+@nb.njit(**JIT)
+def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex, tables):
+    """GCMH on the candidate cubes lo..hi-1, in the calling thread, with one set of scratch buffers.
+
+    values (NV, k) float64: F at grid vertices; corner c of cube i is row cube_row[i] + corner_row[c].
+    cube_origin (m, n): the global multi-index of each cube's origin; cube_vertex (m,): its global
+    linear vertex index (corner c adds corner_vertex[c]; keys come from these, never from rows).
+    grid_lines (n, max vertices per axis): the (perturbed) grid lines.  tables: `_tables.CubeTables`.
     Returns (vertex keys, vertex points, edges, cells, incidences) records in cube order,
     each cube's crossed-facet mask, and the number of degenerate events.
     """
-    ns = ks_corners.shape[0]
-    n_nodes = nb_nodes + t_interior.shape[0]
-    simp_vertex = np.empty(ns, np.int64)
-    pos_mask = np.empty(1 << n, np.int64)
-    masked = ks_cmask.shape[0] > 0  # corner sets as bit masks (n <= 6)
-    pos_bits = np.zeros(k, np.int64)  # bit c: F_j >= 0 at corner c
-    mat = np.empty((k, k), np.float64)
-    rhs = np.empty(k, np.float64)
-    lam = np.empty(k + 1, np.float64)
-    corners_buf = np.empty((1, k + 1), np.int64)  # one simplex, as a table
-    link0 = np.empty(n_nodes, np.int64)
-    link1 = np.empty(n_nodes, np.int64)
-    memo = np.empty(max(t_interior.shape[0], 1), np.int8)
-    found = np.empty(nb_nodes, np.int64)
-    paired = np.empty(nb_nodes, np.int8)
-    vsimp = np.empty(ns, np.int64)
-    vface = np.empty(ns, np.int64)
-    vkey = np.empty(ns, np.int64)
-    max_edges = (face_start[k + 2] - face_start[k + 1]) * (nb_nodes // 2)
-    ea = np.empty(max_edges, np.int64)
-    eb = np.empty(max_edges, np.int64)
-    ef = np.empty(max_edges, np.int64)
-    parent = np.empty(ns, np.int64)
-    comp_of_root = np.empty(ns, np.int64)
-    comps_a = np.empty((4 * ns, 3), np.int64)
-    comps_b = np.empty((4 * ns, 3), np.int64)
+    # The tables, unpacked once: a field read from the tuple inside the loops would
+    # take a reference each time.
+    n = tables.n
+    k = tables.k
+    face_start = tables.face_start
+    face_free = tables.face_free
+    face_fixed = tables.face_fixed
+    face_rank = tables.face_rank
+    n_subsets = tables.n_subsets
+    binom = tables.binom
+    n_codes = tables.n_codes
+    kfact = tables.simplices_per_kface
+    ksimplex_corners = tables.ksimplex_corners
+    ksimplex_face = tables.ksimplex_face
+    ksimplex_perm = tables.ksimplex_perm
+    walk_interior_corners = tables.walk_interior_corners
+    n_boundary = tables.walk_boundary_nodes
+    walk_boundary_simplex = tables.walk_boundary_simplex
+    ksimplex_corner_mask = tables.ksimplex_corner_mask
+    kface_corner_mask = tables.kface_corner_mask
+    k1face_corner_mask = tables.k1face_corner_mask
+
+    n_ksimplices = ksimplex_corners.shape[0]
+    n_interior = walk_interior_corners.shape[0]
+    n_nodes = n_boundary + n_interior
+    n_corners = 1 << n
+    k1 = k + 1
+    masked = ksimplex_corner_mask.shape[0] > 0  # corner sets as bit masks (n <= 6)
+    all_signs = (np.int64(1) << k) - 1  # every F_j has a corner >= 0 and one < 0
+    # scratch, per cube
+    corner_signs = np.empty(n_corners, np.int64)  # bit j: F_j >= 0 at corner c
+    positive_corners = np.zeros(k, np.int64)  # bit c: F_j >= 0 at corner c
+    work = np.empty((k + 2, k + 1), np.float64)  # simplex_crosses' scratch
+    lam = work[k + 1]  # the barycentric coordinates it finds
+    vertex_of_ksimplex = np.empty(n_ksimplices, np.int64)  # -1: no vertex
+    vertex_ksimplex = np.empty(n_ksimplices, np.int64)
+    vertex_face = np.empty(n_ksimplices, np.int64)
+    vertex_key = np.empty(n_ksimplices, np.int64)
+    max_edges = (face_start[k1 + 1] - face_start[k1]) * (n_boundary // 2)
+    edge_a = np.empty(max_edges, np.int64)
+    edge_b = np.empty(max_edges, np.int64)
+    edge_face = np.empty(max_edges, np.int64)
+    boundary_found = np.empty(n_boundary, np.int64)  # the walk's boundary nodes that hold a vertex
+    walked = np.empty(n_boundary, np.int8)
+    walk_next0 = np.empty(n_nodes, np.int64)  # a crossed node's two neighbours on the walk
+    walk_next1 = np.empty(n_nodes, np.int64)
+    interior_crossed = np.empty(max(n_interior, 1), np.int8)  # -1 unknown, 0 no, 1 yes
+    interior_simplex = np.empty((1, k + 1), np.int64)  # one interior node's corners, as a table
+    parent = np.empty(n_ksimplices, np.int64)  # union-find over the vertices
+    cell_of_root = np.empty(n_ksimplices, np.int64)
+    # The cells of two levels r - 1 and r (rows: face, a vertex of the piece, key), in the planes
+    # (r - 1) % 2 and r % 2.  A piece has two vertices or more, and a vertex on a k-face lies in
+    # C(n-k, d-k) d-faces: a level never has more than n_ksimplices * max C(n-k, d-k) / 2 rows.
+    most_faces = 1
+    for d in range(k, n + 1):
+        most_faces = max(most_faces, binom[n - k, d - k])
+    level_cells = np.empty((2, max(max_edges, n_ksimplices * (most_faces + 1)), 3), np.int64)
+    # records
     vk_out, vp_out, e_out, c_out, i_out = _new_records(8 * (hi - lo) + 16, n)
     used_v = used_e = used_c = used_i = 0  # rows written
-    masks = np.zeros(hi - lo, np.int64)
-    ncorner = 1 << n
-    full = (np.int64(1) << k) - 1
+    crossed_facets = np.zeros(hi - lo, np.int64)
     degenerate = 0
     for ci in range(lo, hi):
-        o = cube_lin[ci]
-        g_lin = cube_key[ci]
+        o = cube_row[ci]
+        g_vertex = cube_vertex[ci]
         for j in range(k):
-            pos_bits[j] = 0
-        for c in range(ncorner):
+            positive_corners[j] = 0
+        for c in range(n_corners):
             p = np.int64(0)
-            r0 = o + value_off[c]
+            r0 = o + corner_row[c]
             for j in range(k):
-                if vals[r0, j] >= 0.0:
+                if values[r0, j] >= 0.0:
                     p |= np.int64(1) << j
-                    pos_bits[j] |= np.int64(1) << c
-            pos_mask[c] = p
+                    positive_corners[j] |= np.int64(1) << c
+            corner_signs[c] = p
 
-        # 1. vertices on k-simplices of k-faces
-        kf0 = face_start[k]
+        # 1. Vertices on the CFK k-simplices of the k-faces (paper 3.1.1)
+        kface0 = face_start[k]
         nv = 0
-        for s in range(ns):
-            simp_vertex[s] = -1
-        for fi in range(ns // kfact):  # a k-face's k! simplices lie one after the other
+        for s in range(n_ksimplices):
+            vertex_of_ksimplex[s] = -1
+        for kf in range(n_ksimplices // kfact):  # a k-face's k! simplices lie one after the other
             # the sign prune, written out: most faces and simplices stop here.  (Shared
             # with simplices_chunk as a helper it cost 1 us more per cube inlined, and
             # doubled the kernel time as a plain call: see _face_key.)  With bit masks
             # a whole face is tested at once, and a simplex in 2k operations.
             if masked:
-                m = kf_cmask[fi]
+                m = kface_corner_mask[kf]
                 out = False
                 for j in range(k):
-                    on = pos_bits[j] & m
+                    on = positive_corners[j] & m
                     if on == 0 or on == m:  # F_j has one sign on every corner
                         out = True
                 if out:
                     continue
-            for s in range(fi * kfact, (fi + 1) * kfact):
+            for s in range(kf * kfact, (kf + 1) * kfact):
                 if masked:
-                    m = ks_cmask[s]
+                    m = ksimplex_corner_mask[s]
                     out = False
                     for j in range(k):
-                        on = pos_bits[j] & m
+                        on = positive_corners[j] & m
                         if on == 0 or on == m:
                             out = True
                     if out:
                         continue
                 else:
                     any_pos = 0
-                    all_pos = full
+                    all_pos = all_signs
                     for i in range(k + 1):
-                        p = pos_mask[ks_corners[s, i]]
+                        p = corner_signs[ksimplex_corners[s, i]]
                         any_pos |= p
                         all_pos &= p
-                    if any_pos != full or all_pos != 0:
+                    if any_pos != all_signs or all_pos != 0:
                         continue
-                if simplex_crosses(vals, o, value_off, ks_corners, s, k, pos_mask, full, mat, rhs, lam):
-                    simp_vertex[s] = nv
-                    vsimp[nv] = s
+                if simplex_crosses(
+                    values, o, corner_row, ksimplex_corners, s, k, corner_signs, all_signs, work
+                ):
+                    vertex_of_ksimplex[s] = nv
+                    vertex_ksimplex[nv] = s
                     row = used_v + nv
                     if row >= vk_out.shape[0]:
                         vk_out = _grown_keys(vk_out, row)
                         vp_out = _grown_rows(vp_out, row)
-                    f = kf0 + ks_face[s]
-                    vface[nv] = f
-                    vkey[nv] = _face_key(g_lin + corner_off[face_fixed[f]], n_subsets[k], face_rank[f]) * kfact + ks_perm[s]
-                    vk_out[row] = vkey[nv]
-                    for a in range(n):
+                    f = kface0 + ksimplex_face[s]
+                    vertex_face[nv] = f
+                    vertex_key[nv] = (
+                        _face_key(g_vertex + corner_vertex[face_fixed[f]], n_subsets[k], face_rank[f]) * kfact
+                        + ksimplex_perm[s]
+                    )
+                    vk_out[row] = vertex_key[nv]
+                    for a in range(n):  # v = sum_i lam_i v_i
                         x = 0.0
                         for i in range(k + 1):
-                            x += lam[i] * axes[a, cube_origin[ci, a] + ((ks_corners[s, i] >> a) & 1)]
+                            x += lam[i] * grid_lines[a, cube_origin[ci, a] + ((ksimplex_corners[s, i] >> a) & 1)]
                         vp_out[row, a] = x
                     nv += 1
-        # facets of the cube that M_A crosses (bit 2a + side): where continuation goes next
+        # the cube's facets that M_A crosses (bit 2a + side): where continuation goes next
         facets = np.int64(0)
         for v in range(nv):
-            f = vface[v]
+            f = vertex_face[v]
             for a in range(n):
                 if not (face_free[f] >> a) & 1:
                     facets |= np.int64(1) << (2 * a + ((face_fixed[f] >> a) & 1))
-        masks[ci - lo] = facets
+        crossed_facets[ci - lo] = facets
         if nv == 0:
             continue
 
-        # 2. edges on (k+1)-faces
-        k1 = k + 1
-        f10 = face_start[k1]
-        nk1 = face_start[k1 + 1] - f10
+        # 2. Edges on the (k+1)-faces: two vertices are joined, more by the walk (paper 3.1.1)
+        k1face0 = face_start[k1]
         ne = 0
-        n_int = t_interior.shape[0]
-        for fi in range(nk1):
+        for kf1 in range(face_start[k1 + 1] - k1face0):
             if masked:  # no vertex on a face where some F_j has one sign
-                m = k1f_cmask[fi]
+                m = k1face_corner_mask[kf1]
                 out = False
                 for j in range(k):
-                    on = pos_bits[j] & m
+                    on = positive_corners[j] & m
                     if on == 0 or on == m:
                         out = True
                 if out:
                     continue
-            cnt = 0
-            for b in range(nb_nodes):
-                if simp_vertex[w_bsimp[fi, b]] >= 0:
-                    found[cnt] = b
-                    cnt += 1
-            if cnt == 0:
+            n_found = 0
+            for b in range(n_boundary):
+                if vertex_of_ksimplex[walk_boundary_simplex[kf1, b]] >= 0:
+                    boundary_found[n_found] = b
+                    n_found += 1
+            if n_found == 0:
                 continue
-            if cnt == 2:
-                ea[ne] = simp_vertex[w_bsimp[fi, found[0]]]
-                eb[ne] = simp_vertex[w_bsimp[fi, found[1]]]
-                ef[ne] = f10 + fi
+            if n_found == 2:
+                edge_a[ne] = vertex_of_ksimplex[walk_boundary_simplex[kf1, boundary_found[0]]]
+                edge_b[ne] = vertex_of_ksimplex[walk_boundary_simplex[kf1, boundary_found[1]]]
+                edge_face[ne] = k1face0 + kf1
                 ne += 1
                 continue
-            # The walk (paper 3.1.1): link crossing facets of the face's Kuhn (k+1)-simplices.
-            for i in range(nb_nodes + n_int):
-                link0[i] = -1
-                link1[i] = -1
-            for i in range(n_int):
-                memo[i] = -1
-            for t in range(t_corners.shape[0]):
-                any_pos = 0
-                all_pos = full
-                for j in range(k1 + 1):
-                    p = pos_mask[w_cmap[fi, t_corners[t, j]]]
-                    any_pos |= p
-                    all_pos &= p
-                if any_pos != full or all_pos != 0:
-                    continue
-                nc = 0
-                n_a = -1
-                n_b = -1
-                for j in range(k1 + 1):
-                    node = t_facets[t, j]
-                    if node < nb_nodes:
-                        cr = simp_vertex[w_bsimp[fi, node]] >= 0
-                    else:
-                        ii = node - nb_nodes
-                        if memo[ii] < 0:
-                            for q in range(k + 1):
-                                corners_buf[0, q] = w_cmap[fi, t_interior[ii, q]]
-                            memo[ii] = 1 if simplex_crosses(vals, o, value_off, corners_buf, 0, k, pos_mask, full, mat, rhs, lam) else 0
-                        cr = memo[ii] == 1
-                    if cr:
-                        if nc == 0:
-                            n_a = node
-                        elif nc == 1:
-                            n_b = node
-                        nc += 1
-                if nc == 2:
-                    for pair in range(2):
-                        u = n_a if pair == 0 else n_b
-                        w = n_b if pair == 0 else n_a
-                        if link0[u] < 0:
-                            link0[u] = w
-                        elif link1[u] < 0:
-                            link1[u] = w
-                        else:
-                            degenerate += 1
-                elif nc != 0:
-                    degenerate += 1
-            for q in range(cnt):
-                paired[q] = 0
-            for q in range(cnt):
-                if paired[q]:
-                    continue
-                start = found[q]
-                prev = -1
-                cur = start
-                end = -1
-                for _step in range(nb_nodes + n_int + 1):
-                    nxt = link0[cur] if link0[cur] != prev else link1[cur]
-                    if nxt < 0:
-                        break
-                    prev = cur
-                    cur = nxt
-                    if cur < nb_nodes:
-                        end = cur
-                        break
-                if end < 0 or end == start:
-                    degenerate += 1
-                    paired[q] = 1
-                    continue
-                for q2 in range(cnt):
-                    if found[q2] == end:
-                        paired[q2] = 1
-                paired[q] = 1
-                ea[ne] = simp_vertex[w_bsimp[fi, start]]
-                eb[ne] = simp_vertex[w_bsimp[fi, end]]
-                ef[ne] = f10 + fi
-                ne += 1
+            # more than two: the walk of Fig. 3 pairs them
+            ne, deg = _walk(
+                tables, kf1, values, o, corner_row, corner_signs, all_signs, work, vertex_of_ksimplex,
+                boundary_found, n_found, walked, walk_next0, walk_next1, interior_crossed, interior_simplex,
+                edge_a, edge_b, edge_face, ne,
+            )
+            degenerate += deg
 
-        # 3. r-cells, r = 1..n-k: connected pieces of the vertex-edge graph inside each
-        # (r+k)-face; for r = 1 they are the edges themselves.  Rows of prev/cur:
-        # (face, a vertex of the piece, key); the two buffers swap roles per level.
-        prev = comps_a
-        cur = comps_b
-        if prev.shape[0] < ne:
-            prev = np.empty((ne, 3), np.int64)
+        # 3. Cells (paper 3.1.2): for r = 1..n-k, the r-cells are the connected pieces of the
+        # vertex-edge graph inside each (r+k)-face; for r = 1 they are the edges themselves.
         for e in range(ne):
-            f = ef[e]
-            ca = _local_code(face_free[f], face_free[vface[ea[e]]], face_fixed[vface[ea[e]]], ks_perm[vsimp[ea[e]]], k, kfact, binom)
-            cb = _local_code(face_free[f], face_free[vface[eb[e]]], face_fixed[vface[eb[e]]], ks_perm[vsimp[eb[e]]], k, kfact, binom)
-            prev[e, 0] = f
-            prev[e, 1] = ea[e]
-            prev[e, 2] = _face_key(g_lin + corner_off[face_fixed[f]], n_subsets[k1], face_rank[f]) * n_codes[k1] + min(ca, cb)
+            f = edge_face[e]
+            va = edge_a[e]
+            vb = edge_b[e]
+            ca = _local_code(
+                face_free[f], face_free[vertex_face[va]], face_fixed[vertex_face[va]],
+                ksimplex_perm[vertex_ksimplex[va]], k, kfact, binom,
+            )
+            cb = _local_code(
+                face_free[f], face_free[vertex_face[vb]], face_fixed[vertex_face[vb]],
+                ksimplex_perm[vertex_ksimplex[vb]], k, kfact, binom,
+            )
+            level_cells[1, e, 0] = f
+            level_cells[1, e, 1] = va
+            level_cells[1, e, 2] = (
+                _face_key(g_vertex + corner_vertex[face_fixed[f]], n_subsets[k1], face_rank[f]) * n_codes[k1]
+                + min(ca, cb)
+            )
             row = used_e + e
             if row >= e_out.shape[0]:
                 e_out = _grown_rows(e_out, row)
-            e_out[row, 0] = prev[e, 2]
-            e_out[row, 1] = vkey[ea[e]]
-            e_out[row, 2] = vkey[eb[e]]
-        nprev = ne
-        ncell = 0
-        ninc = 0
+            e_out[row, 0] = level_cells[1, e, 2]
+            e_out[row, 1] = vertex_key[va]
+            e_out[row, 2] = vertex_key[vb]
+        n_lower = ne
+        n_cells = 0
+        n_incidences = 0
         for r in range(2, n - k + 1):
             dim = r + k
-            fs = face_start[dim]
-            nf = face_start[dim + 1] - fs
-            ncur = 0
-            for fl in range(nf):
-                f = fs + fl
-                nin = 0
+            here = r & 1
+            below = 1 - here
+            n_here = 0
+            for f in range(face_start[dim], face_start[dim + 1]):
+                ff = face_free[f]
+                fx = face_fixed[f]
+                n_in = 0
                 for v in range(nv):
-                    if _face_in_face(face_free[vface[v]], face_fixed[vface[v]], face_free[f], face_fixed[f]):
+                    if _face_in_face(face_free[vertex_face[v]], face_fixed[vertex_face[v]], ff, fx):
                         parent[v] = v
-                        nin += 1
+                        n_in += 1
                     else:
                         parent[v] = -1
-                if nin == 0:
+                if n_in == 0:
                     continue
                 has_edge = False
                 for e in range(ne):
-                    if _face_in_face(face_free[ef[e]], face_fixed[ef[e]], face_free[f], face_fixed[f]):
+                    if _face_in_face(face_free[edge_face[e]], face_fixed[edge_face[e]], ff, fx):
                         has_edge = True
-                        ra = _find(parent, ea[e])
-                        rb = _find(parent, eb[e])
+                        ra = _find(parent, edge_a[e])
+                        rb = _find(parent, edge_b[e])
                         if ra != rb:
                             parent[max(ra, rb)] = min(ra, rb)
                 if not has_edge:
                     continue
                 # a piece needs an edge: a vertex left alone in f (degenerate data) is no r-cell
                 for v in range(nv):
-                    comp_of_root[v] = -1
+                    cell_of_root[v] = -1
                 for e in range(ne):
-                    if _face_in_face(face_free[ef[e]], face_fixed[ef[e]], face_free[f], face_fixed[f]):
-                        comp_of_root[_find(parent, ea[e])] = -2
-                if cur.shape[0] < ncur + nin:  # rare: grow the buffer
-                    grown = np.empty((2 * (ncur + nin), 3), np.int64)
-                    grown[:ncur] = cur[:ncur]
-                    cur = grown
-                first = ncur
-                ff = face_free[f]
+                    if _face_in_face(face_free[edge_face[e]], face_fixed[edge_face[e]], ff, fx):
+                        cell_of_root[_find(parent, edge_a[e])] = -2
+                first = n_here
                 for v in range(nv):  # a root is its piece's smallest vertex index: it comes first
                     if parent[v] >= 0:
                         root = _find(parent, v)
-                        code = _local_code(ff, face_free[vface[v]], face_fixed[vface[v]], ks_perm[vsimp[v]], k, kfact, binom)
+                        code = _local_code(
+                            ff, face_free[vertex_face[v]], face_fixed[vertex_face[v]],
+                            ksimplex_perm[vertex_ksimplex[v]], k, kfact, binom,
+                        )
                         if root == v:
-                            if comp_of_root[v] != -2:
+                            if cell_of_root[v] != -2:
                                 continue
-                            comp_of_root[v] = ncur
-                            cur[ncur, 0] = f
-                            cur[ncur, 1] = v
-                            cur[ncur, 2] = code
-                            ncur += 1
+                            cell_of_root[v] = n_here
+                            level_cells[here, n_here, 0] = f
+                            level_cells[here, n_here, 1] = v
+                            level_cells[here, n_here, 2] = code
+                            n_here += 1
                         else:
-                            c = comp_of_root[root]
-                            if c >= 0 and code < cur[c, 2]:
-                                cur[c, 2] = code
-                fkey = _face_key(g_lin + corner_off[face_fixed[f]], n_subsets[dim], face_rank[f]) * n_codes[dim]
-                for c in range(first, ncur):
-                    cur[c, 2] += fkey
-                    row = used_c + ncell + c
+                            c = cell_of_root[root]
+                            if c >= 0 and code < level_cells[here, c, 2]:
+                                level_cells[here, c, 2] = code
+                fkey = _face_key(g_vertex + corner_vertex[fx], n_subsets[dim], face_rank[f]) * n_codes[dim]
+                for c in range(first, n_here):
+                    level_cells[here, c, 2] += fkey
+                    row = used_c + n_cells + c
                     if row >= c_out.shape[0]:
                         c_out = _grown_rows(c_out, row)
                     c_out[row, 0] = r
-                    c_out[row, 1] = cur[c, 2]
-                # incidences: each previous-level piece in a face g of f lies in one piece of f
-                for y in range(nprev):
-                    if not _face_in_face(face_free[prev[y, 0]], face_fixed[prev[y, 0]], face_free[f], face_fixed[f]):
+                    c_out[row, 1] = level_cells[here, c, 2]
+                # its (r-1)-faces: each (r-1)-cell in a face g of f lies in one piece of f
+                for y in range(n_lower):
+                    g = level_cells[below, y, 0]
+                    if not _face_in_face(face_free[g], face_fixed[g], ff, fx):
                         continue
-                    rep = prev[y, 1]
+                    rep = level_cells[below, y, 1]
                     if parent[rep] < 0:
                         degenerate += 1
                         continue
-                    row = used_i + ninc
+                    row = used_i + n_incidences
                     if row >= i_out.shape[0]:
                         i_out = _grown_rows(i_out, row)
                     i_out[row, 0] = r
-                    i_out[row, 1] = cur[comp_of_root[_find(parent, rep)], 2]
-                    i_out[row, 2] = prev[y, 2]
-                    ninc += 1
-            ncell += ncur
-            swap = prev
-            prev = cur
-            cur = swap
-            nprev = ncur
+                    i_out[row, 1] = level_cells[here, cell_of_root[_find(parent, rep)], 2]
+                    i_out[row, 2] = level_cells[below, y, 2]
+                    n_incidences += 1
+            n_cells += n_here
+            n_lower = n_here
         used_v += nv
         used_e += ne
-        used_c += ncell
-        used_i += ninc
-    return _records_upto(vk_out, vp_out, e_out, c_out, i_out, used_v, used_e, used_c, used_i), masks, degenerate
+        used_c += n_cells
+        used_i += n_incidences
+    records = _records_upto(vk_out, vp_out, e_out, c_out, i_out, used_v, used_e, used_c, used_i)
+    return records, crossed_facets, degenerate
 
 
 # ----------------------------------------------------------------------------- simplicial baselines (CMS, CCS)
@@ -537,113 +640,125 @@ def cubes_chunk(
 # zero set of a linear map on a simplex is one convex polytope).  A vertex is a
 # crossed k-simplex; an edge joins the two crossed k-facets of a (k+1)-simplex; an
 # r-cell's faces are its crossed facets.  Keys are the simplices' own keys (see
-# `_tables.SimplexTables`), so records merge with the same `_assemble` as GCMH's.
+# `_tables.SimplexTables`), so records merge with the same assembly as GCMH's.
 
 
 @nb.njit(**INLINE_JIT)
-def _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, s):
-    return (g_lin + corner_off[s_c0[s]]) * key_base + s_code[s]
+def _simplex_key(g_vertex, corner_vertex, simplex_c0, simplex_code, key_base, s):
+    return (g_vertex + corner_vertex[simplex_c0[s]]) * key_base + simplex_code[s]
 
 
 @nb.njit(**JIT)
-def simplices_chunk(
-    lo, hi, vals, cube_lin, cube_origin, cube_key, axes, value_off, corner_off, n, k,
-    s_start, s_corners, s_c0, s_code, s_facets, s_cube_facets, key_base, s_cmask,
-):
-    """`cubes_chunk`'s twin for the simplicial baselines: same inputs, same records.
+def simplices_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex, tables):
+    """`cubes_chunk`'s twin for the simplicial baselines: same inputs (but tables is a
+    `_tables.SimplexTables`), same records.
 
     Every simplex of the cube's triangulation that M_A crosses is written; the
     degenerate events are crossed facets that can't bound a convex polytope.
     """
-    alive = np.empty(s_start[n + 1], np.int64)  # 1 where the simplex holds a cell of M_A
-    pos_mask = np.empty(1 << n, np.int64)
-    mat = np.empty((k, k), np.float64)
-    rhs = np.empty(k, np.float64)
-    lam = np.empty(k + 1, np.float64)
+    n = tables.n
+    k = tables.k
+    dim_start = tables.start
+    simplex_corners = tables.corners
+    simplex_c0 = tables.c0
+    simplex_code = tables.code
+    simplex_facets = tables.facets
+    simplex_cube_facets = tables.cube_facets
+    key_base = tables.key_base
+    simplex_corner_mask = tables.corner_mask
+
+    crossed = np.empty(dim_start[n + 1], np.int64)  # 1 where the simplex holds a cell of M_A
+    corner_signs = np.empty(1 << n, np.int64)
+    work = np.empty((k + 2, k + 1), np.float64)  # simplex_crosses' scratch
+    lam = work[k + 1]  # the barycentric coordinates it finds
     vk_out, vp_out, e_out, c_out, i_out = _new_records(16 * (hi - lo) + 16, n)
     used_v = used_e = used_c = used_i = 0  # rows written
-    masks = np.zeros(hi - lo, np.int64)
-    full = (np.int64(1) << k) - 1
-    masked = s_cmask.shape[0] > 0  # corner sets as bit masks (n <= 6)
-    pos_bits = np.zeros(k, np.int64)
+    crossed_facets = np.zeros(hi - lo, np.int64)
+    all_signs = (np.int64(1) << k) - 1
+    masked = simplex_corner_mask.shape[0] > 0  # corner sets as bit masks (n <= 6)
+    positive_corners = np.zeros(k, np.int64)
     degenerate = 0
     for ci in range(lo, hi):
-        o = cube_lin[ci]
-        g_lin = cube_key[ci]
+        o = cube_row[ci]
+        g_vertex = cube_vertex[ci]
         for j in range(k):
-            pos_bits[j] = 0
+            positive_corners[j] = 0
         for c in range(1 << n):
             p = np.int64(0)
-            r0 = o + value_off[c]
+            r0 = o + corner_row[c]
             for j in range(k):
-                if vals[r0, j] >= 0.0:
+                if values[r0, j] >= 0.0:
                     p |= np.int64(1) << j
-                    pos_bits[j] |= np.int64(1) << c
-            pos_mask[c] = p
+                    positive_corners[j] |= np.int64(1) << c
+            corner_signs[c] = p
+        # vertices: the crossed k-simplices
         nv = 0
         facets = np.int64(0)
-        for s in range(s_start[k], s_start[k + 1]):
-            alive[s] = 0
+        for s in range(dim_start[k], dim_start[k + 1]):
+            crossed[s] = 0
             # the sign prune, written out as in cubes_chunk
             if masked:
-                m = s_cmask[s]
+                m = simplex_corner_mask[s]
                 out = False
                 for j in range(k):
-                    on = pos_bits[j] & m
+                    on = positive_corners[j] & m
                     if on == 0 or on == m:
                         out = True
                 if out:
                     continue
             else:
                 any_pos = 0
-                all_pos = full
+                all_pos = all_signs
                 for i in range(k + 1):
-                    p = pos_mask[s_corners[s, i]]
+                    p = corner_signs[simplex_corners[s, i]]
                     any_pos |= p
                     all_pos &= p
-                if any_pos != full or all_pos != 0:
+                if any_pos != all_signs or all_pos != 0:
                     continue
-            if simplex_crosses(vals, o, value_off, s_corners, s, k, pos_mask, full, mat, rhs, lam):
-                alive[s] = 1
-                facets |= s_cube_facets[s]
+            if simplex_crosses(values, o, corner_row, simplex_corners, s, k, corner_signs, all_signs, work):
+                crossed[s] = 1
+                facets |= simplex_cube_facets[s]
                 if used_v >= vk_out.shape[0]:
                     vk_out = _grown_keys(vk_out, used_v)
                     vp_out = _grown_rows(vp_out, used_v)
-                vk_out[used_v] = _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, s)
+                vk_out[used_v] = _simplex_key(g_vertex, corner_vertex, simplex_c0, simplex_code, key_base, s)
                 for a in range(n):
                     x = 0.0
                     for i in range(k + 1):
-                        x += lam[i] * axes[a, cube_origin[ci, a] + ((s_corners[s, i] >> a) & 1)]
+                        x += lam[i] * grid_lines[a, cube_origin[ci, a] + ((simplex_corners[s, i] >> a) & 1)]
                     vp_out[used_v, a] = x
                 used_v += 1
                 nv += 1
-        masks[ci - lo] = facets
+        crossed_facets[ci - lo] = facets
         if nv == 0:
             continue
+        # r-cells, r = d - k >= 1: the crossed d-simplices, with their crossed facets
         for d in range(k + 1, n + 1):
             r = d - k
-            for s in range(s_start[d], s_start[d + 1]):
-                alive[s] = 0
+            for s in range(dim_start[d], dim_start[d + 1]):
+                crossed[s] = 0
                 nf = 0
                 for j in range(d + 1):
-                    nf += alive[s_facets[s, j]]
+                    nf += crossed[simplex_facets[s, j]]
                 if nf == 0:
                     continue
                 # a segment has 2 ends; an r-polytope (r >= 2) at least r + 1 facets
                 if (r == 1 and nf != 2) or nf < r + 1:
                     degenerate += 1
                     continue
-                alive[s] = 1
-                key = _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, s)
+                crossed[s] = 1
+                key = _simplex_key(g_vertex, corner_vertex, simplex_c0, simplex_code, key_base, s)
                 if r == 1:
                     if used_e >= e_out.shape[0]:
                         e_out = _grown_rows(e_out, used_e)
                     e_out[used_e, 0] = key
                     q = 1
                     for j in range(d + 1):
-                        f = s_facets[s, j]
-                        if alive[f]:
-                            e_out[used_e, q] = _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, f)
+                        f = simplex_facets[s, j]
+                        if crossed[f]:
+                            e_out[used_e, q] = _simplex_key(
+                                g_vertex, corner_vertex, simplex_c0, simplex_code, key_base, f
+                            )
                             q += 1
                     used_e += 1
                     continue
@@ -653,15 +768,16 @@ def simplices_chunk(
                 c_out[used_c, 1] = key
                 used_c += 1
                 for j in range(d + 1):
-                    f = s_facets[s, j]
-                    if alive[f]:
+                    f = simplex_facets[s, j]
+                    if crossed[f]:
                         if used_i >= i_out.shape[0]:
                             i_out = _grown_rows(i_out, used_i)
                         i_out[used_i, 0] = r
                         i_out[used_i, 1] = key
-                        i_out[used_i, 2] = _simplex_key(g_lin, corner_off, s_c0, s_code, key_base, f)
+                        i_out[used_i, 2] = _simplex_key(g_vertex, corner_vertex, simplex_c0, simplex_code, key_base, f)
                         used_i += 1
-    return _records_upto(vk_out, vp_out, e_out, c_out, i_out, used_v, used_e, used_c, used_i), masks, degenerate
+    records = _records_upto(vk_out, vp_out, e_out, c_out, i_out, used_v, used_e, used_c, used_i)
+    return records, crossed_facets, degenerate
 
 
 # ----------------------------------------------------------------------------- the candidate pass

@@ -14,14 +14,17 @@ Conventions
   ``v0 = fixed, v_j = v_{j-1} | (1 << p[j-1])``.  It is the restriction of the
   grid's global Freudenthal triangulation, so two cubes sharing a face split it
   the same way.
+
+The fields' names follow the paper (Sections 3-4); the glossary at the top of
+`_kernels` maps the paper's terms to them.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from functools import lru_cache
 from itertools import combinations, permutations
 from math import comb, factorial
+from typing import NamedTuple
 
 import numpy as np
 
@@ -31,12 +34,15 @@ from .errors import InputError
 _MAX_TEMPLATE_ENTRIES = 40_000_000
 
 
-@dataclass(frozen=True)
-class CubeTables:
+class CubeTables(NamedTuple):
+    """The n-cube's faces, the CFK (Kuhn) simplices of its k-faces and the walk template
+    of its (k+1)-faces: everything `_kernels.cubes_chunk` knows about a cube, passed to
+    it whole (numba takes a named tuple of arrays as one argument, and caches it)."""
+
     n: int
     k: int
-    # faces of every dimension r = k..n, concatenated; faces of dim r are rows
-    # face_start[r]:face_start[r+1]
+    # The faces of every dimension r = k..n, concatenated: the r-faces are rows
+    # face_start[r]:face_start[r + 1].  A face is (face_free, face_fixed), see above.
     face_start: np.ndarray  # (n + 2,) int64
     face_free: np.ndarray  # (NF,) int64
     face_fixed: np.ndarray  # (NF,) int64
@@ -44,21 +50,27 @@ class CubeTables:
     n_subsets: np.ndarray  # (n + 1,) int64  C(n, r)
     binom: np.ndarray  # (n + 1, n + 1) int64 binomial coefficients
     n_codes: np.ndarray  # (n + 1,) int64 vertex codes inside a face of dim D: C(D, k) 2^(D-k) k!
-    # Kuhn k-simplices of the cube's k-faces
-    ksimp_corners: np.ndarray  # (NS, k+1) int64 corners in chain order
-    ksimp_face: np.ndarray  # (NS,) int64 index into faces of dim k (relative)
-    ksimp_perm: np.ndarray  # (NS,) int64 permutation rank within its face
-    # walk template on a local (k+1)-cube with axes 0..k
-    tmpl_corners: np.ndarray  # ((k+1)!, k+2) int64 local corners of each (k+1)-simplex
-    tmpl_facets: np.ndarray  # ((k+1)!, k+2) int64 node id of facet "drop vertex j"
-    tmpl_interior: np.ndarray  # (NI, k+1) int64 local corners of interior k-simplices
-    n_boundary_nodes: int  # 2 (k+1) k!
-    # per (k+1)-face of the cube: local corner -> cube corner, boundary node -> cube k-simplex
+    # The CFK k-simplices of the cube's k-faces, k! per face, face after face (a vertex of
+    # M_A is a k-simplex that M_A crosses, paper Section 3.1.1)
+    simplices_per_kface: int  # k!
+    ksimplex_corners: np.ndarray  # (NS, k+1) int64 corners in chain order
+    ksimplex_face: np.ndarray  # (NS,) int64 its k-face, counted among the k-faces
+    ksimplex_perm: np.ndarray  # (NS,) int64 rank of its permutation of the face's axes
+    # The walk (paper Section 3.1.1, Fig. 3) on a local (k+1)-cube with axes 0..k: its
+    # (k+1)! CFK (k+1)-simplices, and the nodes of the walk, their k-facets: boundary
+    # nodes 0..walk_boundary_nodes-1 (k-simplices on the local cube's k-faces), then
+    # interior nodes (k-simplices inside it, shared by two (k+1)-simplices).
+    walk_simplex_corners: np.ndarray  # ((k+1)!, k+2) int64 local corners of each (k+1)-simplex
+    walk_simplex_nodes: np.ndarray  # ((k+1)!, k+2) int64 node of its facet "drop corner j"
+    walk_interior_corners: np.ndarray  # (NI, k+1) int64 local corners of each interior node
+    walk_boundary_nodes: int  # 2 (k+1) k!
+    # The template on each (k+1)-face of the cube: local corner -> cube corner, boundary
+    # node -> cube k-simplex (a row of ksimplex_*)
     walk_corner_map: np.ndarray  # (NK1, 2^(k+1)) int64
-    walk_boundary_simplex: np.ndarray  # (NK1, n_boundary_nodes) int64
-    # corner sets as bit masks (bit c: cube corner c), for n <= 6 (2^n corners in an int64;
-    # empty for larger n): the kernel's sign prune tests a whole face or simplex at once
-    ksimp_corner_mask: np.ndarray  # (NS,) int64
+    walk_boundary_simplex: np.ndarray  # (NK1, walk_boundary_nodes) int64
+    # Corner sets as bit masks (bit c: cube corner c), for n <= MASKED_N (2^n corners in an
+    # int64; empty for larger n): the sign prune tests a whole face or simplex at once.
+    ksimplex_corner_mask: np.ndarray  # (NS,) int64
     kface_corner_mask: np.ndarray  # (number of k-faces,) int64
     k1face_corner_mask: np.ndarray  # (NK1,) int64, the (k+1)-faces
 
@@ -156,7 +168,10 @@ def cube_tables(n: int, k: int) -> CubeTables:
         for node, chain in enumerate(boundary_chains):
             bsimp[fi, node] = simplex_of_cornerset[frozenset(int(cmap[fi, c]) for c in chain)]
 
-    as_i64 = lambda x, shape=None: np.ascontiguousarray(np.array(x, np.int64).reshape(shape) if shape else np.array(x, np.int64))
+    def as_i64(x, shape=None):
+        a = np.array(x, np.int64)
+        return np.ascontiguousarray(a.reshape(shape) if shape else a)
+
     return CubeTables(
         n=n,
         k=k,
@@ -167,16 +182,17 @@ def cube_tables(n: int, k: int) -> CubeTables:
         n_subsets=as_i64([comb(n, r) for r in range(n + 1)]),
         binom=as_i64([[comb(a, b) for b in range(n + 1)] for a in range(n + 1)], (n + 1, n + 1)),
         n_codes=as_i64([comb(d, k) * 2 ** max(d - k, 0) * factorial(k) for d in range(n + 1)]),
-        ksimp_corners=as_i64(ks_corners, (-1, k + 1)),
-        ksimp_face=as_i64(ks_face),
-        ksimp_perm=as_i64(ks_perm),
-        tmpl_corners=as_i64(t_corners, (-1, m + 1)),
-        tmpl_facets=as_i64(t_facets, (-1, m + 1)),
-        tmpl_interior=as_i64(interior, (-1, k + 1)) if interior else np.zeros((0, k + 1), np.int64),
-        n_boundary_nodes=nb,
+        simplices_per_kface=factorial(k),
+        ksimplex_corners=as_i64(ks_corners, (-1, k + 1)),
+        ksimplex_face=as_i64(ks_face),
+        ksimplex_perm=as_i64(ks_perm),
+        walk_simplex_corners=as_i64(t_corners, (-1, m + 1)),
+        walk_simplex_nodes=as_i64(t_facets, (-1, m + 1)),
+        walk_interior_corners=as_i64(interior, (-1, k + 1)) if interior else np.zeros((0, k + 1), np.int64),
+        walk_boundary_nodes=nb,
         walk_corner_map=cmap,
         walk_boundary_simplex=bsimp,
-        ksimp_corner_mask=_corner_masks(n, ks_corners),
+        ksimplex_corner_mask=_corner_masks(n, ks_corners),
         kface_corner_mask=_corner_masks(n, [_face_corners(free, fixed) for free, fixed, _ in kfaces]),
         k1face_corner_mask=_corner_masks(n, [_face_corners(free, fixed) for free, fixed, _ in k1faces]),
     )
@@ -199,9 +215,9 @@ def _corner_masks(n: int, corner_sets) -> np.ndarray:
 
 
 # ----------------------------------------------------------------------------- simplicial baselines (CMS, CCS)
-@dataclass(frozen=True)
-class SimplexTables:
-    """The simplices of dimension k..n of the cube's CFK (Freudenthal) triangulation.
+class SimplexTables(NamedTuple):
+    """The simplices of dimension k..n of the cube's CFK (Freudenthal) triangulation,
+    for the simplicial baselines (`_kernels.simplices_chunk`, passed whole).
 
     A simplex is a strict chain of corners c0 < c1 < ... < cd (each a subset of the
     next).  Its key inside the grid is (global vertex of c0) * (n+1)^n + code, where

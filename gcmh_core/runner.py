@@ -19,7 +19,6 @@ import copy
 import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
-from math import factorial
 
 import numba
 import numpy as np
@@ -100,18 +99,8 @@ class Grid:
         self.timings = dict(evaluate=0.0, candidates=0.0, kernel=0.0, assemble=0.0)
         self.stats = dict(candidate_cubes=0, cubes=int(np.prod(self.dims - 1)), nonfinite_vertices=0, degenerate=0)
         self.parts = dict(vk=[], vp=[], e=[], c=[], i=[])
-        if self.simplicial:
-            st = self.stab
-            self.simplex_args = (st.start, st.corners, st.c0, st.code, st.facets, st.cube_facets, st.key_base, st.corner_mask)
-        else:
-            tab = self.tab
-            self.cube_args = (
-                tab.face_start, tab.face_free, tab.face_fixed, tab.face_rank, tab.n_subsets,
-                tab.ksimp_corners, tab.ksimp_face, tab.ksimp_perm, factorial(k), tab.binom, tab.n_codes,
-                tab.tmpl_corners, tab.tmpl_facets, tab.tmpl_interior, tab.n_boundary_nodes,
-                tab.walk_corner_map, tab.walk_boundary_simplex, tab.ksimp_corner_mask, tab.kface_corner_mask,
-                tab.k1face_corner_mask,
-            )
+        # the kernel's tables, one named tuple (`_tables.CubeTables` or `SimplexTables`)
+        self.kernel_tables = self.stab if self.simplicial else self.tab
 
     def run_kernel(self, values, cube_lin, origin, value_off) -> np.ndarray:
         """Process candidate cubes (in pieces side by side on the kernel threads); keep the records.
@@ -129,17 +118,15 @@ class Grid:
             raise Cancelled("extraction cancelled")
         t = time.perf_counter()
         cube_key = origin @ self.strides
-        common = (values, cube_lin, origin, cube_key, self.axes_arr, value_off, self.corner_off, self.n, self.k)
-        chunk, tables = (
-            (_kernels.simplices_chunk, self.simplex_args) if self.simplicial else (_kernels.cubes_chunk, self.cube_args)
-        )
+        common = (values, cube_lin, origin, cube_key, self.axes_arr, value_off, self.corner_off, self.kernel_tables)
+        chunk = _kernels.simplices_chunk if self.simplicial else _kernels.cubes_chunk
         threads = numba.get_num_threads()
         pieces = 1 if m < _SERIAL_CUBES or threads == 1 else min(m, _CHUNKS_PER_THREAD * threads)
         cuts = [i * m // pieces for i in range(pieces + 1)]
         if pieces == 1:
-            results = [chunk(0, m, *common, *tables)]
+            results = [chunk(0, m, *common)]
         else:
-            results = list(_kernel_pool().map(lambda lo, hi: chunk(lo, hi, *common, *tables), cuts[:-1], cuts[1:]))
+            results = list(_kernel_pool().map(lambda lo, hi: chunk(lo, hi, *common), cuts[:-1], cuts[1:]))
         for records, _, degenerate in results:
             for key, arr in zip(self.parts, records):
                 self.parts[key].append(arr)

@@ -28,7 +28,6 @@ from collections import defaultdict
 
 import numpy as np
 
-
 # --------------------------------------------------------------------------
 # small helpers
 # --------------------------------------------------------------------------
@@ -467,7 +466,7 @@ def naive_cms(values, axes):
         if lam is None:
             continue
         vertex_of[s] = len(vertices)
-        vertices.append(sum(l * np.array([axes[a][p[a]] for a in range(n)]) for l, p in zip(lam, chain)))
+        vertices.append(sum(li * np.array([axes[a][p[a]] for a in range(n)]) for li, p in zip(lam, chain)))
     cells = {}
     alive = {s: ("v", vertex_of[s]) for s in vertex_of}
     for d in range(k + 1, n + 1):

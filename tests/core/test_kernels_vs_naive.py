@@ -34,7 +34,6 @@ from naive import (  # noqa: E402
     subfaces,
 )
 
-
 # ---------------------------------------------------------------------------
 # helpers
 # ---------------------------------------------------------------------------
@@ -352,6 +351,20 @@ def _describe(cells, verts, limit=4):
     return "\n".join(lines)
 
 
+def extract_as_gcmh(values, **kw):
+    """The engine's GCMH output as the paper (and the naive twin) define it: without the
+    lens collapse the assembly adds last (gcmh_core._regular, tested in test_regular)."""
+    from gcmh_core import runner
+
+    gcmh_core, _ = _engine()
+    keep = runner.collapse_lenses
+    runner.collapse_lenses = lambda edges, cells: (edges, cells, 0, 0)
+    try:
+        return gcmh_core.extract(values, **kw)
+    finally:
+        runner.collapse_lenses = keep
+
+
 def compare(n, k, seed, values=None, bounds=None, div=None):
     """Run engine and naive on the same sampled values; fail on any difference."""
     gcmh_core, grid = _engine()
@@ -365,7 +378,7 @@ def compare(n, k, seed, values=None, bounds=None, div=None):
     # keeps them generic.  The topology depends on the values only.
     flat = grid.perturbed_axes(np.array(bounds, float), np.array(div, np.int64), seed, 0.0)
     ref = naive_extract(values, flat)
-    cx = gcmh_core.extract(values, bounds=bounds, div=div, seed=seed)
+    cx = extract_as_gcmh(values, bounds=bounds, div=div, seed=seed)
     tag = f"(n={n}, k={k}, seed={seed}, div={div})"
     assert _same_points(ref["vertices"], np.asarray(cx.vertices)), f"{tag} vertex positions differ"
 
@@ -415,7 +428,8 @@ def test_sampled_data_sits_on_the_exact_grid():
     gcmh_core, grid = _engine()
     bounds, div, seed = [(-1.0, 1.0)] * 2, [5, 4], 3
     axes = [np.linspace(lo, hi, d + 1) for (lo, hi), d in zip(bounds, div)]
-    assert all(np.array_equal(a, b) for a, b in zip(axes, grid.perturbed_axes(np.array(bounds), np.array(div), seed, 0.0)))
+    exact = grid.perturbed_axes(np.array(bounds), np.array(div), seed, 0.0)
+    assert all(np.array_equal(a, b) for a, b in zip(axes, exact))
     vals = sample(axes, lambda x, y: [x * x + y * y - 0.5])
     ref = naive_extract(vals, axes)
     cx = gcmh_core.extract(vals, bounds=bounds, div=div, seed=seed)
@@ -502,9 +516,8 @@ def test_simplex_crosses_matches_naive_solve(k):
     corner_off = np.arange(m, dtype=np.int64)
     corners = np.arange(m, dtype=np.int64)[None]  # one simplex, as a table
     full = (1 << k) - 1
-    mat = np.empty((k, k))
-    rhs = np.empty(k)
-    lam = np.empty(k + 1)
+    work = np.empty((k + 2, k + 1))
+    lam = work[k + 1]  # where the barycentric coordinates come out
     hits = 0
     for trial in range(3000):
         vals = rng.normal(size=(m, k))
@@ -516,7 +529,7 @@ def test_simplex_crosses_matches_naive_solve(k):
             for j in range(k):
                 if vals[i, j] >= 0:
                     pos_mask[i] |= 1 << j
-        got = simplex_crosses(vals, 0, corner_off, corners, 0, k, pos_mask, full, mat, rhs, lam)
+        got = simplex_crosses(vals, 0, corner_off, corners, 0, k, pos_mask, full, work)
         want = simplex_lambdas(vals)
         assert got == (want is not None), (k, trial, vals, want)
         if got:
@@ -528,12 +541,13 @@ def test_simplex_crosses_matches_naive_solve(k):
 def test_simplex_crosses_singular_and_offsets():
     from gcmh_core._kernels import simplex_crosses
     k = 2
-    mat, rhs, lam = np.empty((k, k)), np.empty(k), np.empty(k + 1)
+    work = np.empty((k + 2, k + 1))
+    lam = work[k + 1]
     # identical components -> singular -> no vertex, in both
     vals = np.array([[-1.0, -1.0], [1.0, 1.0], [2.0, 2.0]])
     pos = np.array([0, 3, 3], np.int64)
     idx = np.arange(3, dtype=np.int64)
-    assert not simplex_crosses(vals, 0, idx, idx[None], 0, k, pos, 3, mat, rhs, lam)
+    assert not simplex_crosses(vals, 0, idx, idx[None], 0, k, pos, 3, work)
     assert simplex_lambdas(vals) is None
     # rows reached through o + corner_off[corner]: same answer as the packed layout
     rng = np.random.default_rng(9)
@@ -543,7 +557,7 @@ def test_simplex_crosses_singular_and_offsets():
     corner_off = np.array([0, 3, 7, 11], np.int64)     # "corner" c lives at row o + corner_off[c]
     corners = np.array([[9, 9, 9], [0, 1, 2]], np.int64)  # the simplex is row 1
     posm = np.array([(v >= 0) @ [1, 2] for v in big[5 + corner_off]], np.int64)
-    assert simplex_crosses(big, 5, corner_off, corners, 1, k, posm, 3, mat, rhs, lam)
+    assert simplex_crosses(big, 5, corner_off, corners, 1, k, posm, 3, work)
     assert np.allclose(lam, [0.5, 0.2, 0.3])
 
 
@@ -589,12 +603,14 @@ def test_corner_masks_of_faces_and_simplices(n, k):
 
     T = cube_tables(n, k)
     if n > MASKED_N:  # 2^n corners do not fit an int64: the kernels test corner by corner
-        assert len(T.ksimp_corner_mask) == len(T.kface_corner_mask) == len(T.k1face_corner_mask) == 0
+        assert len(T.ksimplex_corner_mask) == len(T.kface_corner_mask) == len(T.k1face_corner_mask) == 0
         assert len(simplex_tables(n, k).corner_mask) == 0
         return
-    as_set = lambda mask: {c for c in range(2**n) if int(np.uint64(np.int64(mask))) >> c & 1}
-    for s, corners in enumerate(T.ksimp_corners):
-        assert as_set(T.ksimp_corner_mask[s]) == set(corners.tolist())
+    def as_set(mask):
+        return {c for c in range(2**n) if int(np.uint64(np.int64(mask))) >> c & 1}
+
+    for s, corners in enumerate(T.ksimplex_corners):
+        assert as_set(T.ksimplex_corner_mask[s]) == set(corners.tolist())
     for dim, masks in ((k, T.kface_corner_mask), (k + 1, T.k1face_corner_mask)):
         faces = _faces(n, dim)
         assert len(masks) == len(faces)
@@ -612,8 +628,8 @@ def test_corner_masks_of_faces_and_simplices(n, k):
     for fi, mask in enumerate(T.kface_corner_mask):
         union = set()
         for s in range(fi * kf, (fi + 1) * kf):
-            assert T.ksimp_face[s] == fi
-            union |= as_set(T.ksimp_corner_mask[s])
+            assert T.ksimplex_face[s] == fi
+            union |= as_set(T.ksimplex_corner_mask[s])
         assert union == as_set(mask)
 
 
@@ -636,33 +652,33 @@ def test_cube_tables_match_naive_kuhn(n, k):
         for rank, p in enumerate(itertools.permutations(S)):
             want.add((anchor, S, rank, tuple(kuhn_path(anchor, p))))
     got = set()
-    for s in range(len(T.ksimp_corners)):
-        f = kf0 + T.ksimp_face[s]
+    for s in range(len(T.ksimplex_corners)):
+        f = kf0 + T.ksimplex_face[s]
         anchor = _bits(int(T.face_fixed[f]), n)
         S = tuple(a for a in range(n) if T.face_free[f] >> a & 1)
-        got.add((anchor, S, int(T.ksimp_perm[s]), tuple(_bits(int(c), n) for c in T.ksimp_corners[s])))
+        got.add((anchor, S, int(T.ksimplex_perm[s]), tuple(_bits(int(c), n) for c in T.ksimplex_corners[s])))
     assert got == want
     # walk template: (k+1)! simplices, each facet j = chain minus vertex j; boundary nodes map to
     # the Kuhn simplex of the cube with the same corner set
     m = k + 1
-    assert len(T.tmpl_corners) == math.factorial(m)
-    nb_ = T.n_boundary_nodes
+    assert len(T.walk_simplex_corners) == math.factorial(m)
+    nb_ = T.walk_boundary_nodes
     assert nb_ == 2 * m * math.factorial(k)
     f1 = T.face_start[m]
     for fi in range(T.face_start[m + 1] - f1):
         cmap = T.walk_corner_map[fi]
-        for t in range(len(T.tmpl_corners)):
-            chain = [int(cmap[c]) for c in T.tmpl_corners[t]]
+        for t in range(len(T.walk_simplex_corners)):
+            chain = [int(cmap[c]) for c in T.walk_simplex_corners[t]]
             for j in range(m + 1):
                 facet = set(chain[:j] + chain[j + 1:])
-                node = T.tmpl_facets[t, j]
+                node = T.walk_simplex_nodes[t, j]
                 if node < nb_:
                     assert j in (0, m)
                     s = T.walk_boundary_simplex[fi, node]
-                    assert set(int(c) for c in T.ksimp_corners[s]) == facet
+                    assert set(int(c) for c in T.ksimplex_corners[s]) == facet
                 else:
                     assert 0 < j < m
-                    assert set(int(cmap[c]) for c in T.tmpl_interior[node - nb_]) == facet
+                    assert set(int(cmap[c]) for c in T.walk_interior_corners[node - nb_]) == facet
 
 
 # ---------------------------------------------------------------------------
