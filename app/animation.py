@@ -182,11 +182,126 @@ class Clock:
         return float(0.5 * (1 - np.cos(2 * np.pi * self.t)))
 
 
+# Colours a GIF's palette keeps exactly: the title's white and the text greys of app.scene (text never recoloured)
+RESERVED_COLOURS = ((255, 255, 255), (0xc8, 0xcf, 0xdc), (0xdf, 0xe4, 0xee), (0, 0, 0))
+PALETTE_PIXELS = 1_500_000  # pixels (from every frame) the GIF's adaptive palette is learnt from
+
+
+def gif_palette(frames: list, reserved=RESERVED_COLOURS):
+    """One adaptive palette for a whole animation (a PIL "P" image): 256 - len(reserved) colours learnt
+    from about ``PALETTE_PIXELS`` pixels of all ``frames`` (h, w, 3) uint8, then the ``reserved`` colours.
+
+    One palette for all frames: no colour flickers from frame to frame; learnt from this animation's
+    pixels: its gradients get the fine steps (no banding) a fixed web palette lacks."""
+    from PIL import Image
+
+    tiles = []
+    per = max(20_000, PALETTE_PIXELS // max(len(frames), 1))
+    for fr in frames:
+        f = np.asarray(fr)[..., :3]
+        step = max(1, int(np.sqrt(f.shape[0] * f.shape[1] / per)))
+        tiles.append(f[::step, ::step].reshape(-1, 3))
+    mosaic = np.concatenate(tiles)
+    budget = 256 - len(reserved)
+    packed = (mosaic[:, 0].astype(np.int64) << 16) | (mosaic[:, 1].astype(np.int64) << 8) | mosaic[:, 2]
+    keys, counts = np.unique(packed, return_counts=True)
+    colours = np.stack([(keys >> 16) & 255, (keys >> 8) & 255, keys & 255], 1).astype(np.float64)
+    if len(colours) <= budget:            # few colours (flat pictures): every one exactly
+        learnt = colours
+    else:
+        side = int(np.ceil(np.sqrt(len(mosaic))))
+        pad = np.zeros((side * side - len(mosaic), 3), np.uint8) + mosaic[:1]
+        img = Image.fromarray(np.concatenate([mosaic, pad]).reshape(side, side, 3))
+        q = img.quantize(colors=budget, method=Image.Quantize.FASTOCTREE, dither=Image.Dither.NONE)
+        learnt = np.asarray(q.getpalette()[: 3 * budget], dtype=np.float64).reshape(-1, 3)
+        learnt = _lloyd(colours, counts.astype(np.float64), learnt)
+    pal = [int(v) for v in np.clip(np.round(learnt), 0, 255).astype(np.int64).ravel()]
+    pal += [0] * (3 * budget - len(pal))
+    for c in reserved:
+        pal += list(c)
+    out = Image.new("P", (1, 1))
+    out.putpalette(pal)
+    return out
+
+
+def _lloyd(colours: np.ndarray, weights: np.ndarray, centres: np.ndarray, steps: int = 4) -> np.ndarray:
+    """A few weighted k-means steps on the distinct colours: the octree's palette moved to where the
+    pixels are (the shaded surface gets its fine steps, the background no more than it needs)."""
+    C = centres.copy()
+    for _ in range(steps):
+        lab = np.empty(len(colours), np.int64)
+        for a in range(0, len(colours), 8192):   # (chunks: distances are colours x 250)
+            X = colours[a:a + 8192]
+            d = (X * X).sum(1)[:, None] - 2 * X @ C.T + (C * C).sum(1)[None]
+            lab[a:a + 8192] = np.argmin(d, axis=1)
+        w = np.bincount(lab, weights=weights, minlength=len(C))
+        for j in range(3):
+            s = np.bincount(lab, weights=weights * colours[:, j], minlength=len(C))
+            C[:, j] = np.where(w > 0, s / np.maximum(w, 1e-12), C[:, j])
+    return C
+
+
+def _gif_frame(img, palette):
+    """One frame mapped to the nearest palette colour, exactly and without dithering (dithering sprinkles
+    noise over flat areas and the edges of the text; PIL's own mapping rounds colours to a coarse cube)."""
+    from PIL import Image
+
+    f = np.ascontiguousarray(np.asarray(img)[..., :3])
+    h, w = f.shape[:2]
+    P = np.asarray(palette.getpalette()[:768], dtype=np.float64).reshape(-1, 3)
+    packed = (f[..., 0].astype(np.int64) << 16) | (f[..., 1].astype(np.int64) << 8) | f[..., 2]
+    keys, inv = np.unique(packed.ravel(), return_inverse=True)
+    X = np.stack([(keys >> 16) & 255, (keys >> 8) & 255, keys & 255], 1).astype(np.float64)
+    near = np.empty(len(X), np.uint8)
+    for a in range(0, len(X), 8192):
+        d = ((X[a:a + 8192, None, :] - P[None]) ** 2).sum(-1)
+        near[a:a + 8192] = np.argmin(d, axis=1)   # (the first of equal entries: the twin stays unused)
+    out = Image.fromarray(near[inv.ravel()].reshape(h, w), mode="P")
+    out.putpalette(palette.getpalette()[:768])
+    return out
+
+
+def write_gif(path, images, fps: float = 20.0, progress=None, cancel=None) -> int:
+    """Write the images to a looping GIF with one adaptive palette (:func:`gif_palette`); returns the count.
+
+    The palette needs a look at the frames, so they are all held (a 60-frame 800x600 animation is 86 MB).
+    ``cancel()`` true: nothing is written, the frames made so far are counted."""
+    frames = []
+    for img in images:
+        if cancel is not None and cancel():
+            return len(frames)
+        frames.append(np.ascontiguousarray(np.asarray(img)[..., :3]))
+        if progress is not None:
+            progress(len(frames))
+    if not frames:
+        raise ValueError("no frames to write")
+    # the last entry repeats white while the frames are mapped (so no pixel takes it) ...
+    pal = gif_palette(frames, RESERVED_COLOURS + (RESERVED_COLOURS[0],))
+    pics = [_gif_frame(f, pal) for f in frames]
+    dup = [k for k in range(1, len(pics)) if pics[k].tobytes() == pics[k - 1].tobytes()]
+    if dup:
+        # ... then becomes a twin of the corner pixel's colour: PIL merges a frame equal to the one
+        # before it (one frame fewer than asked), so a repeated frame's corner takes the twin index,
+        # the same colour under another index
+        entries = pal.getpalette()[:768]
+        c = pics[dup[0]].getpixel((0, 0))
+        entries[765:768] = entries[3 * c: 3 * c + 3]
+        for k in range(1, len(pics)):
+            pics[k].putpalette(entries)
+            if k in dup:
+                pics[k].putpixel((0, 0), 255 if pics[k - 1].getpixel((0, 0)) != 255 else c)
+        pics[0].putpalette(entries)
+    pics[0].save(str(path), save_all=True, append_images=pics[1:], duration=int(round(1000.0 / fps)), loop=0,
+                 optimize=False, disposal=1)
+    return len(pics)
+
+
 def write_animation(path, images, fps: float = 20.0, progress=None, cancel=None) -> int:
     """Write the (h, w, 3) uint8 images (any iterable) to ``path`` (.gif or .mp4); returns the frame count.
 
     ``progress(k)`` is called after frame k; ``cancel()`` true stops and removes the file
-    (returns the frames written so far, the file is gone).
+    (returns the frames written so far, the file is gone). GIFs get one adaptive palette for the
+    whole animation with the text colours kept (:func:`write_gif`); MP4 is smaller and smoother.
     """
     import os
 
@@ -195,8 +310,8 @@ def write_animation(path, images, fps: float = 20.0, progress=None, cancel=None)
     path = str(path)
     ext = os.path.splitext(path)[1].lower()
     if ext == ".gif":
-        writer = imageio.get_writer(path, mode="I", duration=1000.0 / fps, loop=0)
-    elif ext == ".mp4":
+        return write_gif(path, images, fps=fps, progress=progress, cancel=cancel)
+    if ext == ".mp4":
         # yuv420p needs even sides; macro_block_size=2 pads to them instead of 16
         writer = imageio.get_writer(path, fps=fps, codec="libx264", quality=7, macro_block_size=2,
                                     pixelformat="yuv420p", ffmpeg_log_level="error")

@@ -30,7 +30,7 @@ from qtpy.QtCore import QEvent, QObject, Qt, QTimer
 
 from .model import StudioModel, slice_params
 from .projection import ProjectionModel, turned_angles
-from .scene import (MARGIN_X, MARGIN_Y, PICK_COLOR, Scene, Style, copy_camera, default_camera, draw_overlays,
+from .scene import (MARGIN_X, MARGIN_Y, PICK_COLOR, TITLE_BOTTOM, Scene, Style, copy_camera, default_camera, draw_overlays,
                     refit_camera, render_image, screen_coordinates, view_subtitle)
 
 SETTLE_MS = 250          # a view at rest this long is drawn in full again
@@ -49,6 +49,9 @@ class _DragFilter(QObject):
     def eventFilter(self, obj, ev) -> bool:  # noqa: N802 - Qt's name
         t = ev.type()
         v = self.viewer
+        if t == QEvent.Resize:     # another shape: frame again (after the resize settles)
+            v._resized.start()
+            return False
         if t == QEvent.MouseButtonPress and ev.modifiers() & Qt.ShiftModifier and v.can_turn():
             nxt = bool(ev.modifiers() & Qt.ControlModifier) or ev.button() == Qt.RightButton
             self.hidden = v.panel.drag_hidden() + (1 if nxt else 0)
@@ -84,6 +87,10 @@ class QtViewer:
         self._settle.setSingleShot(True)
         self._settle.setInterval(SETTLE_MS)
         self._settle.timeout.connect(self._at_rest)
+        self._resized = QTimer()
+        self._resized.setSingleShot(True)
+        self._resized.setInterval(60)
+        self._resized.timeout.connect(self._on_resized)
         self._drag = _DragFilter(self)
         self.widget.installEventFilter(self._drag)
 
@@ -159,6 +166,11 @@ class QtViewer:
             self.plotter.renderer.ResetCameraClippingRange()
         self.render()
 
+    def _on_resized(self) -> None:
+        if self.scene.complex is not None and not self.keep_camera():
+            self.keep_in_view()
+            self.render()
+
     def on_base(self) -> None:
         if self.scene.complex is None:
             return
@@ -185,7 +197,7 @@ class QtViewer:
         S = screen_coordinates(self.plotter, corners)
         u = S[:, 0] - 0.5 * (S[:, 0].min() + S[:, 0].max())
         v = S[:, 1] - 0.5 * (S[:, 1].min() + S[:, 1].max())
-        out = (np.abs(S[:, 0]).max() > 1.0 or S[:, 1].min() < -1.0 or S[:, 1].max() > 2 * 0.88 - 1)
+        out = (np.abs(S[:, 0]).max() > 1.0 or S[:, 1].min() < -1.0 or S[:, 1].max() > TITLE_BOTTOM)
         small = max(np.abs(u).max() / MARGIN_X, np.abs(v).max() / MARGIN_Y) < 0.5
         if out or small:
             refit_camera(self.plotter)

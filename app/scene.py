@@ -648,12 +648,14 @@ class Scene:
             self._legend_actor.SetInput(legend)
 
     def _font(self, size: float) -> int:
-        """A font size scaled to the picture height (sizes are tuned for 1200 pixels)."""
+        """A font size scaled to the picture (sizes are tuned for 1600x1200; a narrow picture counts by its
+        width, so a title fits across a portrait screenshot)."""
         try:
-            h = int(self.plotter.window_size[1])
+            w, h = (int(x) for x in self.plotter.window_size)
         except Exception:  # noqa: BLE001
-            h = 1200
-        return max(6, int(round(size * min(1.5, max(0.55, h / 1200)))))
+            w, h = 1600, 1200
+        ref = min(h, 0.75 * w)
+        return max(6, int(round(size * min(1.5, max(0.45, ref / 1200)))))
 
     def axes_labels(self) -> list[str]:
         from .projection import axis_label
@@ -663,12 +665,36 @@ class Scene:
 
     # ------------------------------------------------------------- exports
     def projected_mesh(self) -> pv.PolyData:
-        """A copy of the current projected mesh (3D points, all coordinates as point data)."""
+        """A copy of the current projected mesh (3D points, all coordinates as point data, and the colours
+        on screen as ``RGB`` (V, 3) uint8 point data for PLY and OBJ files)."""
         if self.mesh is None:
             raise ValueError("nothing to export: no result yet")
+        if self._coarse_on:   # the full mesh's points, not the ones of a moment ago
+            self.set_projection(self.view, render=False)
         m = self.mesh.copy(deep=True)
         m.points = np.asarray(m.points, dtype=np.float64)
+        m.point_data["RGB"] = self.vertex_colours()
+        m.point_data.active_scalars_name = self.style.color_by if self.style.color_by in self.names else None
         return m
+
+    def vertex_colours(self) -> np.ndarray:
+        """(V, 3) uint8: each drawn vertex's colour as the picture shows it (the colour map over the whole
+        result's range, or the solid colour)."""
+        from matplotlib import colormaps
+        from matplotlib.colors import to_rgb
+
+        st = self.style
+        V = self.mesh.n_points
+        color_by = st.color_by if st.color_by in self.names and not (st.two_sided and self.dim >= 2) else None
+        if color_by is None:
+            rgb = np.array(to_rgb(SURFACE_COLOR if self.dim >= 2 else LINE_COLOR))
+            return np.tile(np.round(255 * rgb).astype(np.uint8), (V, 1))
+        col = np.asarray(self.complex.vertices)[:, self.names.index(color_by)]
+        fin = col[np.isfinite(col)]
+        lo, hi = colour_range(fin) if len(fin) else (0.0, 1.0)
+        t = np.clip((np.asarray(self.mesh.point_data[color_by], dtype=float) - lo) / (hi - lo), 0.0, 1.0)
+        t = np.where(np.isfinite(t), t, 0.0)
+        return np.round(255 * colormaps[st.cmap](t)[:, :3]).astype(np.uint8)
 
 
 def describe(cx, names, color_by=None) -> str:
@@ -723,6 +749,7 @@ def draw_overlays(scene: Scene, cx, boundary: bool = False, grid: bool = False,
 # bar (right) and the axes (bottom left) -- the picture a window, a screenshot and a thumbnail all share.
 MARGIN_X = 0.68
 MARGIN_Y = 0.76
+TITLE_BOTTOM = 2 * 0.885 - 1     # the subtitle's baseline, in the same units (-1..1 up the picture)
 VIEW_DIRECTION = (1.0, -1.6, 1.1)
 
 
@@ -745,7 +772,7 @@ def shown_points(plotter, max_points: int = 400_000) -> np.ndarray:
     pts = []
     for actor in plotter.renderer.actors.values():
         try:
-            if not actor.GetVisibility():
+            if not actor.IsA("vtkActor") or not actor.GetVisibility():   # 3D only: no text, bars, legends
                 continue
             ds = actor.GetMapper().GetInput()
             n = ds.GetNumberOfPoints()
@@ -776,12 +803,12 @@ def screen_coordinates(plotter, X: np.ndarray, size=None) -> np.ndarray:
 
 def inside_share(plotter, X: np.ndarray | None = None, size=None, title_band: bool = True) -> float:
     """The share of points ``X`` (default: every shown point) that the picture shows: inside it and, with
-    ``title_band``, below the title and subtitle (the top 12 %)."""
+    ``title_band``, below the title and subtitle (the top 11.5 %)."""
     X = shown_points(plotter, max_points=10**9) if X is None else np.asarray(X, dtype=float)
     if len(X) == 0:
         return 1.0
     S = screen_coordinates(plotter, X, size)
-    top = 2 * 0.88 - 1 if title_band else 1.0
+    top = TITLE_BOTTOM if title_band else 1.0
     ok = (np.abs(S[:, 0]) <= 1.0) & (S[:, 1] >= -1.0) & (S[:, 1] <= top)
     return float(np.mean(ok))
 

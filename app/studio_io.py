@@ -71,12 +71,52 @@ def export_complex(cx, path) -> str:
 
 
 def export_mesh(mesh, path, dim: int | None) -> str:
-    """Write a projected pyvista mesh; surfaces are triangulated for .ply, .obj and .stl."""
+    """Write a projected pyvista mesh; surfaces are triangulated for .ply, .obj and .stl.
+
+    Colours: a mesh with ``RGB`` (V, 3) uint8 point data (the colours on screen) writes them as the
+    PLY's vertex colours and as the OBJ's ``v x y z r g b`` (the extension MeshLab and Blender read)."""
     path = str(path)
     ext = os.path.splitext(path)[1].lower()
     if ext not in MESH_FORMATS:
         raise ValueError(f"unknown mesh format {ext!r}: use .ply, .obj or .vtp")
     if ext in (".ply", ".obj", ".stl") and dim is not None and dim >= 2:
         mesh = mesh.triangulate()
-    mesh.save(path)
+    rgb = "RGB" in mesh.point_data.keys()
+    if ext == ".ply" and rgb:
+        mesh.save(path, texture="RGB")
+    elif ext == ".obj" and rgb:
+        write_obj(mesh, path)
+    else:
+        mesh.save(path)
     return path
+
+
+def _cells(arr, prefix: str, f) -> None:
+    """Write a VTK legacy cell array (``[m, v.., m, v..]``) as OBJ rows ``prefix v1 .. vm`` (1-based)."""
+    import numpy as np
+
+    arr = np.asarray(arr, dtype=np.int64)
+    if len(arr) == 0:
+        return
+    m = int(arr[0])
+    if len(arr) % (m + 1) == 0 and np.all(arr[:: m + 1] == m):   # all of one size: at once
+        np.savetxt(f, arr.reshape(-1, m + 1)[:, 1:] + 1, fmt=prefix + " %d" * m)
+        return
+    i = 0
+    while i < len(arr):
+        m = int(arr[i])
+        f.write(prefix + " " + " ".join(str(int(v) + 1) for v in arr[i + 1:i + 1 + m]) + "\n")
+        i += m + 1
+
+
+def write_obj(mesh, path) -> None:
+    """A Wavefront OBJ with vertex colours: ``v x y z r g b`` (r, g, b in 0..1), then the faces or lines."""
+    import numpy as np
+
+    P = np.asarray(mesh.points, dtype=np.float64)
+    C = np.asarray(mesh.point_data["RGB"], dtype=np.float64)[:, :3] / 255.0
+    with open(path, "w", encoding="ascii") as f:
+        f.write("# GCMH Studio: the projected mesh, vertex colours as on screen\n")
+        np.savetxt(f, np.hstack([P, C]), fmt="v %.7g %.7g %.7g %.4f %.4f %.4f")
+        _cells(mesh.faces, "f", f)
+        _cells(mesh.lines, "l", f)

@@ -1,0 +1,280 @@
+"""The view in a classroom (issue 16): never frozen, always framed, steering in any n, pictures for a slide.
+
+Under Xvfb (pytest-xvfb ``--xvfb-backend xvfb``). No timing assertions: the GUI timer must tick during and
+after a run, a new result costs one render, the object lies inside the picture after every change
+(its shown points projected through the camera), a Shift-drag turns hidden planes, GIFs keep their
+frame count and the title's white, PLY and OBJ files carry the colours.
+"""
+
+import os
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pytestqt")
+
+from gcmh_core.examples import list_examples, load_example  # noqa: E402
+
+from app_helpers import small_div, torus_complex  # noqa: E402
+
+EXAMPLES = [ex.name for ex in list_examples()]
+SHOTS = os.environ.get("GCMH_TEST_SHOTS")   # a folder: the tests leave their pictures there to look at
+
+
+def _shot(img, name):
+    if SHOTS:
+        from PIL import Image
+
+        os.makedirs(SHOTS, exist_ok=True)
+        Image.fromarray(np.asarray(img)[..., :3]).save(os.path.join(SHOTS, name))
+
+
+def _run_example(qtbot, window, name, div=None):
+    ex = load_example(name)
+    with qtbot.waitSignal(window.runFinished, timeout=180_000) as b:
+        assert window.load_example(name, div=div or small_div(ex))
+    assert b.args[0] == "done", window.last_status
+    qtbot.wait(50)   # the one paint
+    return ex
+
+
+def _inside(window):
+    from app.scene import inside_share
+
+    return inside_share(window.plotter)
+
+
+# --------------------------------------------------------------------------- never frozen
+def test_timer_ticks_during_and_after_a_run_and_a_result_costs_one_render(qtbot, window):
+    from qtpy.QtCore import QTimer
+
+    ticks = {"run": 0, "after": 0}
+    phase = {"now": "run"}
+    t = QTimer()
+    t.setInterval(10)
+    t.timeout.connect(lambda: ticks.__setitem__(phase["now"], ticks[phase["now"]] + 1))
+    v = window.viewer
+    before = {}
+    window.resultChanged.connect(lambda *_: before.setdefault("renders", v.renders))
+    t.start()
+    try:
+        _run_example(qtbot, window, "complex-cosine", div=40)
+        phase["now"] = "after"
+        qtbot.wait(400)
+    finally:
+        t.stop()
+    assert ticks["run"] > 0, "the GUI timer never ticked while the run went on"
+    assert ticks["after"] > 0, "the GUI timer never ticked after the result arrived"
+    counts = []
+    window.resultChanged.connect(lambda *_: counts.append(v.renders))
+    r0 = v.renders
+    assert window.run()
+    qtbot.waitSignal(window.runFinished, timeout=120_000).wait() if window.is_running() else None
+    qtbot.waitUntil(lambda: bool(counts), timeout=120_000)
+    assert counts[0] - r0 == 1, f"a new result asked for {counts[0] - r0} renders, not one"
+
+
+def test_window_anti_aliasing_is_cheap_and_screenshots_super_sample(qtbot, window, tmp_path):
+    _run_example(qtbot, window, "sphere", div=12)
+    assert window.scene.anti_aliasing == "fxaa"
+    img = window.viewer.save_screenshot(tmp_path / "s.png", (320, 240))
+    assert img.shape[:2] == (240, 320)
+
+
+# --------------------------------------------------------------------------- always framed
+def test_camera_contains_the_object_after_each_change(qtbot, window, tmp_path):
+    _run_example(qtbot, window, "clifford-torus", div=10)
+    v, pp = window.viewer, window.projection_panel
+    assert _inside(window) == 1.0, "first open"
+    for mapping in ("orthographic", "perspective", "stereographic"):
+        pp.set_mapping(mapping)
+        assert _inside(window) == 1.0, mapping
+    pp.set_angle((0, 3), 90.0)
+    assert _inside(window) == 1.0, "a quarter turn of x1-x4"
+    pp.set_axes_by_names(["x2", "x3", "x4"])
+    assert _inside(window) == 1.0, "another base"
+    assert pp.set_slice("x1", 0.3, 0.2)
+    assert _inside(window) == 1.0, "a slice"
+    cam = window.plotter.camera
+    direction = np.asarray(cam.direction)
+    pp.set_mapping("perspective")
+    assert np.allclose(np.asarray(window.plotter.camera.direction), direction, atol=1e-6), \
+        "a refit keeps the user's view direction"
+    _shot(window.screenshot_array(), "framed-window.png")
+
+
+def test_keep_camera_holds_it(qtbot, window):
+    _run_example(qtbot, window, "clifford-torus", div=10)
+    pp = window.projection_panel
+    pp.keep_camera_check.setChecked(True)
+    cam = window.plotter.camera
+    before = (tuple(cam.position), tuple(cam.focal_point), cam.view_angle)
+    pp.set_mapping("stereographic")
+    pp.set_angle((0, 3), 60.0)
+    cam = window.plotter.camera
+    assert (tuple(cam.position), tuple(cam.focal_point), cam.view_angle) == before
+
+
+@pytest.mark.parametrize("size", [(3840, 2160), (600, 1400)])
+def test_screenshots_of_any_size_frame_the_object(qtbot, window, tmp_path, size):
+    _run_example(qtbot, window, "three-torus")
+    img = window.viewer.save_screenshot(tmp_path / "big.png", size, transparent=True)
+    assert img.shape[:2] == (size[1], size[0])
+    a = img[..., 3]
+    # nothing drawn on the picture's edges: the object is inside (text and bar sit within the margins)
+    assert a[:, :2].max() == 0 and a[:, -2:].max() == 0 and a[-2:, :].max() == 0 and a[:2, :].max() == 0
+    _shot(img[::4, ::4], f"screenshot-{size[0]}x{size[1]}.png")
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_every_example_opens_framed(name):
+    """First open, as the headless screenshot and the gallery draw it: every vertex inside the picture,
+    below the title."""
+    from app.headless import offscreen_scene
+    from app.jobs import Job, run_job
+    from app.projection import ProjectionModel
+    from app.scene import Style, default_camera, inside_share
+
+    ex = load_example(name)
+    cx = run_job(Job(list(ex.formulas), list(ex.variables), [tuple(b) for b in ex.bounds], small_div(ex)))
+    view = ex.view
+    m = ProjectionModel(n=ex.n, axes=tuple(ex.variables.index(a) for a in view["project"]),
+                        mapping=view.get("mapping", "orthographic"))
+    with offscreen_scene((800, 600)) as sc:
+        sc.set_complex(cx, ex.variables, m.view(), Style(color_by=view.get("color"), title=ex.title, subtitle="s"))
+        default_camera(sc.plotter)
+        share = inside_share(sc.plotter)
+    assert share == 1.0, f"{name}: {100 * share:.1f}% of the vertices in view"
+
+
+def test_clifford_torus_opens_without_coincident_sheets():
+    """In (x1, x2, x3) orthographic the two sheets of the Clifford torus coincide (z-fighting)."""
+    ex = load_example("clifford-torus")
+    assert ex.view["mapping"] != "orthographic" or ex.view["project"] != ["x1", "x2", "x3"]
+
+
+# --------------------------------------------------------------------------- steering in any n
+def test_shift_drag_turns_hidden_planes(qtbot, window):
+    from qtpy.QtCore import QPoint, Qt
+    from qtpy.QtTest import QTest
+
+    _run_example(qtbot, window, "clifford-torus", div=10)
+    pp = window.projection_panel
+    pp.set_mapping("orthographic")
+    pp.reset()
+    w = window.viewer.widget
+    c = QPoint(w.width() // 2, w.height() // 2)
+    cam_before = tuple(window.plotter.camera.position)
+    QTest.mousePress(w, Qt.LeftButton, Qt.ShiftModifier, c)
+    QTest.mouseMove(w, c + QPoint(60, 0))
+    QTest.mouseRelease(w, Qt.LeftButton, Qt.ShiftModifier, c + QPoint(60, 0))
+    assert np.any(np.abs(pp.model.angles) > 1.0), "a Shift-drag turned no plane"
+    P = pp.model.matrix()
+    assert np.abs(P[:, 3]).max() > 0.1, "x4 (hidden) did not come into view"
+    # the turn is in R^4: the camera itself did not move (VTK's trackball never saw the drag)
+    assert np.allclose(window.plotter.camera.position, cam_before) or _inside(window) == 1.0
+    # Ctrl+Shift picks the next hidden direction; with one hidden direction (n = 4) it is the same one
+    a = pp.model.angles.copy()
+    QTest.mousePress(w, Qt.LeftButton, Qt.ShiftModifier | Qt.ControlModifier, c)
+    QTest.mouseMove(w, c + QPoint(0, 40))
+    QTest.mouseRelease(w, Qt.LeftButton, Qt.ShiftModifier | Qt.ControlModifier, c + QPoint(0, 40))
+    assert not np.allclose(pp.model.angles, a)
+
+
+def test_turned_angles_rotate_the_screen_against_the_hidden_axis():
+    from app.projection import ProjectionModel, givens_angles, rotation, turned_angles
+
+    for n in (4, 6, 10):
+        R = rotation(n, np.random.default_rng(n).uniform(-np.pi, np.pi, n * (n - 1) // 2))
+        assert np.allclose(rotation(n, givens_angles(R)), R)
+    m = ProjectionModel(n=6)
+    m.angles[:] = turned_angles(m, np.array([1.0, 0.0, 0.0]), 1, 30.0)
+    P = m.matrix()
+    hidden = 4   # the second hidden axis of (x1, x2, x3 | x4, x5, x6) is x5
+    assert np.isclose(abs(P[0, hidden]), np.sin(np.radians(30.0)))
+    assert np.allclose(P[1:], np.eye(6)[1:3])
+
+
+def test_plane_list_scales_to_ten_dimensions(qtbot):
+    from app.qt_projection_panel import QtProjectionPanel
+
+    pp = QtProjectionPanel()
+    qtbot.addWidget(pp)
+    names = [f"x{i + 1}" for i in range(10)]
+    pp.set_variables(names, keep=False)
+    assert len(pp.sliders) == 45
+    order = pp.plane_order()
+    first = [pp.model.planes[r] for r in order[:21]]
+    assert all((i < 3) != (j < 3) for i, j in first), "the planes that bring a hidden axis into view come first"
+    pp.plane_filter.setText("x10")
+    shown = [r for r, s in enumerate(pp.sliders) if not s.isHidden()]
+    assert len(shown) == 9 and all("x10" in pp.slider_labels[r].text() for r in shown)
+    assert pp.drag_combo.count() == 7
+
+
+# --------------------------------------------------------------------------- level of detail
+def test_large_results_move_at_a_coarse_level_of_detail(qtbot):
+    import pyvista as pv
+
+    from app.geometry import Geometry
+    from app.projection import ProjectionModel
+    from app.scene import Scene, Style
+
+    cx = torus_complex(420, 4)            # 176,400 vertices: above the threshold
+    geo = Geometry.build(cx)
+    assert geo.coarse is not None and len(geo.coarse.projector.XT.T) < cx.count(0) // 3
+    pl = pv.Plotter(off_screen=True, window_size=[320, 240])
+    try:
+        sc = Scene(pl)
+        m = ProjectionModel(n=4)
+        sc.set_complex(cx, cx.point_names(), m.view(), Style(color_by="x4"), geometry=geo)
+        m.angles[2] = 30.0
+        sc.set_projection(m.view(), render=False, coarse=True)
+        assert sc.coarse_shown() and not sc.actor.GetVisibility()
+        sc.set_projection(m.view(), render=False)
+        assert not sc.coarse_shown() and sc.actor.GetVisibility()
+        assert np.allclose(sc.mesh.points, sc.projector.project_view(m.view()), atol=1e-5)
+    finally:
+        pl.close()
+
+
+# --------------------------------------------------------------------------- pictures for a slide
+def test_gif_counts_frames_exactly_and_keeps_the_titles_white(tmp_path):
+    from PIL import Image
+
+    from app.animation import write_animation
+
+    h, w = 60, 80
+    y = np.linspace(0, 1, h)[:, None, None]
+    base = (np.array([31, 36, 48]) * (1 - y) + np.array([74, 84, 104]) * y).astype(np.uint8)
+    frames = []
+    for k in range(12):
+        f = np.broadcast_to(base, (h, w, 3)).copy()
+        f[10:50, 20:60] = (np.array([255, 0, 0]) * (k / 11) + np.array([0, 0, 255]) * (1 - k / 11)).astype(np.uint8)
+        f[2:5, 2:30] = 255            # the title
+        frames.append(f)
+    frames += [frames[-1]] * 3        # still frames at the end must stay frames
+    p = tmp_path / "a.gif"
+    assert write_animation(p, frames, fps=10) == 15
+    im = Image.open(p)
+    assert im.n_frames == 15
+    for k in (0, 7, 14):
+        im.seek(k)
+        rgb = np.asarray(im.convert("RGB"))
+        assert np.all(rgb[2:5, 2:30] == 255), "the title is not white any more"
+        assert np.abs(rgb.astype(int) - frames[k].astype(int)).mean() < 4
+
+
+def test_ply_and_obj_exports_carry_the_colours(qtbot, window, tmp_path):
+    import pyvista as pv
+
+    _run_example(qtbot, window, "sphere", div=12)
+    ply = tmp_path / "m.ply"
+    window.export_mesh(ply)
+    m = pv.read(ply)
+    rgb = np.asarray(m.point_data["RGB"])
+    assert rgb.shape == (m.n_points, 3) and len(np.unique(rgb, axis=0)) > 20, "no colour map in the PLY"
+    obj = tmp_path / "m.obj"
+    window.export_mesh(obj)
+    v = [ln.split() for ln in obj.read_text().splitlines() if ln.startswith("v ")]
+    assert len(v) > 0 and all(len(r) == 7 for r in v[:50]), "OBJ vertices without r g b"
