@@ -172,15 +172,23 @@ def topology_of(cx, job: Job | None = None) -> dict | None:
         return None
 
 
-def view_data(cx, job: Job | None):
+def view_data(cx, job: Job | None, progress=None, cancel=None):
     """What the GUI thread needs to show ``cx``, made beforehand in a worker: (its drawing
     arrays, an app.geometry.Geometry or None; its topology report or None; the traceback
-    when the Geometry failed: the GUI thread then builds it, and reports, itself)."""
+    when the Geometry failed: the GUI thread then builds it, and reports, itself).
+    ``progress(phase, fraction)`` names each step; ``cancel()`` is asked between them
+    (a cancelled call returns without the report)."""
     geometry, tb = None, None
+    if progress is not None:
+        progress("preparing the view: drawing arrays", 0.0)
     try:
         from .geometry import Geometry
 
         geometry = Geometry.build(cx)
     except Exception:  # noqa: BLE001
         tb = traceback.format_exc()
+    if cancel is not None and cancel():
+        return geometry, None, tb
+    if progress is not None:
+        progress("preparing the view: topology", 0.5)
     return geometry, topology_of(cx, job), tb

@@ -53,8 +53,8 @@ from .qt_run_controller import QtRunController
 from .qt_viewer import QtViewer
 from .worker import COMPILING
 
-# phases whose fraction means nothing yet: shown without a percentage
-_WAITING_PHASES = ("starting", "estimating", COMPILING)
+# phases whose fraction means nothing: shown without a percentage
+_WAITING_PHASES = ("starting", "estimating", COMPILING, "preparing the view")
 
 try:   # written alongside this window; the window works without them
     from .qt_topology_panel import QtTopologyPanel
@@ -467,7 +467,7 @@ class QtMainWindow(QMainWindow):
 
     def _on_progress(self, phase: str, fraction: float, seconds: float) -> None:
         self.progress.setValue(int(round(1000 * max(0.0, min(1.0, fraction)))))
-        if phase in _WAITING_PHASES:
+        if phase.startswith(_WAITING_PHASES):
             self.progress.setFormat(f"{phase}\u2026 \u00b7 {seconds:.1f} s")
         else:
             self.progress.setFormat(f"{phase} {100 * fraction:.0f}% \u00b7 {seconds:.1f} s")

@@ -122,13 +122,13 @@ class ExtractWorker(QThread):
         return self._cancel.is_set()
 
     def _wait(self, done) -> None:
-        """Wait until ``done()``, looking at the cancel flag every POLL seconds."""
+        """Wait until ``done()`` (which may block up to POLL seconds), looking at the cancel flag in between."""
         from gcmh_core.errors import Cancelled
 
         while not done():
             if self._cancel.is_set():
                 raise Cancelled("cancelled while waiting")
-            time.sleep(self.POLL)
+            time.sleep(0.02)
 
     def _wait_for_kernels(self) -> None:
         warm = current_warm_up()
@@ -136,11 +136,29 @@ class ExtractWorker(QThread):
             self.progress.emit(COMPILING, 0.0, time.perf_counter() - self._t0)
             self._wait(lambda: warm.wait(self.POLL) or not warm.waits_for(self.job.method))
 
+    def _estimate(self):
+        """estimate_job in a helper thread, so that Cancel is honoured within POLL seconds even when F is
+        slow to probe (a cancelled estimate runs out unseen)."""
+        out: dict = {}
+
+        def body():
+            try:
+                out["est"] = estimate_job(self.job)
+            except BaseException as e:  # noqa: BLE001 - raised again in this thread
+                out["error"] = e
+
+        t = threading.Thread(target=body, name="gcmh-estimate", daemon=True)
+        t.start()
+        self._wait(lambda: not t.is_alive())
+        if "error" in out:
+            raise out["error"]
+        return out["est"]
+
     def _estimate_and_ask(self) -> bool:
         """Estimate the run; when it won't fit, ask (through ``confirm``) and follow the answer.
         False: the user declined."""
         self.progress.emit("estimating", 0.0, time.perf_counter() - self._t0)
-        est = self.estimate = estimate_job(self.job)
+        est = self.estimate = self._estimate()
         self.estimated.emit(est)
         if est.fits or self.job.force:
             return True
@@ -149,7 +167,7 @@ class ExtractWorker(QThread):
         if self._answer == "gcch":
             self.job.method = "gcch"
             self.job.start = self.job.start or "auto"
-            est = self.estimate = estimate_job(self.job)
+            est = self.estimate = self._estimate()
             self.estimated.emit(est)
             self.job.force = not est.fits   # the user agreed to run this one
             return True
@@ -192,8 +210,7 @@ class ExtractWorker(QThread):
             return
         geometry = None
         if cx.count(0):
-            self.progress.emit("preparing the view", 1.0, time.perf_counter() - self._t0)
-            geometry, self.report, tb = view_data(cx, self.job)
+            geometry, self.report, tb = view_data(cx, self.job, progress=self._on_progress, cancel=self._should_cancel)
             self.traceback = tb or self.traceback
         if self._cancel.is_set():
             self.cancelled.emit()
