@@ -201,7 +201,7 @@ def render(opts: Options) -> int:
     (``opts.animate`` to ``opts.gif`` / ``opts.mp4``); prints one line per file. Returns an exit code."""
     import numpy as np
 
-    from .scene import Style, default_camera, draw_overlays, view_subtitle
+    from .scene import Style, default_camera, draw_overlays, example_labels, view_subtitle
 
     prep = _prepare(opts)
     if isinstance(prep, int):
@@ -210,9 +210,10 @@ def render(opts: Options) -> int:
     window, spec = prep["window"], prep["spec"]
     with offscreen_scene(opts.size, ANIMATION_AA if spec is not None else SCREENSHOT_AA) as scene:
         pl = scene.plotter
-        sub = view_subtitle(cx, names, color, opts.two_sided, prep["mapping"])
+        labels = example_labels(ex)
+        sub = view_subtitle(cx, names, color, opts.two_sided, prep["mapping"], labels)
         scene.set_complex(cx, names, model.view(), Style(color_by=color, title=ex.title, subtitle=sub,
-                                                         two_sided=opts.two_sided))
+                                                         two_sided=opts.two_sided, labels=labels))
         if opts.boundary:
             draw_overlays(scene, cx, boundary=True)
         default_camera(pl)   # fitted to the whole complex: a slice or a tour stays in the picture

@@ -31,7 +31,7 @@ from qtpy.QtCore import QEvent, QObject, Qt, QTimer
 from .model import StudioModel, slice_params
 from .projection import ProjectionModel, turned_angles
 from .scene import (MARGIN_X, MARGIN_Y, PICK_COLOR, TITLE_BOTTOM, Scene, Style, copy_camera, default_camera, draw_overlays,
-                    refit_camera, render_image, screen_coordinates, view_subtitle)
+                    labels_for, refit_camera, render_image, screen_coordinates, view_subtitle)
 
 SETTLE_MS = 250          # a view at rest this long is drawn in full again
 DRAG_DEGREES = 0.4       # per pixel of a Shift-drag
@@ -100,9 +100,10 @@ class QtViewer:
         pp = self.panel
         two = pp.two_sided_check.isChecked()
         mapping = pp.model.mapping if pp.model.n >= 4 else "orthographic"
-        sub = view_subtitle(self.model.result, self.model.names, pp.color_by(), two, mapping)
+        labels = labels_for(self.model.title, self.model.names)
+        sub = view_subtitle(self.model.result, self.model.names, pp.color_by(), two, mapping, labels)
         return Style(color_by=pp.color_by(), opacity=pp.opacity(), show_edges=pp.show_edges(),
-                     title=self.model.title, subtitle=sub, two_sided=two)
+                     title=self.model.title, subtitle=sub, two_sided=two, labels=labels)
 
     def render(self) -> None:
         """Ask for one render of the window: Qt paints it once, however many changes came before

@@ -73,7 +73,13 @@ class Style:
     axes: bool = True
     two_sided: bool = False          # front faces SURFACE_COLOR, back faces BACK_COLOR (no colour map)
     slice_context: bool = True      # while slicing, the whole result as a faint ghost
+    labels: dict = field(default_factory=dict)   # variable -> its meaning ("y" -> "Im z"), from the example
     extra: dict = field(default_factory=dict)
+
+    def label(self, name: str) -> str:
+        """``name``, with its meaning when the example gives one: "y = Im z"."""
+        meaning = self.labels.get(name)
+        return f"{name} = {meaning}" if meaning else name
 
     def resolved_opacity(self, dim: int) -> float:
         if self.opacity is not None:
@@ -309,12 +315,12 @@ class Scene:
             if len(col):
                 kw["clim"] = colour_range(col)
             kw.update(scalars=color_by, cmap=st.cmap, show_scalar_bar=st.scalar_bar,
-                      scalar_bar_args=dict(title=color_by, vertical=True, title_font_size=self._font(36),
+                      scalar_bar_args=dict(title=st.label(color_by), vertical=True, title_font_size=self._font(36),
                                            label_font_size=self._font(26), n_labels=5, fmt="%.2f",
                                            position_x=0.9, position_y=0.2, width=0.045,
                                            height=0.6, color="white", bold=False,
                                            unconstrained_font_size=True))
-            self._bar_title = color_by if st.scalar_bar else None
+            self._bar_title = st.label(color_by) if st.scalar_bar else None
         else:
             kw["color"] = SURFACE_COLOR if dim >= 2 else LINE_COLOR
             kw["show_scalar_bar"] = False
@@ -624,7 +630,7 @@ class Scene:
                 continue
             i = int(np.argmax(np.abs(row)))
             pure = abs(abs(row[i]) - 1.0) < 1e-6
-            short.append(full[r] if pure else "~" + self.names[i])   # ~x: "mostly x" (legend has the mix)
+            short.append(self.style.label(full[r]) if pure else "~" + self.names[i])   # ~x: "mostly x" (legend has the mix)
         mixed = any(lab.startswith("~") for lab in short)
         legend = "\n".join(f"{'XYZ'[r]} = {full[r]}" for r in range(3) if full[r]) if mixed else ""
         if self._axes_actor is None:
@@ -655,7 +661,7 @@ class Scene:
         except Exception:  # noqa: BLE001
             w, h = 1600, 1200
         ref = min(h, 0.75 * w)
-        return max(6, int(round(size * min(1.5, max(0.45, ref / 1200)))))
+        return max(6, int(round(size * min(1.5, max(0.55, ref / 1200)))))
 
     def axes_labels(self) -> list[str]:
         from .projection import axis_label
@@ -697,19 +703,64 @@ class Scene:
         return np.round(255 * colormaps[st.cmap](t)[:, :3]).astype(np.uint8)
 
 
-def describe(cx, names, color_by=None) -> str:
+def describe(cx, names, color_by=None, labels: dict | None = None) -> str:
     """A one-line subtitle: what the picture shows."""
     dim, n, k = cx.dim, cx.n, cx.k
     what = {1: "curve", 2: "surface"}.get(dim, f"{dim}-manifold, 2-skeleton")
     text = f"{what} in R^{n} (n = {n}, k = {k}) · {cx.count(0):,} vertices"
     if color_by:
-        text += f" · colour: {color_by}"
+        text += f" · colour: {Style(labels=labels or {}).label(color_by)}"
     return text
 
 
-def view_subtitle(cx, names, color_by=None, two_sided: bool = False, mapping: str = "orthographic") -> str:
+def example_labels(ex) -> dict:
+    """What an example's variables mean, from the optional ``labels`` table of its file's [view]
+    (``labels = { y = "Im z" }``); the library's loader keeps only the keys it knows, so the file is read
+    again here. Unknown names and non-text values are left out; no table gives {}."""
+    import sys
+
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # pragma: no cover
+        import tomli as tomllib
+    try:
+        data = tomllib.loads(ex.path.read_text(encoding="utf-8"))
+    except Exception:  # noqa: BLE001 - a label is a nicety: never a reason to fail
+        return {}
+    raw = data.get("view", {}).get("labels", {}) if isinstance(data.get("view"), dict) else {}
+    if not isinstance(raw, dict):
+        return {}
+    return {k: " ".join(v.split())[:24] for k, v in raw.items() if k in ex.variables and isinstance(v, str) and v.strip()}
+
+
+_LABELS_CACHE: dict = {}
+
+
+def labels_for(title: str, names) -> dict:
+    """The labels of the example with this title and these variables (a run of an example in the
+    window), else {} (a system the user typed)."""
+    key = (title, tuple(names))
+    if not title:
+        return {}
+    if key not in _LABELS_CACHE:
+        found = {}
+        try:
+            from gcmh_core.examples import list_examples
+
+            for ex in list_examples():
+                if ex.title == title and list(ex.variables) == list(names):
+                    found = example_labels(ex)
+                    break
+        except Exception:  # noqa: BLE001
+            found = {}
+        _LABELS_CACHE[key] = found
+    return _LABELS_CACHE[key]
+
+
+def view_subtitle(cx, names, color_by=None, two_sided: bool = False, mapping: str = "orthographic",
+                  labels: dict | None = None) -> str:
     """The subtitle of a view (window and headless alike): :func:`describe`, then the two sides and the mapping."""
-    sub = describe(cx, names, None if two_sided else color_by) if cx is not None else ""
+    sub = describe(cx, names, None if two_sided else color_by, labels) if cx is not None else ""
     if two_sided and cx is not None:
         sub += " \u00b7 two sides: gold front, blue back"
     if mapping != "orthographic":
