@@ -50,9 +50,10 @@ __all__ = [
 ]
 __version__ = "0.1.0"
 
-# Loaded on first use (PEP 562): the formula parser brings sympy, about a third of a
-# second, which an extraction from sampled values or a saved complex never needs
-# (as long as the engine's modules import it only when a formula is parsed).
+# Loaded on first use (PEP 562): the formula parser brings sympy (a third of a second),
+# and `extract` loads the numba engine only when it first runs, so `gcmh --help`, a
+# refused run, loading a saved complex and Ctrl-C at start-up answer at once; an
+# extraction from sampled values never loads sympy.
 _LAZY = {
     "System": "formula",
     "evaluate_constant": "formula",

@@ -104,8 +104,6 @@ def infer_n(F, variables, bounds, div, n):
 
 def prepare(F, variables, n, k, bounds, div):
     """Returns (n, k, bounds, div, system or None, sampled array or None)."""
-    from .formula import System, parse_system  # noqa: PLC0415
-
     if isinstance(variables, str):
         variables = [v.strip() for v in variables.split(",")]
     if isinstance(F, np.ndarray) or (hasattr(F, "__array__") and not isinstance(F, (str, list, tuple))):
@@ -130,6 +128,8 @@ def prepare(F, variables, n, k, bounds, div):
         if not 1 <= k_ < n_:
             raise InputError(f"need 1 <= k < n, got n = {n_}, k = {k_}")
         return n_, k_, as_bounds(bounds, n_), shape_div, None, np.ascontiguousarray(values, np.float64)
+    from .formula import System, parse_system  # noqa: PLC0415  (sympy: not for sampled values)
+
     if isinstance(F, System):
         system = F
     else:

@@ -34,6 +34,7 @@ from math import comb, factorial
 
 import numpy as np
 
+from ._memory import available_memory, format_bytes
 from .errors import InputError, TooLargeError
 
 __all__ = [
@@ -124,13 +125,6 @@ class Estimate:
         )
 
 
-def format_bytes(b: float) -> str:
-    for unit, size in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
-        if b >= size:
-            return f"{b / size:.3g} {unit}"
-    return f"{int(b)} B"
-
-
 def _format_seconds(s: float) -> str:
     if s < 60:
         return f"{s:.2g} s"
@@ -139,50 +133,6 @@ def _format_seconds(s: float) -> str:
     if s < 86400 * 2:
         return f"{s / 3600:.2g} h"
     return f"{s / 86400:.3g} days"
-
-
-# ----------------------------------------------------------------------------- the machine
-def _parse_size(text: str) -> int:
-    text = text.strip().upper().removesuffix("B")
-    scale = {"K": 1e3, "M": 1e6, "G": 1e9, "T": 1e12}.get(text[-1:], 1)
-    try:
-        value = float(text[:-1] if scale != 1 else text) * scale
-    except ValueError:
-        raise InputError(f"GCMH_MEMORY_LIMIT: expected a size such as 8G or 500M, got {text!r}") from None
-    if not value > 0 or not math.isfinite(value):
-        raise InputError(f"GCMH_MEMORY_LIMIT must be positive, got {text!r}")
-    return int(value)
-
-
-def available_memory() -> int:
-    """Bytes a run may use: $GCMH_MEMORY_LIMIT if set, else MemAvailable of /proc/meminfo
-    (os.sysconf's free pages where there is none), never more than RLIMIT_AS allows."""
-    limit = os.environ.get("GCMH_MEMORY_LIMIT")
-    if limit:
-        return _parse_size(limit)
-    avail = None
-    try:
-        with open("/proc/meminfo") as f:
-            for line in f:
-                if line.startswith("MemAvailable:"):
-                    avail = int(line.split()[1]) * 1024
-                    break
-    except (OSError, ValueError, IndexError):
-        pass
-    if avail is None:
-        try:
-            avail = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-        except (ValueError, OSError, AttributeError):
-            avail = 1 << 62  # unknown: don't refuse on memory
-    try:
-        import resource  # noqa: PLC0415  (POSIX only)
-
-        soft = resource.getrlimit(resource.RLIMIT_AS)[0]
-        if soft != resource.RLIM_INFINITY:
-            avail = min(avail, soft)
-    except (ImportError, OSError, ValueError):
-        pass
-    return int(avail)
 
 
 def _time_limit() -> float:
@@ -353,7 +303,7 @@ def estimate_run(
     (small runs don't pay for the probe); True always (`gcmh extract --dry-run`).
     Raises InputError (never forceable) for a grid too large to index.
     """
-    from .runner import CONTINUATION_METHODS, SIMPLICIAL_METHODS  # noqa: PLC0415
+    from ._methods import CONTINUATION_METHODS, SIMPLICIAL_METHODS  # noqa: PLC0415
 
     div_t = tuple(int(d) for d in np.broadcast_to(np.asarray(div, np.int64), (n,)))
     vertices = math.prod(d + 1 for d in div_t)
@@ -470,7 +420,7 @@ def estimate(
     (`gcmh extract --dry-run`; the app shows it before a run).  Bad arguments raise the
     InputError `extract` would."""
     from ._validate import prepare  # noqa: PLC0415
-    from .runner import METHODS  # noqa: PLC0415
+    from ._methods import METHODS  # noqa: PLC0415
 
     if method not in METHODS:
         raise InputError(f"unknown method {method!r}; choose from {', '.join(METHODS)}")

@@ -323,7 +323,7 @@ def _read_checked(archive, bad) -> dict:
             shape, dtype = headers[name]
             if math.prod(shape) * dtype.itemsize > _SMALL_MEMBER:
                 raise bad(f"extra member {name!r} is larger than {_SMALL_MEMBER:,} bytes")
-    from .budget import available_memory, format_bytes  # noqa: PLC0415
+    from ._memory import available_memory, format_bytes  # noqa: PLC0415
 
     avail = available_memory()
     if total > avail:

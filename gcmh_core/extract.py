@@ -16,14 +16,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ._methods import CONTINUATION_METHODS, METHODS, SIMPLICIAL_METHODS
 from ._validate import as_div, prepare
 from .budget import check_budget, estimate_run
 from .complex import CellComplex
-from .continuation import as_starts, run_continuation
 from .errors import InputError
-from .grid import PERTURBATION, perturbed_axes
-from .runner import CONTINUATION_METHODS, METHODS, SIMPLICIAL_METHODS, Grid
-from .sweep import SLAB_VERTICES, run_sweep
 
 if TYPE_CHECKING:
     from .formula import System
@@ -35,16 +32,15 @@ Bounds = tuple[Bound, Bound] | Sequence[tuple[Bound, Bound]] | Sequence[Sequence
 __all__ = ["METHODS", "CONTINUATION_METHODS", "SIMPLICIAL_METHODS", "extract", "estimate_work"]
 
 
-def estimate_work(n: int, k: int, div: int | Sequence[int]) -> dict:
-    """Rough size of a full-grid run: cubes, and peak bytes of the slab buffers."""
-    d = as_div(div, n)
-    cubes = int(np.prod(d.astype(np.float64)))
-    layer = int(np.prod((d[1:] + 1).astype(np.float64)))
-    per_slab = max(2 * layer, SLAB_VERTICES)
-    # values (8k bytes) + sign codes + candidate mask per slab vertex, plus output ~ M_A's size
-    slab_bytes = per_slab * (8 * k + 16)
-    out_bytes = int(cubes ** ((n - k) / n) * 2 ** (n - k) * (8 * n + 200)) if cubes else 0
-    return dict(cubes=cubes, bytes=int(slab_bytes + out_bytes))
+def estimate_work(n: int, k: int, div: int | Sequence[int], method: str = "gcmh") -> dict:
+    """A quick estimate of a run before F is known: cubes, peak bytes and seconds, with M
+    taken to cross the grid like an (n-k)-plane (`budget.estimate_run` without a probe of
+    F; `budget.estimate` probes F too)."""
+    if method not in METHODS:
+        raise InputError(f"unknown method {method!r}; choose from {', '.join(METHODS)}")
+    d = as_div(div, int(n))
+    e = estimate_run(int(n), int(k), d, method=method)
+    return dict(cubes=e.cubes, bytes=e.peak_bytes, seconds=e.seconds, fits=e.fits)
 
 
 def extract(
@@ -107,6 +103,12 @@ def extract(
     >>> sphere.euler_characteristic()
     2
     """
+    # the engine (numba kernels) loads with the first run: `import gcmh_core` stays light
+    from .continuation import as_starts, run_continuation  # noqa: PLC0415
+    from .grid import PERTURBATION, perturbed_axes  # noqa: PLC0415
+    from .runner import Grid  # noqa: PLC0415
+    from .sweep import run_sweep  # noqa: PLC0415
+
     t0 = time.perf_counter()
     if method not in METHODS:
         raise InputError(f"unknown method {method!r}; choose from {', '.join(METHODS)}")

@@ -25,6 +25,7 @@ import numpy as np
 
 from . import _kernels
 from ._hashtable import IntTable
+from ._methods import CONTINUATION_METHODS, METHODS, SIMPLICIAL_METHODS
 from ._regular import collapse_lenses
 from ._tables import cube_tables, simplex_tables
 from .complex import CellComplex
@@ -33,11 +34,6 @@ from .grid import candidate_corner_sets, candidate_scan
 
 __all__ = ["METHODS", "CONTINUATION_METHODS", "SIMPLICIAL_METHODS", "Grid", "assemble_records", "block_values"]
 
-METHODS = ("gcmh", "gcch", "cms", "ccs")
-# continuation methods start from points and follow M; the others sweep the whole grid
-CONTINUATION_METHODS = ("gcch", "ccs")
-# the simplicial baselines (paper Section 4): marching simplices over the CFK triangulation
-SIMPLICIAL_METHODS = ("cms", "ccs")
 
 
 # Below this many cubes a kernel run stays in the calling thread: waking the thread

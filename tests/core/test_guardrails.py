@@ -60,7 +60,9 @@ def no_work(monkeypatch):
         raise AssertionError("a grid was built before the refusal")
 
     monkeypatch.setattr(runner.Grid, "__init__", refuse)
-    monkeypatch.setattr(sys.modules["gcmh_core.extract"], "perturbed_axes", refuse)
+    import gcmh_core.grid  # extract imports perturbed_axes from it when it runs
+
+    monkeypatch.setattr(gcmh_core.grid, "perturbed_axes", refuse)
 
 
 # ------------------------------------------------------------------ runs too large, refused first

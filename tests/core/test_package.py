@@ -30,9 +30,18 @@ def test_import_loads_no_gui_and_no_cluster():
     code = ("import json, sys, gcmh_core; "
             "print(json.dumps(sorted(m.split('.')[0] for m in sys.modules)))")
     top = set(json.loads(_python(code)))
-    assert "numpy" in top and "numba" in top
-    for heavy in ("PyQt5", "qtpy", "vtk", "vtkmodules", "pyvista", "pyvistaqt", "dask", "distributed", "app"):
+    assert "numpy" in top
+    # numba and sympy come with the first extract / formula (lazy names), never Qt and friends
+    for heavy in ("numba", "sympy", "PyQt5", "qtpy", "vtk", "vtkmodules", "pyvista", "pyvistaqt", "dask",
+                  "distributed", "app"):
         assert heavy not in top, heavy
+    # an extraction from sampled values loads the numba engine, still no sympy
+    code = ("import json, sys, numpy as np; from gcmh_core import extract; "
+            "g = np.linspace(-1, 1, 5); v = (g[:, None, None]**2 + g[:, None]**2 + g**2 - 0.5)[..., None]; "
+            "assert extract(v, bounds=(-1, 1)).euler_characteristic() == 2; "
+            "print(json.dumps(sorted(m.split('.')[0] for m in sys.modules)))")
+    top = set(json.loads(_python(code)))
+    assert "numba" in top and "sympy" not in top and "PyQt5" not in top
 
 
 def test_all_names_resolve_and_are_public():
