@@ -51,10 +51,10 @@ from .qt_formula_panel import QtFormulaPanel
 from .qt_projection_panel import QtProjectionPanel
 from .qt_run_controller import QtRunController
 from .qt_viewer import QtViewer
-from .worker import COMPILING
+from .worker import COMPILING, STOPPING
 
 # phases whose fraction means nothing: shown without a percentage
-_WAITING_PHASES = ("starting", "estimating", COMPILING, "preparing the view")
+_WAITING_PHASES = ("starting", "estimating", COMPILING, STOPPING, "preparing the view")
 
 try:   # written alongside this window; the window works without them
     from .qt_topology_panel import QtTopologyPanel

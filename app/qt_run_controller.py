@@ -15,7 +15,7 @@ import time
 from qtpy.QtCore import QObject, Signal
 
 from .jobs import Job
-from .worker import ExtractWorker, RefineWorker
+from .worker import ExtractWorker, RefineWorker, wait_for_helpers
 
 
 class QtRunController(QObject):
@@ -172,3 +172,4 @@ class QtRunController(QObject):
                 w.cancel()
                 w.wait(msecs)
         self.worker = None
+        wait_for_helpers(msecs / 1000)   # engine calls a cancel left running (they stop at their next poll)

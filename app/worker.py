@@ -9,6 +9,12 @@ are prepared here too, so the GUI thread only hands them to VTK),
 engine polls through its ``cancel`` callback; the engine then raises
 ``gcmh_core.errors.Cancelled``. No VTK, pyvista or widget is touched here.
 
+The engine's calls run in helper threads the worker waits on, looking at the cancel
+flag every few milliseconds: Cancel ends a run within a second in every phase, also
+in those the engine does not poll (its assembly, the drawing arrays). What a
+cancelled call still computes runs out unseen, and the next run waits for it
+("stopping the cancelled run"), so two runs never hold memory at once.
+
 Before the engine starts, the worker waits (cancellably) for the kernels' warm-up
 (:func:`app.jobs.start_warm_up`) and estimates the run (``estimated(est)``); a run
 that won't fit asks first (``confirm(est)``, answered by :meth:`ExtractWorker.answer`
@@ -35,6 +41,27 @@ from .jobs import (  # noqa: F401 - run_job and estimate_job are looked up here 
 )
 
 COMPILING = "compiling kernels (once per install)"
+STOPPING = "stopping the cancelled run"
+
+_helpers: list[threading.Thread] = []   # engine calls made for runs, until they end
+_helpers_lock = threading.Lock()
+
+
+def helpers_running() -> bool:
+    """Is an engine call of some run (maybe a cancelled one) still computing?"""
+    with _helpers_lock:
+        _helpers[:] = [t for t in _helpers if t.is_alive()]
+        return bool(_helpers)
+
+
+def wait_for_helpers(timeout: float) -> bool:
+    """Wait up to ``timeout`` seconds for every engine call to end (on quitting); True if they did."""
+    deadline = time.perf_counter() + timeout
+    with _helpers_lock:
+        threads = list(_helpers)
+    for t in threads:
+        t.join(max(0.0, deadline - time.perf_counter()))
+    return not helpers_running()
 
 
 class RefineWorker(QThread):
@@ -136,23 +163,28 @@ class ExtractWorker(QThread):
             self.progress.emit(COMPILING, 0.0, time.perf_counter() - self._t0)
             self._wait(lambda: warm.wait(self.POLL) or not warm.waits_for(self.job.method))
 
-    def _estimate(self):
-        """estimate_job in a helper thread, so that Cancel is honoured within POLL seconds even when F is
-        slow to probe (a cancelled estimate runs out unseen)."""
+    def _in_helper(self, fn, *args, **kwargs):
+        """``fn(*args, **kwargs)`` in a helper thread; its value, or its exception raised here. Cancel raises
+        Cancelled at once (the call runs out unseen)."""
         out: dict = {}
 
         def body():
             try:
-                out["est"] = estimate_job(self.job)
-            except BaseException as e:  # noqa: BLE001 - raised again in this thread
+                out["value"] = fn(*args, **kwargs)
+            except BaseException as e:  # noqa: BLE001 - raised again in the worker
                 out["error"] = e
 
-        t = threading.Thread(target=body, name="gcmh-estimate", daemon=True)
+        t = threading.Thread(target=body, name=f"gcmh-{getattr(fn, '__name__', 'call')}", daemon=True)
+        with _helpers_lock:
+            _helpers.append(t)
         t.start()
         self._wait(lambda: not t.is_alive())
         if "error" in out:
             raise out["error"]
-        return out["est"]
+        return out["value"]
+
+    def _estimate(self):
+        return self._in_helper(estimate_job, self.job)
 
     def _estimate_and_ask(self) -> bool:
         """Estimate the run; when it won't fit, ask (through ``confirm``) and follow the answer.
@@ -185,10 +217,13 @@ class ExtractWorker(QThread):
             if self._cancel.is_set():
                 raise Cancelled("cancelled before start")
             self._wait_for_kernels()
+            if helpers_running():
+                self.progress.emit(STOPPING, 0.0, time.perf_counter() - self._t0)
+                self._wait(lambda: not helpers_running())
             if not self._estimate_and_ask():
                 self.declined.emit()
                 return
-            cx = run_job(self.job, progress=self._on_progress, cancel=self._should_cancel)
+            cx = self._in_helper(run_job, self.job, progress=self._on_progress, cancel=self._should_cancel)
         except Cancelled:
             self.cancelled.emit()
             return
@@ -210,7 +245,12 @@ class ExtractWorker(QThread):
             return
         geometry = None
         if cx.count(0):
-            geometry, self.report, tb = view_data(cx, self.job, progress=self._on_progress, cancel=self._should_cancel)
+            try:
+                geometry, self.report, tb = self._in_helper(view_data, cx, self.job, progress=self._on_progress,
+                                                            cancel=self._should_cancel)
+            except Cancelled:
+                self.cancelled.emit()
+                return
             self.traceback = tb or self.traceback
         if self._cancel.is_set():
             self.cancelled.emit()

@@ -279,3 +279,36 @@ def test_ctrl_c_ends_with_one_line_and_130(tmp_path):
         lines = [line for line in err.splitlines() if line.startswith("gcmh-app")]
         assert proc.returncode == 130, err
         assert lines == ["gcmh-app: interrupted"] and "Traceback" not in err
+
+
+# --------------------------------------------------------------------------- cancel in phases the engine does not poll
+def test_cancel_does_not_wait_for_an_engine_phase_that_never_polls(qtbot, window, monkeypatch):
+    """An engine call that ignores cancel (as the assembly does) for up to 60 s: Cancel still ends the run
+    at once; the next run says it waits for the cancelled one and starts when that has stopped."""
+    import app.worker
+    from app.worker import STOPPING
+
+    release = threading.Event()
+    real = app.worker.run_job
+
+    def deaf(job, progress=None, cancel=None):
+        progress("assembling", 1.0)
+        release.wait(60)   # no cancel poll here
+        return real(job)
+
+    fill(qtbot, window.formula_panel, 4, 2, [SPHERE, "x1 - x2"])
+    monkeypatch.setattr(app.worker, "run_job", deaf)
+    try:
+        assert window.run()
+        qtbot.waitUntil(lambda: window.progress.format().startswith("assembling"), timeout=20_000)
+        with qtbot.waitSignal(window.runFinished, timeout=5000) as b:
+            window.cancel()
+        assert b.args[0] == "cancelled" and not release.is_set()
+        monkeypatch.setattr(app.worker, "run_job", real)
+        assert window.run()
+        qtbot.waitUntil(lambda: window.progress.format().startswith(STOPPING), timeout=5000)
+        with qtbot.waitSignal(window.runFinished, timeout=60_000) as b:
+            release.set()
+        assert b.args[0] == "done" and window.result is not None
+    finally:
+        release.set()
