@@ -133,9 +133,8 @@ def _session_screenshot(args) -> int:
 
 def check_output_size(args) -> str | None:
     """Why the renderer cannot make what ``args`` asks for (size, frames), or None."""
-    from gcmh_core.errors import InputError
-
     from gcmh_core import budget
+    from gcmh_core.errors import InputError
 
     try:
         if args.animate:

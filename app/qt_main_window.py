@@ -378,7 +378,8 @@ class QtMainWindow(QMainWindow):
 
         Returns "run" (go ahead), "gcch" (switch to continuation and run) or None (don't run).
         """
-        return ask_big_run(self, est, gcch="gcch" in self.formula_panel.methods and not self.formula_panel.continuation())
+        fp = self.formula_panel
+        return ask_big_run(self, est, gcch="gcch" in fp.methods and not fp.continuation())
 
     def run(self) -> bool:
         """Start an extraction with the panel's contents; False if refused.

@@ -64,7 +64,7 @@ def test_typing_and_dragging_are_one_step_each():
     m.history = History(clock=clock)
     m.set_system(system(formulas=("",)))
     m.set_view(view())
-    for i, text in enumerate(["x", "x1", "x1^", "x1^2", "x1^2 - 1"]):   # keystrokes in F1
+    for text in ["x", "x1", "x1^", "x1^2", "x1^2 - 1"]:   # keystrokes in F1
         clock.t += 0.2
         m.set_system(system(formulas=(text,)))
     for a in range(0, 90, 10):   # a slider dragged

@@ -49,3 +49,25 @@ def test_parse_number_is_the_engines_evaluator():
 
     for text in ("-pi/2", "2^3", "\u03c0/4", "abs(-2)*tau", "exp(1) - e"):
         assert inputs.parse_number(text) == evaluate_constant(text)
+
+
+def test_check_formula_gives_the_parsers_message_or_none():
+    names = ["x1", "x2", "x3"]
+    assert inputs.check_formula("x1^2 + x2^2 + x3^2 - 1", names, 0) is None
+    msg = inputs.check_formula("x1 + (x2", names, 1)
+    assert msg and "F2" in msg and "\n" not in msg
+    assert "y" in inputs.check_formula("x1 + y", names, 0)
+
+
+def test_check_formula_refuses_pathological_text_with_a_limit():
+    names = ["x1", "x2", "x3"]
+    too_long = "x1" + " + x2" * 1500
+    assert "at most" in inputs.check_formula(too_long, names, 0)
+    many = "max(" + ", ".join(f"x1*{i} + x2" for i in range(400)) + ")"
+    assert "at most" in inputs.check_formula(many, names, 0)
+
+
+@pytest.mark.parametrize("seconds,text", [(0.3, "0.3 s"), (4.2, "4 s"), (42, "42 s"), (600, "10 min"),
+                                          (9000, "2.5 h"), (86400 * 5, "5 days")])
+def test_human_seconds(seconds, text):
+    assert inputs.human_seconds(seconds) == text

@@ -191,8 +191,9 @@ def test_first_run_says_the_kernels_compile(qtbot, slow_warm_up):
 def test_a_slow_formula_check_never_blocks_the_window(qtbot, window, monkeypatch):
     """Every keystroke in a pathological field: the check runs in a worker, a QTimer keeps ticking meanwhile,
     and the answer of a stale text is dropped."""
-    import app.inputs
     from qtpy.QtCore import QTimer
+
+    import app.inputs
 
     real = app.inputs.check_formula
     spans = []
