@@ -341,8 +341,12 @@ class Geometry:
     def build(cls, cx, lod: bool = True) -> Geometry:
         """Drawing arrays of ``cx``; with ``lod``, above ``LOD_VERTICES`` vertices also a coarse copy."""
         geo = cls._build(cx)
-        if lod and len(np.asarray(cx.vertices)) > LOD_VERTICES:
+        V = len(np.asarray(cx.vertices))
+        if lod and V > LOD_VERTICES:
             geo.coarse = coarse_geometry(geo, np.asarray(cx.vertices), LOD_TARGET)
+        elif lod and geo.dim >= 3 and geo.offsets is not None and len(geo.offsets) - 1 > LOD_SKELETON_CELLS:
+            # a see-through 2-skeleton is drawn in many layers: software GL pays for every layer's pixels
+            geo.coarse = coarse_geometry(geo, np.asarray(cx.vertices), max(V // 8, 500))
         return geo
 
     @classmethod
@@ -372,6 +376,7 @@ class Geometry:
 
 LOD_VERTICES = 150_000    # above this a result also gets a coarse level of detail ...
 LOD_TARGET = 30_000       # ... of about this many vertices
+LOD_SKELETON_CELLS = 8_000   # a 2-skeleton (dim >= 3) with more 2-cells gets one of an eighth of its vertices
 
 
 def coarse_geometry(geo: Geometry, V: np.ndarray, target: int = LOD_TARGET) -> Geometry:

@@ -17,7 +17,7 @@ from __future__ import annotations
 import time
 
 from qtpy.QtCore import QTimer, Signal
-from qtpy.QtWidgets import QComboBox, QFormLayout, QHBoxLayout, QPushButton, QSpinBox, QWidget
+from qtpy.QtWidgets import QComboBox, QFormLayout, QHBoxLayout, QLabel, QPushButton, QSpinBox, QWidget
 
 from .qt_widgets import error_label, group, labelled_row, panel_layout, slider_row
 
@@ -68,9 +68,15 @@ class QtAnimationPanel(QWidget):
         row = QHBoxLayout()
         self.gif_button = QPushButton("Export GIF\u2026")
         self.mp4_button = QPushButton("Export MP4\u2026")
-        row.addWidget(self.gif_button)
+        self.gif_button.setToolTip("plays in every slide program; one 256-colour palette made for this "
+                                   "animation, text kept in its own colour")
+        self.mp4_button.setToolTip("recommended: full colour, smooth shading, and several times smaller than the GIF")
         row.addWidget(self.mp4_button)
+        row.addWidget(self.gif_button)
         ef.addRow(row)
+        hint = QLabel("MP4 is smaller and smoother; GIF plays everywhere.")
+        hint.setStyleSheet("color: #666; font-size: 11px;")
+        ef.addRow(hint)
         lay.addStretch(1)
 
         self.timer = QTimer(self)

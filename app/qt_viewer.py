@@ -30,8 +30,22 @@ from qtpy.QtCore import QEvent, QObject, Qt, QTimer
 
 from .model import StudioModel, slice_params
 from .projection import ProjectionModel, turned_angles
-from .scene import (MARGIN_X, MARGIN_Y, PICK_COLOR, TITLE_BOTTOM, Scene, Style, copy_camera, default_camera, draw_overlays,
-                    labels_for, refit_camera, render_image, screen_coordinates, view_subtitle)
+from .scene import (
+    MARGIN_X,
+    MARGIN_Y,
+    PICK_COLOR,
+    TITLE_BOTTOM,
+    Scene,
+    Style,
+    copy_camera,
+    default_camera,
+    draw_overlays,
+    labels_for,
+    refit_camera,
+    render_image,
+    screen_coordinates,
+    view_subtitle,
+)
 
 SETTLE_MS = 250          # a view at rest this long is drawn in full again
 DRAG_DEGREES = 0.4       # per pixel of a Shift-drag
@@ -93,6 +107,12 @@ class QtViewer:
         self._resized.timeout.connect(self._on_resized)
         self._drag = _DragFilter(self)
         self.widget.installEventFilter(self._drag)
+        try:   # turning the camera with the mouse draws the coarse level too, the full one when let go
+            style = self.plotter.iren.interactor.GetInteractorStyle()
+            style.AddObserver("StartInteractionEvent", lambda *a: self._camera_moving(True))
+            style.AddObserver("EndInteractionEvent", lambda *a: self._camera_moving(False))
+        except Exception:  # noqa: BLE001 - a convenience
+            pass
 
     # ------------------------------------------------------------ drawing
     def style(self) -> Style:
@@ -156,6 +176,15 @@ class QtViewer:
             self.plotter.renderer.ResetCameraClippingRange()
         self.render()
         if moving:
+            self._settle.start()
+
+    def _camera_moving(self, on: bool) -> None:
+        if not self.scene.lod_available():
+            return
+        if on:
+            self._settle.stop()
+            self.scene.set_projection(self.panel.model.view(), render=False, coarse=True)
+        else:
             self._settle.start()
 
     def _at_rest(self) -> None:

@@ -422,7 +422,7 @@ class Scene:
                 normals = mesh.point_data["Normals"]
             kw = dict(self._actor_kw)
             kw.update(render=False, reset_camera=False, name="gcmh-complex-coarse", show_scalar_bar=False,
-                      pickable=False)
+                      pickable=False, show_edges=False)   # (edges are a second pass over every cell)
             actor = self.plotter.add_mesh(mesh, **kw)
             if normals is not None:
                 actor.prop.interpolation = "phong"
@@ -630,7 +630,8 @@ class Scene:
                 continue
             i = int(np.argmax(np.abs(row)))
             pure = abs(abs(row[i]) - 1.0) < 1e-6
-            short.append(self.style.label(full[r]) if pure else "~" + self.names[i])   # ~x: "mostly x" (legend has the mix)
+            # ~x: "mostly x" (the legend has the mix)
+            short.append(self.style.label(full[r]) if pure else "~" + self.names[i])
         mixed = any(lab.startswith("~") for lab in short)
         legend = "\n".join(f"{'XYZ'[r]} = {full[r]}" for r in range(3) if full[r]) if mixed else ""
         if self._axes_actor is None:
@@ -730,7 +731,8 @@ def example_labels(ex) -> dict:
     raw = data.get("view", {}).get("labels", {}) if isinstance(data.get("view"), dict) else {}
     if not isinstance(raw, dict):
         return {}
-    return {k: " ".join(v.split())[:24] for k, v in raw.items() if k in ex.variables and isinstance(v, str) and v.strip()}
+    return {k: " ".join(v.split())[:24] for k, v in raw.items()
+            if k in ex.variables and isinstance(v, str) and v.strip()}
 
 
 _LABELS_CACHE: dict = {}

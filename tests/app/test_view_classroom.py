@@ -84,7 +84,7 @@ def test_window_anti_aliasing_is_cheap_and_screenshots_super_sample(qtbot, windo
 # --------------------------------------------------------------------------- always framed
 def test_camera_contains_the_object_after_each_change(qtbot, window, tmp_path):
     _run_example(qtbot, window, "clifford-torus", div=10)
-    v, pp = window.viewer, window.projection_panel
+    pp = window.projection_panel
     assert _inside(window) == 1.0, "first open"
     for mapping in ("orthographic", "perspective", "stereographic"):
         pp.set_mapping(mapping)

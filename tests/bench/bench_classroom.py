@@ -119,15 +119,15 @@ def slider_steps(app, w, steps: int = 10) -> dict:
     row = next((r for r, (i, j) in enumerate(pp.model.planes) if j >= 3), 0)
     _spin(app, 0.5)
     moving, rest = [], []
-    for s in range(steps):
+    for _ in range(steps):
         n0 = box["n"]
         t0 = time.perf_counter()
         pp.sliders[row].setValue(pp.sliders[row].value() + 3)
-        _spin(app, 30, until=lambda: box["n"] > n0)
+        _spin(app, 30, until=lambda n0=n0: box["n"] > n0)
         moving.append(time.perf_counter() - t0)
         if w.viewer.scene.coarse_shown():   # the full mesh follows when the view rests
             n1 = box["n"]
-            _spin(app, 30, until=lambda: box["n"] > n1)
+            _spin(app, 30, until=lambda n1=n1: box["n"] > n1)
             rest.append(time.perf_counter() - t0)
         _spin(app, 0.05)
     med = lambda a: 1000 * float(np.median(a)) if a else float("nan")  # noqa: E731
@@ -153,9 +153,9 @@ def step_example(app, name: str, div=None) -> dict:
 
 
 def step_million(app, side: int = 1000) -> dict:
-    from app_helpers import torus_complex
-
     from app.geometry import Geometry
+
+    from app_helpers import torus_complex
 
     cx = torus_complex(side, 4)
     names = cx.point_names()
@@ -183,9 +183,8 @@ def step_million(app, side: int = 1000) -> dict:
 
 
 def first_open(app) -> list:
-    from gcmh_core.examples import example_names, load_example
-
     from app.scene import inside_share
+    from gcmh_core.examples import example_names, load_example
 
     out = []
     w = _window(app)
@@ -195,7 +194,7 @@ def first_open(app) -> list:
             conn = w.runFinished.connect(lambda s, d=done: d.setdefault("status", s))
             t = time.perf_counter()
             w.load_example(name)
-            _spin(app, 600, until=lambda: "status" in done)
+            _spin(app, 600, until=lambda done=done: "status" in done)
             _spin(app, 0.2)
             w.runFinished.disconnect(conn)
             share = inside_share(w.plotter) if w.result is not None else float("nan")
