@@ -102,12 +102,15 @@ def infer_n(F, variables, bounds, div, n):
     raise InputError("cannot tell n: give variables, one bounds pair per axis, or n")
 
 
-def prepare(F, variables, n, k, bounds, div):
-    """Returns (n, k, bounds, div, system or None, sampled array or None)."""
+def prepare(F, variables, n, k, bounds, div, params=None):
+    """Returns (n, k, bounds, div, system or None, sampled array or None); `params`
+    ({name: value}) are the formulas' parameter values (see `formula.parse_system`)."""
     if isinstance(variables, str):
         variables = [v.strip() for v in variables.split(",")]
     if isinstance(F, np.ndarray) or (hasattr(F, "__array__") and not isinstance(F, (str, list, tuple))):
         values = np.asarray(F)
+        if params is not None:
+            raise InputError("params go with formulas: sampled values have no parameters")
         if values.dtype.kind not in "fiu":
             raise InputError(f"sampled values must be numbers, got dtype {values.dtype}")
         if values.ndim < 2:
@@ -131,14 +134,14 @@ def prepare(F, variables, n, k, bounds, div):
     from .formula import System, parse_system  # noqa: PLC0415  (sympy: not for sampled values)
 
     if isinstance(F, System):
-        system = F
+        system = F if params is None else parse_system(F.texts, F.variables, params={**F.params, **params})
     else:
         if isinstance(F, str):
             F = [F]
         if not isinstance(F, (list, tuple)) or not all(isinstance(t, str) for t in F):
             raise InputError("F must be formula text, a list of formula texts, a System or an array of values")
         n_ = infer_n(F, variables, bounds, div, n)
-        system = parse_system(list(F), variables, n=n_, k=k)
+        system = parse_system(list(F), variables, n=n_, k=k, params=params)
     if n is not None and int(n) != system.n:
         raise InputError(f"n = {n} but the formulas have {system.n} variables")
     if k is not None and int(k) != system.k:

@@ -19,7 +19,18 @@ from .newton import CONVERGED, LEFT_DOMAIN, MOVING, NOT_FINITE, gauss_newton
 from .runner import Grid, unique_first
 from .sweep import enclosure_of, surviving_blocks
 
-__all__ = ["run_continuation", "as_starts", "start_cubes", "project_onto_M"]
+__all__ = ["run_continuation", "as_starts", "start_cubes", "project_onto_M", "PreviousResult"]
+
+
+class PreviousResult:
+    """start=<a CellComplex>: continue from a previous result (a parameter step).  Its
+    vertices are projected onto the new M in one batch; those that fail are dropped."""
+
+    def __init__(self, vertices: np.ndarray):
+        self.vertices = vertices
+
+    def __repr__(self):
+        return f"PreviousResult({len(self.vertices)} vertices)"
 
 
 _NEWTON_STEPS = 50
@@ -51,8 +62,16 @@ def project_onto_M(system, X0: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarr
     return result.x, ok, why
 
 
-def as_starts(start, n: int) -> list | str:
-    """'auto' or a list of start points (n,) float64; InputError for anything else."""
+def as_starts(start, n: int) -> list | str | PreviousResult:
+    """'auto', a list of start points (n,) float64, or a PreviousResult (from a
+    CellComplex); InputError for anything else."""
+    if isinstance(start, CellComplex):
+        V = np.asarray(start.vertices, np.float64)
+        if V.ndim != 2 or V.shape[1] != n:
+            raise InputError(f"the previous result lies in R^{V.shape[-1]}, not in R^{n}")
+        if len(V) == 0:
+            raise InputError("the previous result is empty: start from 'auto' instead")
+        return PreviousResult(V[np.all(np.isfinite(V), axis=1)])
     if isinstance(start, str):
         if start.strip().lower() == "auto":
             return "auto"
@@ -130,6 +149,15 @@ def start_cubes(n, axes, bounds, system, sampled, starts) -> np.ndarray:
         if not ok.any():
             raise InputError("start='auto' found no point of M in the domain")
         return np.unique(_cubes_of(axes, X[ok]), axis=0)
+    if isinstance(starts, PreviousResult):
+        V = np.clip(starts.vertices, bounds[:, 0], bounds[:, 1])  # (a new box may be smaller)
+        if system is None:
+            return np.unique(_cubes_of(axes, V), axis=0)
+        X, ok, _ = project_onto_M(system, V, bounds)
+        if not ok.any():
+            raise InputError("no vertex of the previous result projects onto the new M in the domain: "
+                             "start from 'auto' instead")
+        return np.unique(_cubes_of(axes, X[ok]), axis=0)
     X0 = np.array(starts, np.float64).reshape(-1, n)
     for x0 in X0:
         outside = [a + 1 for a in range(n) if not bounds[a, 0] <= x0[a] <= bounds[a, 1]]
@@ -191,7 +219,7 @@ def run_continuation(
         expanded_start = True
         cubes, keys = _kernels.facet_neighbours(wave, masks, div, cube_strides)
         wave = cubes[visited.insert(keys)[1]]  # (in any order: the output does not depend on it)
-    if starts != "auto" and not any(len(v) for v in grid.parts["vk"]):
+    if isinstance(starts, list) and not any(len(v) for v in grid.parts["vk"]):
         # (with "auto" an empty result is an answer: M does not cross the domain)
         raise InputError(
             "M_A does not pass through the start cube(s) or their neighbours: "

@@ -373,7 +373,7 @@ def _run_blocks(session, grid, method, div, block, system, sampled, progress, ca
     if block is None:
         block = default_block(div, session.workers)
     block = np.minimum(block, div)
-    formula = None if system is None else (tuple(system.texts), tuple(system.variables))
+    formula = None if system is None else (tuple(system.texts), tuple(system.variables), system.params or None)
     shared = session.sampled_for_tasks(whole=False)
     threads = session.kernel_threads()
     futures = []
@@ -411,7 +411,7 @@ def _process_wave(session, method, system, sampled, cancel, grid, origins):
         return grid.process_cubes(origins, system, sampled)
     client = session.client
     nchunks = max(1, min(2 * session.workers, m // MIN_CHUNK))
-    formula = None if system is None else (tuple(system.texts), tuple(system.variables))
+    formula = None if system is None else (tuple(system.texts), tuple(system.variables), system.params or None)
     data = session.sampled_for_tasks(whole=True)
     threads = session.kernel_threads()
     # scattered, not passed inline: a big wave's origins would make a large task graph (dask warns)
@@ -478,7 +478,7 @@ def _block_task(n, k, method, axes, formula, data, lo, hi, threads) -> dict:
     _set_threads(threads)
     grid = _worker_grid(n, k, method, axes)
     t = time.perf_counter()
-    system = None if formula is None else parse_system(*formula)
+    system = None if formula is None else parse_system(formula[0], formula[1], params=formula[2])
     sampled = _sampled_array(data)
     if sampled is not None and not isinstance(data, tuple):  # a remote block's own slice
         values = sampled
@@ -494,7 +494,7 @@ def _cubes_task(n, k, method, axes, formula, data, origins, threads) -> dict:
     """One chunk of a continuation wave on a worker."""
     _set_threads(threads)
     grid = _worker_grid(n, k, method, axes)
-    system = None if formula is None else parse_system(*formula)
+    system = None if formula is None else parse_system(formula[0], formula[1], params=formula[2])
     with _KERNEL_LOCK:
         masks, nonfinite = grid.process_cubes(origins, system, _sampled_array(data))
     out = grid.packed_records()

@@ -59,6 +59,7 @@ def extract(
     scheduler: str | None = None,
     block: int | Sequence[int] | None = None,
     force: bool = False,
+    params: dict[str, float | str] | None = None,
 ) -> CellComplex:
     """Approximate M = F^-1(0), F: R^n -> R^k, by a cell complex (GCMH).
 
@@ -78,15 +79,24 @@ def extract(
         "ccs", the simplicial baselines the paper compares with (Section 4): marching
         simplices over the CFK triangulation of the grid (n! simplices per cube), over
         the whole grid or by continuation.  Same CellComplex, with many more cells.
-    start : for "gcch" and "ccs": a point (n,), several points (m, n), or "auto" (default):
-        each point is projected onto M by Gauss-Newton with F's exact Jacobian;
-        "auto" projects a lattice of points and continues from each component found.
+    start : for "gcch" and "ccs": a point (n,), several points (m, n), "auto" (default), or
+        a previous result (a CellComplex in the same R^n): each point is projected onto M
+        by Gauss-Newton with F's exact Jacobian; "auto" starts from every cube F's bounds
+        leave (or projects a lattice of points); a previous result's vertices are projected
+        onto the new M in one batch (those that fail are dropped), so a parameter step
+        continues from the last result -- pieces of M born away from it are not found.
     progress : callable(phase, fraction), called between slabs.
     cancel : callable() -> bool, polled between slabs; True raises `Cancelled`.
     scheduler : None (this process), "local" (a dask LocalCluster sized to the machine)
         or a dask scheduler address "tcp://host:port": the grid is cut into blocks of
         cubes processed by the cluster's workers; the result is the same, bit for bit.
     block : cubes per block along each axis for `scheduler` (int or one per axis).
+    params : values of the formulas' parameters, {name: number or constant text}: any
+        name in the formulas that is not a variable, constant or function (see
+        `formula.find_parameters`); each value is used as if written in the text.
+        The result's meta holds them ("params") and, with parameters, the number of
+        vertices where F's Jacobian nearly loses rank ("singular_vertices": the
+        parameter is at or near a critical value).
     force : run even when `budget.estimate_run` says the run needs more memory than is
         available or more than the time limit; by default that raises `budget.TooLargeError`
         (an InputError naming the estimate) before any work.
@@ -116,7 +126,7 @@ def extract(
         raise InputError(f"seed must be an integer, got {seed!r}")
     if isinstance(div, (list, tuple)) and len(div) == 1:
         div = div[0]
-    n_, k_, bounds_, div_, system, sampled = prepare(F, variables, n, k, bounds, div)
+    n_, k_, bounds_, div_, system, sampled = prepare(F, variables, n, k, bounds, div, params)
     cost = estimate_run(n_, k_, div_, method=method, bounds=bounds_, system=system, sampled=sampled,
                         scheduler=scheduler)
     check_budget(cost, force)
@@ -149,6 +159,27 @@ def extract(
         seed=int(seed),
         formulas=list(system.texts) if system is not None else None,
         variables=list(system.variables) if system is not None else [f"x{i + 1}" for i in range(n_)],
-        seconds=time.perf_counter() - t0,
+        params=dict(system.params) if system is not None else {},
     )
+    if system is not None and system.params:
+        result.meta["singular_vertices"] = singular_vertices(system, result.vertices)
+    result.meta["seconds"] = time.perf_counter() - t0
     return result
+
+
+# a vertex is singular when F's Jacobian there has a smallest singular value below this
+# fraction of the median over all vertices (the cone's apex at a grid spacing h: about h)
+SINGULAR_RATIO = 0.1
+
+
+def singular_vertices(system: System, X: np.ndarray) -> int:
+    """How many of the points X (m, n) have a nearly rank-deficient exact Jacobian
+    (smallest singular value below `SINGULAR_RATIO` of the median): M is near a
+    singular point there, so the parameter is at or near a critical value."""
+    if len(X) == 0:
+        return 0
+    J = system.jacobian_points(X)
+    with np.errstate(all="ignore"):
+        sigma = np.linalg.svd(np.nan_to_num(J, nan=0.0, posinf=0.0, neginf=0.0), compute_uv=False)[:, -1]
+    median = float(np.median(sigma))
+    return int(np.count_nonzero(sigma < SINGULAR_RATIO * median)) if median > 0 else 0

@@ -38,7 +38,7 @@ from sympy.core.logic import fuzzy_and
 
 from .errors import InputError
 
-__all__ = ["FormulaError", "System", "parse_system", "check_component", "evaluate_constant"]
+__all__ = ["FormulaError", "System", "parse_system", "check_component", "evaluate_constant", "find_parameters"]
 
 MAX_CHARS = 5000  # characters in one component
 MAX_NODES = 2000  # expression nodes in one component
@@ -221,6 +221,8 @@ _EXACT = (operator.add, operator.sub, operator.mul, operator.truediv, operator.p
 def _fold(sym_op, np_op, args):
     """Constant subexpression: exact if small rationals, else float64 as numpy computes it
     (so log(0) is -inf and sqrt(-1) nan, never sympy's zoo or I)."""
+    if any(a.has(sympy.I) for a in args):  # complex constants (complex_equations' i): exact
+        return sym_op(*args)
     if all(a.is_Rational for a in args) and sym_op in _EXACT:
         a, b = args[0], args[-1]
         ok = not (sym_op is operator.truediv and b == 0)
@@ -238,8 +240,12 @@ def _fold(sym_op, np_op, args):
 class _Builder:
     """Turns the whitelisted AST of one component into a sympy expression."""
 
-    def __init__(self, text: str, index: int, variables: tuple[str, ...], symbols: dict):
+    def __init__(self, text: str, index: int, variables: tuple[str, ...], symbols: dict,
+                 params: dict | None = None, found: list | None = None):
         self.text, self.index, self.variables, self.symbols = text, index, variables, symbols
+        # params: None (no parameters: an unknown name is an error), or {name: value or a
+        # sympy symbol}; found collects (component, column, name) of the parameters met
+        self.params, self.found = params, found
         # '^' -> '**' and line breaks -> ' '; cols maps each source char to its column in text
         parts: list[str] = []
         cols: list[int] = []
@@ -373,7 +379,17 @@ class _Builder:
         if m and self.variables == tuple(f"{m[1]}{i}" for i in range(1, n + 1)):
             self.error(f"{name} is outside {m[1]}1..{m[1]}{n} (n = {n})", node)
         hint = self.suggest(name, [*self.variables, *_CONSTANTS, *_FUNCTIONS])
-        hint = hint or f" (variables: {', '.join(self.variables)})"
+        if self.params is not None:  # parameters allowed: a free name is one, given a value
+            if self.found is not None:
+                col = len(self.utf8[:node.col_offset].decode("utf-8", "ignore"))
+                self.found.append((self.index, self.cols[col] if col < len(self.cols) else 0, name))
+            if name in self.params:
+                value = self.params[name]
+                return value if isinstance(value, sympy.Symbol) else _number(value)
+            self.error(f"parameter {name} has no value: pass params={{'{name}': ...}} "
+                       f"or --param {name}=...{hint}", node)
+        hint = hint or f" (variables: {', '.join(self.variables)}; a parameter needs a value: " \
+            f"params={{'{name}': ...}} or --param {name}=...)"
         self.error(f"unknown name '{name}'{hint}", node)
 
     def call(self, node, depth):
@@ -548,28 +564,41 @@ class System:
     """F: R^n -> R^k given by the text of its k components over n named variables.
 
     Attributes: ``n``, ``k``, ``variables`` (tuple of n names), ``texts`` (tuple
-    of k strings), ``exprs`` (tuple of k sympy expressions), ``symbols`` (the n
-    sympy symbols, real).  Pickles as its texts and variables; the numpy
-    programs are compiled on first use.  Prefer :func:`parse_system`.
+    of k strings), ``exprs`` (tuple of k sympy expressions, parameters replaced by
+    their values), ``symbols`` (the n sympy symbols, real), ``parameters`` (the
+    free names of the texts, in order of appearance) and ``params`` ({name: value}).
+    Pickles as its texts, variables and params; the numpy programs are compiled on
+    first use.  Prefer :func:`parse_system`.
     """
 
-    def __init__(self, texts: Sequence[str], variables: Sequence[str]):
+    def __init__(self, texts: Sequence[str], variables: Sequence[str], params: dict | None = None):
         self.variables = _check_variables(variables)
         self.texts = tuple(texts)
         self.n, self.k = len(self.variables), len(self.texts)
         self.symbols = tuple(sympy.Symbol(v, real=True) for v in self.variables)
+        values = None if params is None else _check_params(params, self.variables)
         names = dict(zip(self.variables, self.symbols))
         for i, t in enumerate(self.texts):
             if not isinstance(t, str):
                 raise FormulaError(f"expected a string, got {type(t).__name__}", i)
-        self.exprs = tuple(_Builder(t, i, self.variables, names).parse()
+        found: list = []
+        self.exprs = tuple(_Builder(t, i, self.variables, names, values, found).parse()
                            for i, t in enumerate(self.texts))
+        self.parameters = _in_order(found)
+        unused = [p for p in (values or {}) if p not in self.parameters]
+        if unused:
+            raise FormulaError(f"parameter {unused[0]} does not appear in the formulas"
+                               + (f" (their parameters: {', '.join(self.parameters)})"
+                                  if self.parameters else " (they have none)"))
+        # the values substituted, in the order of appearance ({} without parameters)
+        self.params = {p: values[p] for p in self.parameters} if values else {}
 
-    def __reduce__(self):
-        return (type(self), (self.texts, self.variables))
+    def __reduce__(self):  # (worker processes parse again, with the same values)
+        return (type(self), (self.texts, self.variables, self.params or None))
 
     def __repr__(self):
-        return f"System(texts={self.texts!r}, variables={self.variables!r})"
+        extra = f", params={self.params!r}" if self.params else ""
+        return f"System(texts={self.texts!r}, variables={self.variables!r}{extra})"
 
     @functools.cached_property
     def _program(self) -> _Program:
@@ -628,12 +657,23 @@ class System:
 
 
 def parse_system(components: Sequence[str] | str, variables: Sequence[str] | str | None = None,
-                 *, n: int | None = None, k: int | None = None) -> System:
+                 *, n: int | None = None, k: int | None = None, params: dict | None = None) -> System:
     """Parse k formulas over n variables into a :class:`System`.
 
     ``variables`` defaults to x1..xn (then ``n`` is required); a string
     "x, y, z" is split on commas/spaces.  ``k``, if given, must equal the
     number of components.  Raises :class:`FormulaError`.
+
+    ``params`` ({name: number or constant text such as "pi/4"}) allows parameters:
+    a name that is neither a variable nor a constant or function is a parameter,
+    replaced by its value exactly as if the value were written in the text as a
+    float literal (same expressions, same output).  Every parameter of the text
+    needs a value, and every value a parameter.  Without ``params`` an unknown
+    name is an error (with a "did you mean" for names close to a variable or a
+    function), so a typo never becomes a parameter.
+
+    >>> parse_system(["x^2 + y^2 - a"], "x, y", params={"a": 0.25}).params
+    {'a': 0.25}
     """
     comps = [components] if isinstance(components, str) else list(components)
     if not comps:
@@ -654,25 +694,87 @@ def parse_system(components: Sequence[str] | str, variables: Sequence[str] | str
     variables = _check_variables(variables)
     if n is not None and n != len(variables):
         raise FormulaError(f"n = {n} but {len(variables)} variables given: {', '.join(variables)}")
+    values = None if params is None else _check_params(params, variables)
     if all(isinstance(c, str) for c in comps):
-        return _cached_system(tuple(comps), tuple(variables))
-    return System(comps, variables)  # (raises the FormulaError that names the bad component)
+        key = None if values is None else tuple(values.items())
+        return _cached_system(tuple(comps), tuple(variables), key)
+    return System(comps, variables, values)  # (raises the FormulaError that names the bad component)
 
 
 @functools.lru_cache(maxsize=64)
-def _cached_system(texts: tuple, variables: tuple) -> System:
+def _cached_system(texts: tuple, variables: tuple, params: tuple | None = None) -> System:
     """One System per formula text: parsing and compiling it (sympy's cse) took longer
     than a whole small extraction, which the app and the benchmark repeat with a new div."""
-    return System(texts, variables)
+    return System(texts, variables, None if params is None else dict(params))
 
 
-def check_component(text: str, variables: Sequence[str] | str, index: int = 0) -> None:
-    """Raise FormulaError (with component=index) if text is not a valid formula."""
+def _check_params(params, variables: Sequence[str]) -> dict[str, float]:
+    """{name: float} from {name: number or constant text}; one clear message per mistake."""
+    if not isinstance(params, dict):
+        raise FormulaError(f"params must be a dict {{name: value}}, got {params!r}")
+    out: dict[str, float] = {}
+    for name, value in params.items():
+        if not isinstance(name, str) or not name.isidentifier() or keyword.iskeyword(name):
+            raise FormulaError(f"parameter name {name!r} is not a valid name")
+        if name in _FUNCTIONS or name in _CONSTANTS:
+            kind = "function" if name in _FUNCTIONS else "constant"
+            raise FormulaError(f"parameter name {name!r} is the name of a {kind}")
+        if name in variables:
+            raise FormulaError(f"parameter name {name!r} is a variable")
+        try:
+            out[name] = evaluate_constant(value)
+        except InputError as err:
+            raise FormulaError(f"value of parameter {name}: {err}") from None
+    return out
+
+
+def _in_order(found: list) -> tuple[str, ...]:
+    """Parameter names from (component, column, name) records: each once, first seen first."""
+    names: dict[str, None] = {}
+    for _, _, name in sorted(found):
+        names.setdefault(name, None)
+    return tuple(names)
+
+
+def find_parameters(texts: Sequence[str] | str, variables: Sequence[str] | str) -> list[str]:
+    """The parameters of the formulas: names that are neither a variable nor a constant
+    or function, each once, in order of appearance (component by component, left to
+    right) -- one slider each.  Raises FormulaError for any other mistake in the text.
+
+    >>> find_parameters(["x^2 + y^2 - z^2 - a", "b*x"], "x, y, z")
+    ['a', 'b']
+    """
+    names = _check_variables(variables)
+    symbols = {v: sympy.Symbol(v, real=True) for v in names}
+    comps = [texts] if isinstance(texts, str) else list(texts)
+    found: list = []
+    free = _FreeNames()
+    for i, t in enumerate(comps):
+        if not isinstance(t, str):
+            raise FormulaError(f"expected a string, got {type(t).__name__}", i)
+        _Builder(t, i, names, symbols, free, found).parse()
+    return list(_in_order(found))
+
+
+class _FreeNames(dict):
+    """params for listing them: every free name has a value, its own (real) symbol."""
+
+    def __contains__(self, name) -> bool:
+        return True
+
+    def __getitem__(self, name):
+        return sympy.Symbol(name, real=True)
+
+
+def check_component(text: str, variables: Sequence[str] | str, index: int = 0, *,
+                    allow_parameters: bool = False) -> None:
+    """Raise FormulaError (with component=index) if text is not a valid formula;
+    with allow_parameters, free names are parameters (see :func:`find_parameters`)."""
     names = _check_variables(variables)
     symbols = {v: sympy.Symbol(v, real=True) for v in names}
     if not isinstance(text, str):
         raise FormulaError(f"expected a string, got {type(text).__name__}", index)
-    _Builder(text, index, names, symbols).parse()
+    _Builder(text, index, names, symbols, _FreeNames() if allow_parameters else None).parse()
 
 
 # --------------------------------------------------------------------------
