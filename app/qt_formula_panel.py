@@ -11,6 +11,10 @@ comes, a field keeps its last mark and :meth:`QtFormulaPanel.checking` is True;
 Changing n or k hides fields rather than deleting them: formulas, bounds and
 names come back as they were when n or k grows again.
 
+Under the method, the run's estimate (:func:`app.jobs.estimate_job`: peak memory
+and time, made in a worker a moment after the last change) says before Run what
+the run will cost, in red when it won't fit.
+
 ``state()`` / ``set_state(d)`` give the panel's contents as a plain dict (the
 session file stores it); ``job()`` builds a :class:`app.worker.Job` when valid.
 """
@@ -41,7 +45,7 @@ from qtpy.QtWidgets import (
 )
 
 from . import inputs
-from .jobs import Job
+from .jobs import Job, estimate_job
 from .qt_widgets import clear_layout, error_label, group, panel_layout
 
 N_MAX = 12
@@ -136,6 +140,50 @@ class FormulaChecker(QObject):
                     return
 
 
+class LatestCall(QObject):
+    """Calls one function at a time in a worker thread and answers only the newest question:
+    ``ask(key, fn)``; ``answered(key, value, error)`` (error: a one-line message or None)."""
+
+    answered = Signal(object, object, object)
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self._lock = threading.Lock()
+        self._next = None
+        self._busy = False
+
+    def ask(self, key, fn) -> None:
+        with self._lock:
+            self._next = (key, fn)
+            if self._busy:
+                return
+            self._busy = True
+        threading.Thread(target=self._loop, name="gcmh-latest-call", daemon=True).start()
+
+    def _loop(self) -> None:
+        while True:
+            with self._lock:
+                task, self._next = self._next, None
+                if task is None:
+                    self._busy = False
+                    return
+            key, fn = task
+            value, error = None, None
+            try:
+                value = fn()
+            except Exception as e:  # noqa: BLE001 - InputError and the like, as a message
+                error = str(e)
+            with self._lock:
+                stale = self._next is not None
+            if not stale:
+                try:
+                    self.answered.emit(key, value, error)
+                except RuntimeError:   # the panel is gone
+                    with self._lock:
+                        self._busy = False
+                    return
+
+
 def format_number(v: float) -> str:
     """Short text for a bound: simple multiples of pi as ``-pi/2``, others as ``%g``."""
     v = float(v)
@@ -191,6 +239,15 @@ class QtFormulaPanel(QWidget):
         self._check_timer.setSingleShot(True)
         self._check_timer.setInterval(self.CHECK_DELAY_MS)
         self._check_timer.timeout.connect(self.check_now)
+        # the run's estimate (memory and time), made in a worker
+        self.run_estimate = None   # the gcmh_core.budget.Estimate of the panel's job, once known
+        self._estimate_key = None
+        self._estimator = LatestCall(self)
+        self._estimator.answered.connect(self._on_estimate)
+        self._estimate_timer = QTimer(self)
+        self._estimate_timer.setSingleShot(True)
+        self._estimate_timer.setInterval(300)
+        self._estimate_timer.timeout.connect(self._ask_estimate)
 
         lay = panel_layout(self)
 
@@ -602,9 +659,7 @@ class QtFormulaPanel(QWidget):
     def job(self) -> Job:
         if not self._validate():
             raise ValueError("; ".join(self.errors.values()))
-        return Job(formulas=self.formulas(), variables=self.variables(), bounds=self.bounds(),
-                   div=self.div(), method=self.method(), seed=self.seed_spin.value(), start=self.start(),
-                   scheduler=check_scheduler(self.scheduler_edit.text())[1])
+        return self.job_unchecked()
 
     def estimate(self) -> dict | None:
         d = self.div_list()
@@ -621,6 +676,17 @@ class QtFormulaPanel(QWidget):
             return None
 
     def _update_estimate(self, valid: bool) -> None:
+        if valid and not self.checking():
+            job = self.job_unchecked()
+            key = repr(job)
+            if key != self._estimate_key:
+                self._estimate_key, self.run_estimate = key, None
+                self._estimate_timer.start()
+            elif self.run_estimate is not None:
+                return   # shown already
+        else:
+            self._estimate_key, self.run_estimate = None, None
+            self._estimate_timer.stop()
         est = self.estimate()
         if est is None:
             self.estimate_label.setText("")
@@ -638,6 +704,34 @@ class QtFormulaPanel(QWidget):
                 self.estimate_label.setStyleSheet("color: #555;")
             self.estimate_label.setText(text)
         self.estimateChanged.emit(est)
+
+    def job_unchecked(self) -> Job:
+        """The job of the panel's contents as they stand (call when valid)."""
+        return Job(formulas=self.formulas(), variables=self.variables(), bounds=self.bounds(),
+                   div=self.div(), method=self.method(), seed=self.seed_spin.value(), start=self.start(),
+                   scheduler=check_scheduler(self.scheduler_edit.text())[1])
+
+    def _ask_estimate(self) -> None:
+        if self._estimate_key is None or not self._valid:
+            return
+        job = self.job_unchecked()
+        self._estimator.ask(repr(job), lambda: estimate_job(job))
+
+    def _on_estimate(self, key, est, error) -> None:
+        if key != self._estimate_key:
+            return   # stale: the panel changed since
+        if error is not None:
+            self.estimate_label.setStyleSheet("color: #c22;")
+            self.estimate_label.setText(error)
+            return
+        self.run_estimate = est
+        text = (f"this run: about {inputs.human_bytes(est.peak_bytes)} of memory "
+                f"(of {inputs.human_bytes(est.available_bytes)} available), about {inputs.human_seconds(est.seconds)}"
+                f"; {est.cubes:,} cubes, about {est.candidate_cubes:,} crossed by M")
+        if not est.fits:
+            text += " \u2014 too large: Run asks first"
+        self.estimate_label.setStyleSheet("color: #555;" if est.fits else "color: #c22; font-weight: bold;")
+        self.estimate_label.setText(text)
 
     # ------------------------------------------------------------- state
     def state(self) -> dict:

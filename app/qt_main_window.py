@@ -281,6 +281,7 @@ class QtMainWindow(QMainWindow):
             self.kernel_label.setText(f"Kernel warm-up failed ({warm.error}); the first run compiles them.")
         elif warm.seconds is not None and warm.seconds > 3.0:
             self.kernel_label.setText(f"Kernels compiled in {warm.seconds:.0f} s; they are kept for later runs.")
+            QTimer.singleShot(15_000, lambda: self.kernel_label.setText(""))
         else:
             self.kernel_label.setText("")
 

@@ -313,3 +313,20 @@ def test_cancel_does_not_wait_for_an_engine_phase_that_never_polls(qtbot, window
         assert b.args[0] == "done" and window.result is not None
     finally:
         release.set()
+
+
+def test_the_panel_shows_the_runs_estimate_before_run(qtbot, window, monkeypatch):
+    import dataclasses
+
+    import app.qt_formula_panel
+
+    p = window.formula_panel
+    fill(qtbot, p, 4, 2, [SPHERE, "x1 - x2"], div="6")
+    qtbot.waitUntil(lambda: p.run_estimate is not None, timeout=20_000)
+    assert p.run_estimate.fits and "of memory" in p.estimate_label.text()
+    real = app.qt_formula_panel.estimate_job
+    monkeypatch.setattr(app.qt_formula_panel, "estimate_job",
+                        lambda job: dataclasses.replace(real(job), peak_bytes=10**15))
+    p.div_edit.setText("7")
+    qtbot.waitUntil(lambda: p.run_estimate is not None and not p.run_estimate.fits, timeout=20_000)
+    assert "too large" in p.estimate_label.text() and "c22" in p.estimate_label.styleSheet()
