@@ -19,7 +19,21 @@ them)::
     project = ["x", "y", "z"]    # three variables shown as 3D axes
     color = "z"                  # the variable used for the colour map
 
-``bounds`` may also be a single pair, meaning the same interval on every axis.
+    [params]                     # optional: the formulas' parameters (one slider each)
+    a = { value = 0.5, min = -1, max = 1 }
+
+An example in complex variables gives its equations instead of ``formulas`` (and
+may omit ``n`` and ``k``); the loader splits them into the real system
+(:func:`gcmh_core.complex_equations.split_complex`)::
+
+    complex = ["z = cos(w)"]              # lhs = rhs over C^m, i the imaginary unit
+    complex_variables = ["w", "z"]
+    variables = ["u", "v", "x", "y"]      # optional: Re w, Im w, Re z, Im z (default w_re, ...)
+    formulas = ["u**2 + v**2 - 1"]        # optional: real equations added after the split ones
+
+``labels`` ({variable: "Re w"}) come from ``[view] labels`` or, for a complex
+example, from the split.  ``bounds`` may also be a single pair, meaning the same
+interval on every axis.
 Bound entries written as strings (``"-pi/2"``, ``"2*pi"``) are evaluated by
 :func:`evaluate_constant`, a whitelist evaluator built on :mod:`ast`; nothing
 is ever passed to ``eval``.  ``$GCMH_EXAMPLES_DIR``, when set, names a folder
@@ -41,7 +55,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..errors import InputError
-from ..formula import check_component, evaluate_constant  # (the one constant evaluator; re-exported)
+from ..formula import check_component, evaluate_constant, find_parameters  # (evaluate_constant re-exported)
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -76,6 +90,9 @@ class Example:
     bounds: list of n (lo, hi) float pairs; div: int or list of n ints;
     start: a point of M (list of n floats); view: dict(mapping=orthographic|perspective|stereographic,
     project=[3 variable names], color=variable name); path: the file it was read from.
+    params: {name: {"value", "min", "max"}} (floats) for each parameter of the formulas;
+    complex / complex_variables: the equations over C^m the formulas were split from
+    (else None); labels: {variable: what it means, e.g. "Re w"}.
     """
 
     name: str
@@ -91,6 +108,14 @@ class Example:
     view: dict[str, Any] = field(default_factory=dict)
     paper_div: int | list[int] | None = None
     path: Traversable | None = None
+    params: dict[str, dict[str, float]] = field(default_factory=dict)
+    complex: list[str] | None = None
+    complex_variables: list[str] | None = None
+    labels: dict[str, str] = field(default_factory=dict)
+
+    def param_values(self) -> dict[str, float]:
+        """{name: value}: the parameters' default values, for ``extract(..., params=...)``."""
+        return {p: spec["value"] for p, spec in self.params.items()}
 
     @property
     def dim(self) -> int:
@@ -164,22 +189,51 @@ def _from_dict(name: str, data: dict[str, Any], path: Traversable | None = None)
 
     title = need("title", str, "a string").strip()
     description = " ".join(need("description", str, "a string").split())
-    n = need("n", int, "an integer")
-    k = need("k", int, "an integer")
-    if not 1 <= k < n:
-        raise fail(f"need 1 <= k < n, got n={n}, k={k}")
+    params = _read_params(data.get("params"), fail)
 
-    variables = need("variables", list, "a list of names")
-    if len(variables) != n or not all(isinstance(v, str) and v.isidentifier() for v in variables):
-        raise fail(f"'variables' must be {n} names")
-    if len(set(variables)) != n:
-        raise fail("'variables' has a repeated name")
+    complex_eqs = complex_vars = None
+    labels: dict[str, str] = {}
+    if "complex" in data:
+        complex_eqs = need("complex", list, "a list of equations")
+        complex_vars = need("complex_variables", list, "a list of names")
+        if not complex_eqs or not all(isinstance(e, str) and e.strip() for e in complex_eqs):
+            raise fail("'complex' must be a list of equations (strings)")
+        complex_eqs = [" ".join(e.split()) for e in complex_eqs]
+        extra = data.get("formulas", [])
+        if not isinstance(extra, list) or not all(isinstance(f, str) and f.strip() for f in extra):
+            raise fail("'formulas' must be a list of non-empty strings")
+        from ..complex_equations import split_complex  # noqa: PLC0415
 
-    formulas = need("formulas", list, "a list of strings")
-    if len(formulas) != k or not all(isinstance(f, str) and f.strip() for f in formulas):
-        raise fail(f"'formulas' must be {k} non-empty strings (k = {k})")
-    formulas = [" ".join(f.split()) for f in formulas]
-    _check_formulas(formulas, variables, fail)
+        try:
+            texts, variables, labels = split_complex(complex_eqs, complex_vars, data.get("variables"),
+                                                     allow_parameters=bool(params))
+        except InputError as err:
+            raise fail(f"'complex': {err}") from None
+        formulas = texts + [" ".join(f.split()) for f in extra]
+        n, k = len(variables), len(formulas)
+        for key, value in (("n", n), ("k", k)):
+            if key in data and data[key] != value:
+                raise fail(f"{key!r} is {data[key]} but the complex equations give {key} = {value}")
+        if not 1 <= k < n:
+            raise fail(f"need fewer real equations than real variables, got n={n}, k={k}")
+    else:
+        n = need("n", int, "an integer")
+        k = need("k", int, "an integer")
+        if not 1 <= k < n:
+            raise fail(f"need 1 <= k < n, got n={n}, k={k}")
+
+        variables = need("variables", list, "a list of names")
+        if len(variables) != n or not all(isinstance(v, str) and v.isidentifier() for v in variables):
+            raise fail(f"'variables' must be {n} names")
+        if len(set(variables)) != n:
+            raise fail("'variables' has a repeated name")
+
+        formulas = need("formulas", list, "a list of strings")
+        if len(formulas) != k or not all(isinstance(f, str) and f.strip() for f in formulas):
+            raise fail(f"'formulas' must be {k} non-empty strings (k = {k})")
+        formulas = [" ".join(f.split()) for f in formulas]
+    _check_formulas(formulas, variables, fail, bool(params))
+    _check_params(formulas, variables, params, fail)
 
     raw_bounds = need("bounds", list, "a list of [lo, hi] pairs")
     if len(raw_bounds) == 1 and n > 1:
@@ -232,6 +286,11 @@ def _from_dict(name: str, data: dict[str, Any], path: Traversable | None = None)
     if mapping != "orthographic" and n < 4:
         raise fail(f"view.mapping {mapping!r} needs n >= 4: nothing is hidden in R^{n}")
     view = {"project": list(project), "color": color, "mapping": mapping}
+    raw_labels = data.get("view", {}).get("labels", labels)
+    if not isinstance(raw_labels, dict) or not all(
+        v in variables and isinstance(text, str) for v, text in raw_labels.items()
+    ):
+        raise fail(f"view.labels must be a table {{variable: text}} over {variables}")
 
     return Example(
         name=name,
@@ -247,6 +306,10 @@ def _from_dict(name: str, data: dict[str, Any], path: Traversable | None = None)
         view=view,
         paper_div=paper_div,
         path=path,
+        params=params,
+        complex=complex_eqs,
+        complex_variables=list(complex_vars) if complex_vars is not None else None,
+        labels=dict(raw_labels),
     )
 
 
@@ -267,10 +330,47 @@ def _read_div(value: object, n: int, key: str, fail: Callable[[str], InputError]
     raise fail(f"{key!r} must be a positive integer or a list of {n} of them")
 
 
-def _check_formulas(formulas: list[str], variables: list[str], fail: Callable[[str], InputError]) -> None:
+def _check_formulas(formulas: list[str], variables: list[str], fail: Callable[[str], InputError],
+                    allow_parameters: bool = False) -> None:
     """Validate the formula texts with the safe parser."""
     for i, text in enumerate(formulas):
         try:
-            check_component(text, variables, i)
+            check_component(text, variables, i, allow_parameters=allow_parameters)
         except InputError as err:
             raise fail(str(err)) from None
+
+
+def _read_params(value: object, fail: Callable[[str], InputError]) -> dict[str, dict[str, float]]:
+    """The [params] table: {name: {value, min, max}}, numbers or constant text, min <= value <= max."""
+    if value is None:
+        return {}
+    if not isinstance(value, dict):
+        raise fail("[params] must be a table of { value = ..., min = ..., max = ... }")
+    out: dict[str, dict[str, float]] = {}
+    for name, spec in value.items():
+        if not isinstance(spec, dict) or set(spec) != {"value", "min", "max"}:
+            raise fail(f"params.{name} must be {{ value = ..., min = ..., max = ... }}")
+        try:
+            got = {key: evaluate_constant(spec[key]) for key in ("value", "min", "max")}
+        except InputError as err:
+            raise fail(f"params.{name}: {err}") from None
+        if not got["min"] < got["max"] or not got["min"] <= got["value"] <= got["max"]:
+            raise fail(f"params.{name}: need min < max and min <= value <= max, got {got}")
+        out[name] = got
+    return out
+
+
+def _check_params(formulas: list[str], variables: list[str], params: dict, fail: Callable[[str], InputError]) -> None:
+    """Every parameter of the formulas has a [params] entry, and every entry is used."""
+    if not params:
+        return
+    try:
+        found = find_parameters(formulas, variables)
+    except InputError as err:
+        raise fail(str(err)) from None
+    for name in found:
+        if name not in params:
+            raise fail(f"parameter {name} has no entry in [params]")
+    for name in params:
+        if name not in found:
+            raise fail(f"params.{name} does not appear in the formulas")
