@@ -51,10 +51,10 @@ from .qt_formula_panel import QtFormulaPanel
 from .qt_projection_panel import QtProjectionPanel
 from .qt_run_controller import QtRunController
 from .qt_viewer import QtViewer
-from .worker import COMPILING, STOPPING
+from .worker import COMPILING, ENGINE, STOPPING
 
 # phases whose fraction means nothing: shown without a percentage
-_WAITING_PHASES = ("starting", "estimating", COMPILING, STOPPING, "preparing the view")
+_WAITING_PHASES = ("starting", "estimating", COMPILING, STOPPING, ENGINE, "preparing the view")
 
 try:   # written alongside this window; the window works without them
     from .qt_topology_panel import QtTopologyPanel
@@ -288,31 +288,44 @@ class QtMainWindow(QMainWindow):
     # ------------------------------------------------------------------ undo / redo
     def undo(self) -> bool:
         """Back to the previous system and view (Ctrl+Z); False at the start of the history."""
-        return self._restore(self.model.undo(), "undo")
+        return self._step(self.model.undo, "undo")
 
     def redo(self) -> bool:
         """Forward again after an undo (Ctrl+Shift+Z); False when nothing was undone."""
-        return self._restore(self.model.redo(), "redo")
+        return self._step(self.model.redo, "redo")
 
-    def _restore(self, state: dict | None, what: str) -> bool:
-        if state is None:
-            self.set_status(f"Nothing to {what}.")
-            return False
+    def _step(self, step, what: str) -> bool:
+        """Step through the history until something on screen changes (a step whose view belongs to
+        another result's variables changes nothing here, and is passed over)."""
+        while True:
+            state = step()
+            if state is None:
+                self.set_status(f"Nothing to {what}.")
+                return False
+            if self._restore(state):
+                return True
+
+    def _restore(self, state: dict) -> bool:
+        """Show ``state`` (a History entry) in the panels; False if nothing changed."""
         fp, pp = self.formula_panel, self.projection_panel
+        changed = False
         self.model.recording = False
         try:
             if state.get("system") and state["system"] != fp.state():
                 fp.set_state(state["system"])
+                changed = True
             view = state.get("view")
             current = pp.state()
-            # a view belongs to a result's variables: one of another result's is skipped
+            # a view belongs to a result's variables: one of another result's is passed over
             if view and view != current and view.get("planes") == current.get("planes"):
                 pp.set_state(view)
+                changed = True
         finally:
             self.model.recording = True
         self.model.system, self.model.view = fp.state(), pp.state()
-        self.model.history.sync(self.model.snapshot())
-        return True
+        if changed:   # the panels' reading of it (a passed-over entry keeps its own view)
+            self.model.history.sync(self.model.snapshot())
+        return changed
 
     def _update_buttons(self, *_):
         running = self.is_running()

@@ -42,6 +42,7 @@ from .jobs import (  # noqa: F401 - run_job and estimate_job are looked up here 
 
 COMPILING = "compiling kernels (once per install)"
 STOPPING = "stopping the cancelled run"
+ENGINE = "starting the engine"
 
 _helpers: list[threading.Thread] = []   # engine calls made for runs, until they end
 _helpers_lock = threading.Lock()
@@ -223,6 +224,7 @@ class ExtractWorker(QThread):
             if not self._estimate_and_ask():
                 self.declined.emit()
                 return
+            self.progress.emit(ENGINE, 0.0, time.perf_counter() - self._t0)   # (grid and cube tables: no progress)
             cx = self._in_helper(run_job, self.job, progress=self._on_progress, cancel=self._should_cancel)
         except Cancelled:
             self.cancelled.emit()

@@ -330,3 +330,23 @@ def test_the_panel_shows_the_runs_estimate_before_run(qtbot, window, monkeypatch
     p.div_edit.setText("7")
     qtbot.waitUntil(lambda: p.run_estimate is not None and not p.run_estimate.fits, timeout=20_000)
     assert "too large" in p.estimate_label.text() and "c22" in p.estimate_label.styleSheet()
+
+
+def test_every_undo_changes_what_the_panels_show(qtbot, window):
+    """After a run of another system, the previous result's views do not apply to this one: undo passes
+    over them, so no Ctrl+Z does nothing visible, and the first system comes back."""
+    p, pp = window.formula_panel, window.projection_panel
+    fill(qtbot, p, 3, 1, ["x1^2 + x2^2 + x3^2 - 1"])
+    assert run_and_wait(qtbot, window) == "done"
+    pp.sliders[0].setValue(30)   # a view of the 3-variable result
+    window.model.history.merge_seconds = -1.0
+    first = p.state()
+    fill(qtbot, p, 4, 2, [SPHERE, "x1 - x2"])
+    assert run_and_wait(qtbot, window) == "done"
+    pp.sliders[0].setValue(20)
+    while p.state() != first:
+        before = (p.state(), pp.state())
+        assert window.undo(), "the history ended before the first system came back"
+        assert (p.state(), pp.state()) != before
+    assert window.redo()
+    assert p.state() != first
