@@ -11,6 +11,8 @@ Examples::
     gcmh extract --example three-torus --div 12 --scheduler tcp://10.0.0.5:8786 --block 6
     gcmh extract --example sphere --div 200 --dry-run     # the estimate only
     gcmh extract --example sphere -o - > sphere.npz       # the .npz on standard output
+    gcmh extract --example hyperboloid --param a=-0.3     # a parameter's value (repeatable)
+    gcmh extract --complex --f "z^2 = w" --vars z,w --div 16   # equations over C^m
 
 Exit status: 0 on success, 2 for bad input or a run that would not fit (one line
 on stderr, nothing written; --force runs it anyway), 1 when an output file cannot
@@ -40,7 +42,7 @@ from .errors import InputError
 PROG = "gcmh"
 
 # Options whose value may start with "-" (a negative bound, a formula "-x + 1").
-_GLUE_OPTIONS = ("--bounds", "--start", "--f", "-f", "--formula")
+_GLUE_OPTIONS = ("--bounds", "--start", "--f", "-f", "--formula", "--param")
 
 
 class _UsageError(Exception):
@@ -108,6 +110,16 @@ def _build_parser() -> _Parser:
         help="one component of F (repeat for k components), e.g. --f 'x**2 + y**2 - 1'",
     )
     src.add_argument("--vars", metavar="X1,...,XN", help="variable names (default x1..xn)")
+    src.add_argument(
+        "--param", dest="params", action="append", metavar="NAME=VALUE",
+        help="value of a parameter of the formulas (repeat for each), e.g. --param a=0.3 or --param 'c=pi/4'",
+    )
+    src.add_argument(
+        "--complex", action="store_true",
+        help="each --f is an equation over C^m ('z^2 = w'; i is the imaginary unit) and --vars names the "
+        "complex variables; solved as the real system of Re and Im parts (real variables z_re, z_im, ...; "
+        f"bounds default to {-2}:{2})",
+    )
     src.add_argument("--n", type=str, metavar="N", help="number of variables when --vars is omitted")
     src.add_argument(
         "--bounds", metavar="LO:HI[,LO:HI...]",
@@ -286,13 +298,36 @@ def _cmd_examples(args) -> int:
         where = os.environ.get("GCMH_EXAMPLES_DIR")
         return _fail(f"no examples found{f' in {where!r} (GCMH_EXAMPLES_DIR)' if where else ''}", status=1)
     if args.json:
-        print(json.dumps([{"name": e.name, "n": e.n, "k": e.k, "title": e.title} for e in examples], indent=1))
+        print(json.dumps([{"name": e.name, "n": e.n, "k": e.k, "title": e.title, "params": e.params,
+                           "complex": e.complex} for e in examples], indent=1))
         return 0
     width = max(len(e.name) for e in examples)
     print(f"{'name':<{width}}  {'n':>2} {'k':>2}  title")
     for e in examples:
-        print(f"{e.name:<{width}}  {e.n:>2} {e.k:>2}  {e.title}")
+        params = "".join(f"; {p} = {v['value']:g} in [{v['min']:g}, {v['max']:g}]" for p, v in e.params.items())
+        print(f"{e.name:<{width}}  {e.n:>2} {e.k:>2}  {e.title}{params}")
     return 0
+
+
+def _parse_params(items: Sequence[str] | None) -> dict[str, float] | None:
+    """--param NAME=VALUE ... -> {name: value} (values are constant text: 0.3, -pi/4)."""
+    if not items:
+        return None
+    from .examples import evaluate_constant
+
+    out: dict[str, float] = {}
+    for item in items:
+        name, eq, value = str(item).partition("=")
+        name = name.strip()
+        if not eq or not name.isidentifier():
+            raise InputError(f"--param: expected NAME=VALUE, e.g. --param a=0.3, got {item!r}")
+        if name in out:
+            raise InputError(f"--param: {name} is given twice")
+        try:
+            out[name] = evaluate_constant(value)
+        except InputError as err:
+            raise InputError(f"--param {name}: {err}") from None
+    return out
 
 
 def _job_from_args(args) -> dict:
@@ -304,6 +339,9 @@ def _job_from_args(args) -> dict:
 
     n_opt = _parse_int(args.n, "--n", minimum=1) if args.n is not None else None
     bounds = _parse_bounds(args.bounds) if args.bounds is not None else None
+    params = _parse_params(args.params)
+    if args.complex and args.example:
+        raise InputError("--complex goes with --f (an example says itself whether it is complex)")
 
     if args.example:
         from .examples import load_example
@@ -312,6 +350,8 @@ def _job_from_args(args) -> dict:
             raise InputError("--vars and --n go with --f, not with --example")
         ex = load_example(args.example)
         n, variables, formulas = ex.n, list(ex.variables), list(ex.formulas)
+        if ex.params:
+            params = {**ex.param_values(), **(params or {})}
         if bounds is None:
             bounds = list(ex.bounds)
         div = ex.div
@@ -319,6 +359,21 @@ def _job_from_args(args) -> dict:
 
         start = ex.start if args.method.strip().lower() in CONTINUATION_METHODS else None
         name = ex.name
+    elif args.complex:
+        from .complex_equations import DEFAULT_BOUNDS, split_complex
+
+        if args.vars is None:
+            raise InputError("--complex needs --vars: the complex variables, e.g. --vars z,w")
+        if args.n is not None:
+            raise InputError("--n does not go with --complex: --vars names the complex variables")
+        formulas, variables, _ = split_complex(list(args.formulas), _parse_vars(args.vars),
+                                               allow_parameters=params is not None)
+        n = len(variables)
+        if bounds is None:
+            bounds = [DEFAULT_BOUNDS]
+        div = 10
+        start = None
+        name = None
     else:
         formulas = list(args.formulas)
         if args.vars is not None:
@@ -370,6 +425,8 @@ def _job_from_args(args) -> dict:
         start=start,
         scheduler=scheduler,
         block=block,
+        params=params,
+        title=" ; ".join(args.formulas) + " over C" if args.complex else None,
     )
 
 
@@ -447,6 +504,7 @@ def _cmd_extract(args) -> int:
             scheduler=job["scheduler"],
             block=job["block"],
             force=args.force,
+            params=job["params"],
         )
     finally:
         progress.close()
@@ -463,9 +521,13 @@ def _cmd_extract(args) -> int:
 
 def _dry_run(args, job) -> int:
     from .budget import estimate
+    from .formula import parse_system
 
+    F = job["F"]
+    if job["params"] is not None:  # (the estimate takes a System with the values in it)
+        F = parse_system(F, job["variables"], params=job["params"])
     cost = estimate(
-        job["F"], job["bounds"], job["div"], variables=job["variables"], method=job["method"],
+        F, job["bounds"], job["div"], variables=job["variables"], method=job["method"],
         scheduler=job["scheduler"],
     )
     if args.json:
@@ -555,6 +617,8 @@ def _summary(cx, job, outputs) -> dict:
         "boundary_facets": int(len(cx.boundary_facets())),
         "nonfinite_vertices": int(meta.get("nonfinite_vertices", 0) or 0),
         "example": job["name"],
+        "params": meta.get("params") or {},
+        "singular_vertices": meta.get("singular_vertices"),
         "scheduler": meta.get("scheduler"),
         "blocks": meta.get("blocks"),
         "timings": meta.get("timings"),
@@ -567,7 +631,9 @@ _CELL_NAMES = {0: "vertices", 1: "edges", 2: "faces"}
 
 def _human(s: dict, job: dict) -> str:
     dim = s["n"] - s["k"]
-    what = job["name"] or " ; ".join(job["F"])
+    what = job["name"] or job.get("title") or " ; ".join(job["F"])
+    if s["params"]:
+        what += " at " + ", ".join(f"{p} = {v:g}" for p, v in s["params"].items())
     div = "x".join(str(d) for d in s["div"]) if s["div"] else "?"
     cells = ", ".join(f"{c} {_CELL_NAMES.get(r, f'{r}-cells')}" for r, c in enumerate(s["cells"]))
     lines = [
@@ -576,6 +642,9 @@ def _human(s: dict, job: dict) -> str:
         f"  Euler characteristic {s['euler_characteristic']}, {s['boundary_facets']} boundary facets"
         + (f", {s['nonfinite_vertices']} non-finite vertices" if s["nonfinite_vertices"] else ""),
     ]
+    if s["singular_vertices"]:
+        lines.append(f"  notice: F's Jacobian nearly loses rank at {s['singular_vertices']} vertices: "
+                     "M is singular there, the parameters are at or near a critical value")
     seconds = s["seconds"]
     tail = f"  {seconds:.2f} s" if seconds is not None and math.isfinite(seconds) else "  done"
     if s["files"]:

@@ -17,7 +17,7 @@ real variables (an example's ``formulas``, or ``--f`` beside ``--complex``).
 
 >>> texts, variables, labels = split_complex(["z^2 = w"], "z, w")
 >>> texts
-['-w_re - z_im**2 + z_re**2', '-w_im + 2*z_im*z_re']
+['z_re**2 - z_im**2 - w_re', '2*z_im*z_re - w_im']
 >>> variables, labels["w_im"]
 (['z_re', 'z_im', 'w_re', 'w_im'], 'Im w')
 """
@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import ast
 import math
+import re
 from collections.abc import Sequence
 
 import sympy
@@ -70,8 +71,38 @@ class _Printer(StrPrinter):
         return "e"
 
 
-def _text(expr: sympy.Expr) -> str:
-    return _Printer({"order": None}).doprint(expr)
+def _order_in(equation: str, cvars: tuple, reals: list[str]) -> dict:
+    """{real symbol: rank}: the complex variables in the order the equation first names
+    them ("z = cos(w)": z, then w), Re before Im."""
+    def first(v):
+        found = re.search(rf"\b{re.escape(v)}\b", equation)
+        return found.start() if found else len(equation)
+
+    ranked = sorted(range(len(cvars)), key=lambda j: first(cvars[j]))
+    return {sympy.Symbol(reals[2 * j + p], real=True): 2 * r + p for r, j in enumerate(ranked) for p in (0, 1)}
+
+
+def _text(expr: sympy.Expr, order: dict) -> str:
+    """expr as formula text, its terms in the order of the variables (z_re^2 before w_re),
+    higher powers first; the text parses back to the same (canonical) expression."""
+    printer = _Printer({"order": None})
+    if not expr.is_Add:
+        return printer.doprint(expr)
+
+    def key(term):
+        first = min((order[s] for s in term.free_symbols if s in order), default=len(order))
+        if first == len(order):
+            return (first, 0.0)
+        power = term.as_coeff_exponent(sorted(order, key=order.get)[first])[1]
+        return (first, -float(power) if power.is_number else 0.0)
+
+    text = ""
+    for i, term in enumerate(sorted(expr.args, key=key)):
+        piece = printer.doprint(term)
+        if i:
+            piece = f" - {piece[1:]}" if piece.startswith("-") else f" + {piece}"
+        text += piece
+    return text
 
 
 def _side(text: str, index: int, offset: int, cvars: tuple, symbols: dict, allow_parameters: bool) -> sympy.Expr:
@@ -150,7 +181,7 @@ def split_complex(
             if part.is_zero:
                 raise FormulaError(f"the {what} part of this equation is identically 0 "
                                    "(a real equation: write it as a real formula)", index)
-            text = _text(part)
+            text = _text(part, _order_in(eq, cvars, reals))
             check_component(text, reals, len(texts), allow_parameters=allow_parameters)
             texts.append(text)
     labels = {reals[2 * j + p]: f"{'Im' if p else 'Re'} {v}" for j, v in enumerate(cvars) for p in (0, 1)}
