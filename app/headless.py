@@ -179,7 +179,8 @@ def _prepare(opts: Options):
         return fail("--slice-width must be > 0")
     job = Job(formulas=list(ex.formulas), variables=list(ex.variables), bounds=[tuple(b) for b in ex.bounds],
               div=opts.div if opts.div is not None else ex.div, seed=opts.seed, method=opts.method,
-              start=(list(ex.start) if ex.start else "auto") if opts.method in CONTINUATION_METHODS else None)
+              start=(list(ex.start) if ex.start else "auto") if opts.method in CONTINUATION_METHODS else None,
+              extra={"params": ex.param_values()} if getattr(ex, "params", None) else {})
     try:
         cx = run_job(job)
     except InputError as e:

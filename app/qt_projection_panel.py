@@ -24,7 +24,8 @@ in place), ``baseChanged`` (a new base: the viewer may refit the camera),
 from __future__ import annotations
 
 import numpy as np
-from qtpy.QtCore import Qt, Signal
+from qtpy.QtCore import QPointF, Qt, Signal
+from qtpy.QtGui import QColor, QPainter, QPen
 from qtpy.QtWidgets import (
     QCheckBox,
     QComboBox,
@@ -114,6 +115,12 @@ class QtProjectionPanel(QWidget):
                                    "direction; Ctrl+Shift-drag (or Shift with the right button) against the next")
         cam_row.addWidget(self.drag_combo)
         bl.addLayout(cam_row)
+        # one small pad per hidden direction: dragging in it turns the screen's X (sideways) and Y (up and
+        # down) against that direction -- n - 3 pads instead of n(n-1)/2 sliders
+        self.pad_row = QHBoxLayout()
+        self.pad_row.setSpacing(4)
+        self.pads: list[QtTurnPad] = []
+        bl.addLayout(self.pad_row)
         rot_head = QHBoxLayout()
         rot_head.addWidget(QLabel("rotations (degrees)"))
         self.plane_filter = QLineEdit()
@@ -306,12 +313,43 @@ class QtProjectionPanel(QWidget):
         self.drag_combo.setCurrentIndex(min(max(prev, 0), self.drag_combo.count() - 1))
         self.drag_combo.setEnabled(self.model.n >= 4)
         self.drag_combo.blockSignals(False)
+        self._fill_pads()
 
     def _rows_for_base(self) -> None:
         """A new base: other planes bring hidden axes into view, other directions are hidden."""
         if self.sliders:
             self._place_sliders()
             self._fill_drag_combo()
+
+    def _fill_pads(self) -> None:
+        from .projection import axis_label, hidden_directions
+
+        clear_layout(self.pad_row)
+        self.pads = []
+        if self.model.n < 4:
+            return
+        H = hidden_directions(self.model.base())
+        self.pad_row.addWidget(QLabel("turn X, Y into"))
+        for r in range(len(H)):
+            pad = QtTurnPad(axis_label(H[r], self.names) or f"h{r + 1}", r)
+            pad.dragged.connect(self.turn_screen)
+            self.pad_row.addWidget(pad)
+            self.pads.append(pad)
+        self.pad_row.addStretch(1)
+
+    def turn_screen(self, hidden: int, dx: float, dy: float) -> None:
+        """Turn the projection's X by ``dx`` and Y by ``dy`` degrees against hidden direction ``hidden``
+        (one projection update; the sliders follow)."""
+        from .projection import turned_angles
+
+        a = self.model.angles.copy()
+        if dx:
+            self.model.angles[:] = turned_angles(self.model, np.array([1.0, 0.0, 0.0]), hidden, dx)
+        if dy:
+            self.model.angles[:] = turned_angles(self.model, np.array([0.0, 1.0, 0.0]), hidden, dy)
+        new = self.model.angles.copy()
+        self.model.angles[:] = a
+        self.set_angles(new)
 
     def drag_hidden(self) -> int:
         """The hidden direction a Shift-drag turns against (0: the first)."""
@@ -599,3 +637,48 @@ class QtProjectionPanel(QWidget):
         self.projectionChanged.emit()
         self.styleChanged.emit()
         self.sliceChanged.emit()
+
+
+class QtTurnPad(QWidget):
+    """A small square to drag in: ``dragged(hidden, dx, dy)`` in degrees (half a degree a pixel)."""
+
+    dragged = Signal(int, float, float)
+
+    def __init__(self, label: str, hidden: int, parent=None):
+        super().__init__(parent)
+        self.label = label
+        self.hidden = hidden
+        self._last = None
+        self.setFixedSize(44, 44)
+        self.setCursor(Qt.SizeAllCursor)
+        self.setMouseTracking(True)   # (moves count only between press and release)
+        self.setToolTip(f"drag: turn the screen's X (sideways) and Y (up, down) against {label}")
+
+    def paintEvent(self, ev) -> None:  # noqa: N802 - Qt's name
+        p = QPainter(self)
+        p.setRenderHint(QPainter.Antialiasing)
+        p.setPen(QPen(QColor("#7a869a"), 1))
+        p.setBrush(QColor("#e8ecf3" if self._last is None else "#cfd9ea"))
+        p.drawEllipse(QPointF(22, 22), 20, 20)
+        p.setPen(QColor("#333"))
+        f = p.font()
+        f.setPointSizeF(7.5)
+        p.setFont(f)
+        p.drawText(self.rect(), Qt.AlignCenter, self.label if len(self.label) <= 6 else self.label[:5] + "\u2026")
+        p.end()
+
+    def mousePressEvent(self, ev) -> None:  # noqa: N802
+        self._last = (ev.x(), ev.y())
+        self.update()
+
+    def mouseMoveEvent(self, ev) -> None:  # noqa: N802
+        if self._last is None:
+            return
+        dx, dy = ev.x() - self._last[0], ev.y() - self._last[1]
+        self._last = (ev.x(), ev.y())
+        if dx or dy:
+            self.dragged.emit(self.hidden, 0.5 * dx, -0.5 * dy)
+
+    def mouseReleaseEvent(self, ev) -> None:  # noqa: N802
+        self._last = None
+        self.update()

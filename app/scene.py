@@ -715,24 +715,10 @@ def describe(cx, names, color_by=None, labels: dict | None = None) -> str:
 
 
 def example_labels(ex) -> dict:
-    """What an example's variables mean, from the optional ``labels`` table of its file's [view]
-    (``labels = { y = "Im z" }``); the library's loader keeps only the keys it knows, so the file is read
-    again here. Unknown names and non-text values are left out; no table gives {}."""
-    import sys
-
-    if sys.version_info >= (3, 11):
-        import tomllib
-    else:  # pragma: no cover
-        import tomli as tomllib
-    try:
-        data = tomllib.loads(ex.path.read_text(encoding="utf-8"))
-    except Exception:  # noqa: BLE001 - a label is a nicety: never a reason to fail
-        return {}
-    raw = data.get("view", {}).get("labels", {}) if isinstance(data.get("view"), dict) else {}
-    if not isinstance(raw, dict):
-        return {}
-    return {k: " ".join(v.split())[:24] for k, v in raw.items()
-            if k in ex.variables and isinstance(v, str) and v.strip()}
+    """What an example's variables mean ({"y": "Im z"}): its file's ``[view] labels``, or those of its
+    complex equations (the loader's ``Example.labels``); {} when it says nothing."""
+    raw = getattr(ex, "labels", None) or {}
+    return {k: " ".join(str(v).split())[:24] for k, v in raw.items() if k in ex.variables and str(v).strip()}
 
 
 _LABELS_CACHE: dict = {}

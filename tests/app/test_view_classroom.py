@@ -136,7 +136,8 @@ def test_every_example_opens_framed(name):
     from app.scene import Style, default_camera, inside_share
 
     ex = load_example(name)
-    cx = run_job(Job(list(ex.formulas), list(ex.variables), [tuple(b) for b in ex.bounds], small_div(ex)))
+    cx = run_job(Job(list(ex.formulas), list(ex.variables), [tuple(b) for b in ex.bounds], small_div(ex),
+                     extra={"params": ex.param_values()} if ex.params else {}))
     view = ex.view
     m = ProjectionModel(n=ex.n, axes=tuple(ex.variables.index(a) for a in view["project"]),
                         mapping=view.get("mapping", "orthographic"))
@@ -278,3 +279,39 @@ def test_ply_and_obj_exports_carry_the_colours(qtbot, window, tmp_path):
     window.export_mesh(obj)
     v = [ln.split() for ln in obj.read_text().splitlines() if ln.startswith("v ")]
     assert len(v) > 0 and all(len(r) == 7 for r in v[:50]), "OBJ vertices without r g b"
+
+
+def test_colour_bar_and_axes_say_what_the_variables_mean(qtbot, window):
+    """The complex cosine's file says y is Im z: the colour bar, the subtitle and the axes say so too;
+    a system typed in (no example) keeps the bare names."""
+    from app.scene import example_labels
+
+    ex = _run_example(qtbot, window, "complex-cosine", div=12)
+    assert example_labels(ex)["y"] == "Im z"
+    sc = window.scene
+    assert sc._bar_title == "y = Im z"
+    assert "colour: y = Im z" in sc.style.subtitle
+    a = sc._axes_actor
+    assert a is not None and a.GetZAxisLabelText() == "x = Re z"
+    assert example_labels(load_example("sphere")) == {}
+
+
+def test_a_turn_pad_per_hidden_direction(qtbot):
+    from qtpy.QtCore import QPoint, Qt
+    from qtpy.QtTest import QTest
+
+    from app.qt_projection_panel import QtProjectionPanel
+
+    pp = QtProjectionPanel()
+    qtbot.addWidget(pp)
+    pp.set_variables([f"x{i + 1}" for i in range(10)], keep=False)
+    assert len(pp.pads) == 7
+    pp.show()
+    qtbot.waitExposed(pp)
+    pad = pp.pads[6]                                   # x10
+    with qtbot.waitSignal(pp.projectionChanged, timeout=2000):
+        QTest.mousePress(pad, Qt.LeftButton, Qt.NoModifier, QPoint(22, 22))
+        QTest.mouseMove(pad, QPoint(42, 22))
+        QTest.mouseRelease(pad, Qt.LeftButton, Qt.NoModifier, QPoint(42, 22))
+    P = pp.model.matrix()
+    assert abs(P[0, 9]) > 0.1 and np.allclose(P[:, 3:9], 0.0, atol=1e-9), "only x10 came into X"
