@@ -11,8 +11,8 @@ PARALLEL_JIT = dict(JIT, parallel=True)
 # inlined and take scalars.  Array arguments of an inlined call get reference-count
 # updates (atomic, shared by all threads) that numba does not prune in functions
 # as large as the chunk kernels (LLVM's refprune gives up past 1,000 basic blocks):
-# they cost more than a cube's work.  (simplex_crosses takes arrays, its scratch as one:
-# it is called only for the few simplices that pass the sign prune.)  The loop over cubes runs
+# they cost more than a cube's work.  (simplex_crosses takes arrays: it is called
+# only for the few simplices that pass the sign prune.)  The loop over cubes runs
 # inside one kernel function per chunk (`_kernels.cubes_chunk`), with scratch
 # buffers it owns.
 INLINE_JIT = dict(JIT, inline="always")

@@ -4,7 +4,7 @@ the grid lines, and the cube tables of `_tables`.  Nothing here depends on F.
 Per candidate cube H, `cubes_chunk` follows paper Section 3.1, in the cube's own frame:
   1. vertices of M_H on the CFK k-simplices of its k-faces (barycentric solve);
   2. edges of M_H on its (k+1)-faces: two vertices are joined; more are paired by
-     the walk of Section 3.1.1 (Fig. 3) through the face's CFK (k+1)-simplices (`_walk`);
+     the walk of Section 3.1.1 (Fig. 3) through the face's CFK (k+1)-simplices;
   3. cells (Section 3.1.2): for r = 2..n-k, the r-cells are the connected pieces of
      the vertex-edge graph G_H restricted to each (r+k)-face of H, written with their
      (r-1)-faces.
@@ -16,9 +16,10 @@ for the simplicial baselines CMS and CCS (Section 4).
 A chunk of cubes returns its records in cube order, and chunks are joined in
 order: the output does not depend on the number of threads.
 
-The three steps stay in one function, the walk excepted (it runs only on faces with
-more than two vertices).  Tried as three functions called per cube, each taking some 20
-arrays, they cost 0.5 to 1.6 us more per cube, where a sphere's whole cube takes 0.6 us.
+The three steps stay in one function.  Tried as three functions called per cube, each
+taking some 20 arrays, they cost 0.5 to 1.6 us more per cube, where a sphere's whole cube
+takes 0.6 us.  Even names move this function's speed (numba orders its reference
+counts by variable name): a renaming is timed like any other change to it.
 
 Glossary: the paper's terms -> the names here and in `_tables`
 --------------------------------------------------------------
@@ -63,39 +64,39 @@ INC_COLS = 3  # r, key of the r-cell X, key of its (r-1)-face Y
 
 
 @nb.njit(**INLINE_JIT)
-def simplex_crosses(values, o, corner_row, simplices, s, k, corner_signs, all_signs, work):
-    """Does the CFK simplex with cube corners simplices[s, 0..k] (chain order) hold a zero?
+def simplex_crosses(vals, o, value_off, table, s, k, pos_mask, full, mat, rhs, lam):
+    """Does the CFK simplex with cube corners table[s, 0..k] (chain order) hold a zero?
 
-    values (NV, k); corner c of the cube is row o + corner_row[c].  work (k + 2, k + 1)
-    float64 is scratch: rows 0..k-1 the matrix, row k the right-hand side, and row k + 1
-    receives the barycentric coordinates lambda_0..lambda_k.  (One scratch array, not
-    three: an inlined call takes a reference to each array argument, and these atomic
-    updates cost as much as the solve.)  Sign prune first: every component needs a
-    value >= 0 and one < 0 among the simplex's corners, else there is no solve at all.
-    The simplex comes as a table and a row, not as the row itself: a slice made per
-    simplex costs reference counting that was once most of a cube's work.  Kernels
-    prune in their own loops first and call this for the few simplices that pass.
+    vals (NV, k): F's values (`values` in the kernels); corner c of the cube is row
+    o + value_off[c] (`corner_row`); pos_mask and full are the kernels' `corner_signs`
+    and `all_signs`; lam (k+1,) receives the barycentric coordinates.  Sign prune
+    first: every component needs a value >= 0 and one < 0 among the simplex's corners,
+    else there is no solve at all.  The simplex comes as a table and a row, not as the
+    row itself: a slice made per simplex costs reference counting that was once most of
+    a cube's work.  Kernels prune in their own loops first and call this for the few
+    simplices that pass.  (The parameters keep their old names: renamed like the
+    kernels' variables, they made the inlined code 10% slower on the complex cosine.)
     """
     m = k + 1
     any_pos = 0
-    all_pos = all_signs
+    all_pos = full
     for i in range(m):
-        p = corner_signs[simplices[s, i]]
+        p = pos_mask[table[s, i]]
         any_pos |= p
         all_pos &= p
-    if any_pos != all_signs or all_pos != 0:
+    if any_pos != full or all_pos != 0:
         return False
     # Solve sum_{i>=1} lam_i (F(v_i) - F(v_0)) = -F(v_0), a k x k system.
-    r0 = o + corner_row[simplices[s, 0]]
+    r0 = o + value_off[table[s, 0]]
     for j in range(k):
-        f0 = values[r0, j]
-        work[k, j] = -f0
+        f0 = vals[r0, j]
+        rhs[j] = -f0
         for i in range(1, m):
-            work[j, i - 1] = values[o + corner_row[simplices[s, i]], j] - f0
+            mat[j, i - 1] = vals[o + value_off[table[s, i]], j] - f0
     scale = 0.0
     for j in range(k):
         for i in range(k):
-            a = abs(work[j, i])
+            a = abs(mat[j, i])
             if a > scale:
                 scale = a
     if scale == 0.0:
@@ -103,9 +104,9 @@ def simplex_crosses(values, o, corner_row, simplices, s, k, corner_signs, all_si
     tiny = scale * 1e-14
     for c in range(k):  # Gaussian elimination with partial pivoting
         piv = c
-        best = abs(work[c, c])
+        best = abs(mat[c, c])
         for rr in range(c + 1, k):
-            a = abs(work[rr, c])
+            a = abs(mat[rr, c])
             if a > best:
                 best = a
                 piv = rr
@@ -113,28 +114,28 @@ def simplex_crosses(values, o, corner_row, simplices, s, k, corner_signs, all_si
             return False
         if piv != c:
             for i in range(k):
-                t = work[c, i]
-                work[c, i] = work[piv, i]
-                work[piv, i] = t
-            t = work[k, c]
-            work[k, c] = work[k, piv]
-            work[k, piv] = t
+                t = mat[c, i]
+                mat[c, i] = mat[piv, i]
+                mat[piv, i] = t
+            t = rhs[c]
+            rhs[c] = rhs[piv]
+            rhs[piv] = t
         for rr in range(c + 1, k):
-            fac = work[rr, c] / work[c, c]
+            fac = mat[rr, c] / mat[c, c]
             if fac != 0.0:
                 for i in range(c, k):
-                    work[rr, i] -= fac * work[c, i]
-                work[k, rr] -= fac * work[k, c]
+                    mat[rr, i] -= fac * mat[c, i]
+                rhs[rr] -= fac * rhs[c]
     total = 0.0
     for c in range(k - 1, -1, -1):
-        acc = work[k, c]
+        s = rhs[c]
         for i in range(c + 1, k):
-            acc -= work[c, i] * work[m, i + 1]
-        work[m, c + 1] = acc / work[c, c]
-        total += work[m, c + 1]
-    work[m, 0] = 1.0 - total
+            s -= mat[c, i] * lam[i + 1]
+        lam[c + 1] = s / mat[c, c]
+        total += lam[c + 1]
+    lam[0] = 1.0 - total
     for i in range(m):
-        if not (work[m, i] >= 0.0):
+        if not (lam[i] >= 0.0):
             return False
     return True
 
@@ -220,113 +221,6 @@ def _records_upto(vk, vp, e, c, i, used_v, used_e, used_c, used_i):
 
 
 @nb.njit(**JIT)
-def _walk(
-    tables, kf1, values, o, corner_row, corner_signs, all_signs, work, vertex_of_ksimplex,
-    boundary_found, n_found, walked, walk_next0, walk_next1, interior_crossed, interior_simplex,
-    edge_a, edge_b, edge_face, ne,
-):
-    """The walk of paper 3.1.1 (Fig. 3) on the (k+1)-face kf1 (counted among the (k+1)-faces),
-    whose boundary nodes boundary_found[:n_found] hold a vertex: pairs them by edges, written
-    from edge ne on.  Returns (the new number of edges, degenerate events).
-
-    A function of its own: it runs only on faces with more than two vertices, so its call
-    costs nothing measurable, and the per-cube kernel stays short."""
-    k = tables.k
-    k1 = k + 1
-    walk_simplex_corners = tables.walk_simplex_corners
-    walk_simplex_nodes = tables.walk_simplex_nodes
-    walk_interior_corners = tables.walk_interior_corners
-    walk_corner_map = tables.walk_corner_map
-    walk_boundary_simplex = tables.walk_boundary_simplex
-    n_boundary = tables.walk_boundary_nodes
-    n_interior = walk_interior_corners.shape[0]
-    n_nodes = n_boundary + n_interior
-    k1face0 = tables.face_start[k1]
-    degenerate = 0
-    # The walk (Fig. 3): in each crossed (k+1)-simplex of the face, link its two crossed
-    # k-facets (nodes); then follow the links from each boundary node to the next.
-    for i in range(n_nodes):
-        walk_next0[i] = -1
-        walk_next1[i] = -1
-    for i in range(n_interior):
-        interior_crossed[i] = -1
-    for t in range(walk_simplex_corners.shape[0]):
-        any_pos = 0
-        all_pos = all_signs
-        for j in range(k1 + 1):
-            p = corner_signs[walk_corner_map[kf1, walk_simplex_corners[t, j]]]
-            any_pos |= p
-            all_pos &= p
-        if any_pos != all_signs or all_pos != 0:
-            continue
-        n_crossed = 0
-        node_a = -1
-        node_b = -1
-        for j in range(k1 + 1):
-            node = walk_simplex_nodes[t, j]
-            if node < n_boundary:
-                crossed = vertex_of_ksimplex[walk_boundary_simplex[kf1, node]] >= 0
-            else:
-                ii = node - n_boundary
-                if interior_crossed[ii] < 0:
-                    for q in range(k + 1):
-                        interior_simplex[0, q] = walk_corner_map[kf1, walk_interior_corners[ii, q]]
-                    interior_crossed[ii] = 1 if simplex_crosses(
-                        values, o, corner_row, interior_simplex, 0, k, corner_signs, all_signs, work
-                    ) else 0
-                crossed = interior_crossed[ii] == 1
-            if crossed:
-                if n_crossed == 0:
-                    node_a = node
-                elif n_crossed == 1:
-                    node_b = node
-                n_crossed += 1
-        if n_crossed == 2:
-            for pair in range(2):
-                u = node_a if pair == 0 else node_b
-                w = node_b if pair == 0 else node_a
-                if walk_next0[u] < 0:
-                    walk_next0[u] = w
-                elif walk_next1[u] < 0:
-                    walk_next1[u] = w
-                else:
-                    degenerate += 1
-        elif n_crossed != 0:
-            degenerate += 1
-    for q in range(n_found):
-        walked[q] = 0
-    for q in range(n_found):
-        if walked[q]:
-            continue
-        start = boundary_found[q]
-        before = -1
-        at = start
-        end = -1
-        for _step in range(n_nodes + 1):
-            nxt = walk_next0[at] if walk_next0[at] != before else walk_next1[at]
-            if nxt < 0:
-                break
-            before = at
-            at = nxt
-            if at < n_boundary:
-                end = at
-                break
-        if end < 0 or end == start:
-            degenerate += 1
-            walked[q] = 1
-            continue
-        for q2 in range(n_found):
-            if boundary_found[q2] == end:
-                walked[q2] = 1
-        walked[q] = 1
-        edge_a[ne] = vertex_of_ksimplex[walk_boundary_simplex[kf1, start]]
-        edge_b[ne] = vertex_of_ksimplex[walk_boundary_simplex[kf1, end]]
-        edge_face[ne] = k1face0 + kf1
-        ne += 1
-    return ne, degenerate
-
-
-@nb.njit(**JIT)
 def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex, tables):
     """GCMH on the candidate cubes lo..hi-1, in the calling thread, with one set of scratch buffers.
 
@@ -337,8 +231,6 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
     Returns (vertex keys, vertex points, edges, cells, incidences) records in cube order,
     each cube's crossed-facet mask, and the number of degenerate events.
     """
-    # The tables, unpacked once: a field read from the tuple inside the loops would
-    # take a reference each time.
     n = tables.n
     k = tables.k
     face_start = tables.face_start
@@ -352,52 +244,46 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
     ksimplex_corners = tables.ksimplex_corners
     ksimplex_face = tables.ksimplex_face
     ksimplex_perm = tables.ksimplex_perm
+    walk_simplex_corners = tables.walk_simplex_corners
+    walk_simplex_nodes = tables.walk_simplex_nodes
     walk_interior_corners = tables.walk_interior_corners
     n_boundary = tables.walk_boundary_nodes
+    walk_corner_map = tables.walk_corner_map
     walk_boundary_simplex = tables.walk_boundary_simplex
     ksimplex_corner_mask = tables.ksimplex_corner_mask
     kface_corner_mask = tables.kface_corner_mask
     k1face_corner_mask = tables.k1face_corner_mask
-
     n_ksimplices = ksimplex_corners.shape[0]
-    n_interior = walk_interior_corners.shape[0]
-    n_nodes = n_boundary + n_interior
-    n_corners = 1 << n
-    k1 = k + 1
+    n_nodes = n_boundary + walk_interior_corners.shape[0]
+    vertex_of_ksimplex = np.empty(n_ksimplices, np.int64)
+    corner_signs = np.empty(1 << n, np.int64)
     masked = ksimplex_corner_mask.shape[0] > 0  # corner sets as bit masks (n <= 6)
-    all_signs = (np.int64(1) << k) - 1  # every F_j has a corner >= 0 and one < 0
-    # scratch, per cube
-    corner_signs = np.empty(n_corners, np.int64)  # bit j: F_j >= 0 at corner c
     positive_corners = np.zeros(k, np.int64)  # bit c: F_j >= 0 at corner c
-    work = np.empty((k + 2, k + 1), np.float64)  # simplex_crosses' scratch
-    lam = work[k + 1]  # the barycentric coordinates it finds
-    vertex_of_ksimplex = np.empty(n_ksimplices, np.int64)  # -1: no vertex
+    mat = np.empty((k, k), np.float64)
+    rhs = np.empty(k, np.float64)
+    lam = np.empty(k + 1, np.float64)
+    interior_simplex = np.empty((1, k + 1), np.int64)  # one interior node's corners, as a table
+    walk_next0 = np.empty(n_nodes, np.int64)
+    walk_next1 = np.empty(n_nodes, np.int64)
+    interior_crossed = np.empty(max(walk_interior_corners.shape[0], 1), np.int8)
+    boundary_found = np.empty(n_boundary, np.int64)
+    walked = np.empty(n_boundary, np.int8)
     vertex_ksimplex = np.empty(n_ksimplices, np.int64)
     vertex_face = np.empty(n_ksimplices, np.int64)
     vertex_key = np.empty(n_ksimplices, np.int64)
-    max_edges = (face_start[k1 + 1] - face_start[k1]) * (n_boundary // 2)
+    max_edges = (face_start[k + 2] - face_start[k + 1]) * (n_boundary // 2)
     edge_a = np.empty(max_edges, np.int64)
     edge_b = np.empty(max_edges, np.int64)
     edge_face = np.empty(max_edges, np.int64)
-    boundary_found = np.empty(n_boundary, np.int64)  # the walk's boundary nodes that hold a vertex
-    walked = np.empty(n_boundary, np.int8)
-    walk_next0 = np.empty(n_nodes, np.int64)  # a crossed node's two neighbours on the walk
-    walk_next1 = np.empty(n_nodes, np.int64)
-    interior_crossed = np.empty(max(n_interior, 1), np.int8)  # -1 unknown, 0 no, 1 yes
-    interior_simplex = np.empty((1, k + 1), np.int64)  # one interior node's corners, as a table
-    parent = np.empty(n_ksimplices, np.int64)  # union-find over the vertices
+    parent = np.empty(n_ksimplices, np.int64)
     cell_of_root = np.empty(n_ksimplices, np.int64)
-    # The cells of two levels r - 1 and r (rows: face, a vertex of the piece, key), in the planes
-    # (r - 1) % 2 and r % 2.  A piece has two vertices or more, and a vertex on a k-face lies in
-    # C(n-k, d-k) d-faces: a level never has more than n_ksimplices * max C(n-k, d-k) / 2 rows.
-    most_faces = 1
-    for d in range(k, n + 1):
-        most_faces = max(most_faces, binom[n - k, d - k])
-    level_cells = np.empty((2, max(max_edges, n_ksimplices * (most_faces + 1)), 3), np.int64)
-    # records
+    cells_buf_a = np.empty((4 * n_ksimplices, 3), np.int64)
+    cells_buf_b = np.empty((4 * n_ksimplices, 3), np.int64)
     vk_out, vp_out, e_out, c_out, i_out = _new_records(8 * (hi - lo) + 16, n)
     used_v = used_e = used_c = used_i = 0  # rows written
     crossed_facets = np.zeros(hi - lo, np.int64)
+    n_corners = 1 << n
+    all_signs = (np.int64(1) << k) - 1
     degenerate = 0
     for ci in range(lo, hi):
         o = cube_row[ci]
@@ -452,7 +338,7 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
                     if any_pos != all_signs or all_pos != 0:
                         continue
                 if simplex_crosses(
-                    values, o, corner_row, ksimplex_corners, s, k, corner_signs, all_signs, work
+                    values, o, corner_row, ksimplex_corners, s, k, corner_signs, all_signs, mat, rhs, lam
                 ):
                     vertex_of_ksimplex[s] = nv
                     vertex_ksimplex[nv] = s
@@ -467,13 +353,13 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
                         + ksimplex_perm[s]
                     )
                     vk_out[row] = vertex_key[nv]
-                    for a in range(n):  # v = sum_i lam_i v_i
+                    for a in range(n):
                         x = 0.0
                         for i in range(k + 1):
                             x += lam[i] * grid_lines[a, cube_origin[ci, a] + ((ksimplex_corners[s, i] >> a) & 1)]
                         vp_out[row, a] = x
                     nv += 1
-        # the cube's facets that M_A crosses (bit 2a + side): where continuation goes next
+        # facets of the cube that M_A crosses (bit 2a + side): where continuation goes next
         facets = np.int64(0)
         for v in range(nv):
             f = vertex_face[v]
@@ -485,9 +371,12 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
             continue
 
         # 2. Edges on the (k+1)-faces: two vertices are joined, more by the walk (paper 3.1.1)
+        k1 = k + 1
         k1face0 = face_start[k1]
+        n_k1faces = face_start[k1 + 1] - k1face0
         ne = 0
-        for kf1 in range(face_start[k1 + 1] - k1face0):
+        n_interior = walk_interior_corners.shape[0]
+        for kf1 in range(n_k1faces):
             if masked:  # no vertex on a face where some F_j has one sign
                 m = k1face_corner_mask[kf1]
                 out = False
@@ -510,54 +399,131 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
                 edge_face[ne] = k1face0 + kf1
                 ne += 1
                 continue
-            # more than two: the walk of Fig. 3 pairs them
-            ne, deg = _walk(
-                tables, kf1, values, o, corner_row, corner_signs, all_signs, work, vertex_of_ksimplex,
-                boundary_found, n_found, walked, walk_next0, walk_next1, interior_crossed, interior_simplex,
-                edge_a, edge_b, edge_face, ne,
-            )
-            degenerate += deg
+            # The walk (Fig. 3): in each crossed (k+1)-simplex of the face, link its two crossed
+            # k-facets (nodes); then follow the links from each boundary node to the next.
+            for i in range(n_boundary + n_interior):
+                walk_next0[i] = -1
+                walk_next1[i] = -1
+            for i in range(n_interior):
+                interior_crossed[i] = -1
+            for t in range(walk_simplex_corners.shape[0]):
+                any_pos = 0
+                all_pos = all_signs
+                for j in range(k1 + 1):
+                    p = corner_signs[walk_corner_map[kf1, walk_simplex_corners[t, j]]]
+                    any_pos |= p
+                    all_pos &= p
+                if any_pos != all_signs or all_pos != 0:
+                    continue
+                n_crossed = 0
+                node_a = -1
+                node_b = -1
+                for j in range(k1 + 1):
+                    node = walk_simplex_nodes[t, j]
+                    if node < n_boundary:
+                        crossed = vertex_of_ksimplex[walk_boundary_simplex[kf1, node]] >= 0
+                    else:
+                        ii = node - n_boundary
+                        if interior_crossed[ii] < 0:
+                            for q in range(k + 1):
+                                interior_simplex[0, q] = walk_corner_map[kf1, walk_interior_corners[ii, q]]
+                            interior_crossed[ii] = 1 if simplex_crosses(
+                                values, o, corner_row, interior_simplex, 0, k, corner_signs, all_signs, mat, rhs, lam
+                            ) else 0
+                        crossed = interior_crossed[ii] == 1
+                    if crossed:
+                        if n_crossed == 0:
+                            node_a = node
+                        elif n_crossed == 1:
+                            node_b = node
+                        n_crossed += 1
+                if n_crossed == 2:
+                    for pair in range(2):
+                        u = node_a if pair == 0 else node_b
+                        w = node_b if pair == 0 else node_a
+                        if walk_next0[u] < 0:
+                            walk_next0[u] = w
+                        elif walk_next1[u] < 0:
+                            walk_next1[u] = w
+                        else:
+                            degenerate += 1
+                elif n_crossed != 0:
+                    degenerate += 1
+            for q in range(n_found):
+                walked[q] = 0
+            for q in range(n_found):
+                if walked[q]:
+                    continue
+                start = boundary_found[q]
+                before = -1
+                at = start
+                end = -1
+                for _step in range(n_boundary + n_interior + 1):
+                    nxt = walk_next0[at] if walk_next0[at] != before else walk_next1[at]
+                    if nxt < 0:
+                        break
+                    before = at
+                    at = nxt
+                    if at < n_boundary:
+                        end = at
+                        break
+                if end < 0 or end == start:
+                    degenerate += 1
+                    walked[q] = 1
+                    continue
+                for q2 in range(n_found):
+                    if boundary_found[q2] == end:
+                        walked[q2] = 1
+                walked[q] = 1
+                edge_a[ne] = vertex_of_ksimplex[walk_boundary_simplex[kf1, start]]
+                edge_b[ne] = vertex_of_ksimplex[walk_boundary_simplex[kf1, end]]
+                edge_face[ne] = k1face0 + kf1
+                ne += 1
 
         # 3. Cells (paper 3.1.2): for r = 1..n-k, the r-cells are the connected pieces of the
         # vertex-edge graph inside each (r+k)-face; for r = 1 they are the edges themselves.
+        # Rows of lower/cells: (face, a vertex of the piece, key); the buffers swap per level.
+        lower = cells_buf_a
+        cells = cells_buf_b
+        if lower.shape[0] < ne:
+            lower = np.empty((ne, 3), np.int64)
         for e in range(ne):
             f = edge_face[e]
-            va = edge_a[e]
-            vb = edge_b[e]
             ca = _local_code(
-                face_free[f], face_free[vertex_face[va]], face_fixed[vertex_face[va]],
-                ksimplex_perm[vertex_ksimplex[va]], k, kfact, binom,
+                face_free[f], face_free[vertex_face[edge_a[e]]], face_fixed[vertex_face[edge_a[e]]],
+                ksimplex_perm[vertex_ksimplex[edge_a[e]]], k, kfact, binom,
             )
             cb = _local_code(
-                face_free[f], face_free[vertex_face[vb]], face_fixed[vertex_face[vb]],
-                ksimplex_perm[vertex_ksimplex[vb]], k, kfact, binom,
+                face_free[f], face_free[vertex_face[edge_b[e]]], face_fixed[vertex_face[edge_b[e]]],
+                ksimplex_perm[vertex_ksimplex[edge_b[e]]], k, kfact, binom,
             )
-            level_cells[1, e, 0] = f
-            level_cells[1, e, 1] = va
-            level_cells[1, e, 2] = (
+            lower[e, 0] = f
+            lower[e, 1] = edge_a[e]
+            lower[e, 2] = (
                 _face_key(g_vertex + corner_vertex[face_fixed[f]], n_subsets[k1], face_rank[f]) * n_codes[k1]
                 + min(ca, cb)
             )
             row = used_e + e
             if row >= e_out.shape[0]:
                 e_out = _grown_rows(e_out, row)
-            e_out[row, 0] = level_cells[1, e, 2]
-            e_out[row, 1] = vertex_key[va]
-            e_out[row, 2] = vertex_key[vb]
+            e_out[row, 0] = lower[e, 2]
+            e_out[row, 1] = vertex_key[edge_a[e]]
+            e_out[row, 2] = vertex_key[edge_b[e]]
         n_lower = ne
         n_cells = 0
         n_incidences = 0
         for r in range(2, n - k + 1):
             dim = r + k
-            here = r & 1
-            below = 1 - here
+            face0 = face_start[dim]
+            n_faces = face_start[dim + 1] - face0
             n_here = 0
-            for f in range(face_start[dim], face_start[dim + 1]):
-                ff = face_free[f]
-                fx = face_fixed[f]
+            for fi in range(n_faces):
+                f = face0 + fi
                 n_in = 0
                 for v in range(nv):
-                    if _face_in_face(face_free[vertex_face[v]], face_fixed[vertex_face[v]], ff, fx):
+                    if _face_in_face(
+                        face_free[vertex_face[v]], face_fixed[vertex_face[v]], face_free[f], face_fixed[f]
+                    ):
                         parent[v] = v
                         n_in += 1
                     else:
@@ -566,7 +532,7 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
                     continue
                 has_edge = False
                 for e in range(ne):
-                    if _face_in_face(face_free[edge_face[e]], face_fixed[edge_face[e]], ff, fx):
+                    if _face_in_face(face_free[edge_face[e]], face_fixed[edge_face[e]], face_free[f], face_fixed[f]):
                         has_edge = True
                         ra = _find(parent, edge_a[e])
                         rb = _find(parent, edge_b[e])
@@ -578,9 +544,14 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
                 for v in range(nv):
                     cell_of_root[v] = -1
                 for e in range(ne):
-                    if _face_in_face(face_free[edge_face[e]], face_fixed[edge_face[e]], ff, fx):
+                    if _face_in_face(face_free[edge_face[e]], face_fixed[edge_face[e]], face_free[f], face_fixed[f]):
                         cell_of_root[_find(parent, edge_a[e])] = -2
+                if cells.shape[0] < n_here + n_in:  # rare: grow the buffer
+                    grown = np.empty((2 * (n_here + n_in), 3), np.int64)
+                    grown[:n_here] = cells[:n_here]
+                    cells = grown
                 first = n_here
+                ff = face_free[f]
                 for v in range(nv):  # a root is its piece's smallest vertex index: it comes first
                     if parent[v] >= 0:
                         root = _find(parent, v)
@@ -592,28 +563,27 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
                             if cell_of_root[v] != -2:
                                 continue
                             cell_of_root[v] = n_here
-                            level_cells[here, n_here, 0] = f
-                            level_cells[here, n_here, 1] = v
-                            level_cells[here, n_here, 2] = code
+                            cells[n_here, 0] = f
+                            cells[n_here, 1] = v
+                            cells[n_here, 2] = code
                             n_here += 1
                         else:
                             c = cell_of_root[root]
-                            if c >= 0 and code < level_cells[here, c, 2]:
-                                level_cells[here, c, 2] = code
-                fkey = _face_key(g_vertex + corner_vertex[fx], n_subsets[dim], face_rank[f]) * n_codes[dim]
+                            if c >= 0 and code < cells[c, 2]:
+                                cells[c, 2] = code
+                fkey = _face_key(g_vertex + corner_vertex[face_fixed[f]], n_subsets[dim], face_rank[f]) * n_codes[dim]
                 for c in range(first, n_here):
-                    level_cells[here, c, 2] += fkey
+                    cells[c, 2] += fkey
                     row = used_c + n_cells + c
                     if row >= c_out.shape[0]:
                         c_out = _grown_rows(c_out, row)
                     c_out[row, 0] = r
-                    c_out[row, 1] = level_cells[here, c, 2]
-                # its (r-1)-faces: each (r-1)-cell in a face g of f lies in one piece of f
+                    c_out[row, 1] = cells[c, 2]
+                # its (r-1)-faces: each lower-level piece in a face g of f lies in one piece of f
                 for y in range(n_lower):
-                    g = level_cells[below, y, 0]
-                    if not _face_in_face(face_free[g], face_fixed[g], ff, fx):
+                    if not _face_in_face(face_free[lower[y, 0]], face_fixed[lower[y, 0]], face_free[f], face_fixed[f]):
                         continue
-                    rep = level_cells[below, y, 1]
+                    rep = lower[y, 1]
                     if parent[rep] < 0:
                         degenerate += 1
                         continue
@@ -621,17 +591,21 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
                     if row >= i_out.shape[0]:
                         i_out = _grown_rows(i_out, row)
                     i_out[row, 0] = r
-                    i_out[row, 1] = level_cells[here, cell_of_root[_find(parent, rep)], 2]
-                    i_out[row, 2] = level_cells[below, y, 2]
+                    i_out[row, 1] = cells[cell_of_root[_find(parent, rep)], 2]
+                    i_out[row, 2] = lower[y, 2]
                     n_incidences += 1
             n_cells += n_here
+            swap = lower
+            lower = cells
+            cells = swap
             n_lower = n_here
         used_v += nv
         used_e += ne
         used_c += n_cells
         used_i += n_incidences
-    records = _records_upto(vk_out, vp_out, e_out, c_out, i_out, used_v, used_e, used_c, used_i)
-    return records, crossed_facets, degenerate
+    return (
+        _records_upto(vk_out, vp_out, e_out, c_out, i_out, used_v, used_e, used_c, used_i), crossed_facets, degenerate
+    )
 
 
 # ----------------------------------------------------------------------------- simplicial baselines (CMS, CCS)
@@ -669,8 +643,9 @@ def simplices_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lin
 
     crossed = np.empty(dim_start[n + 1], np.int64)  # 1 where the simplex holds a cell of M_A
     corner_signs = np.empty(1 << n, np.int64)
-    work = np.empty((k + 2, k + 1), np.float64)  # simplex_crosses' scratch
-    lam = work[k + 1]  # the barycentric coordinates it finds
+    mat = np.empty((k, k), np.float64)
+    rhs = np.empty(k, np.float64)
+    lam = np.empty(k + 1, np.float64)
     vk_out, vp_out, e_out, c_out, i_out = _new_records(16 * (hi - lo) + 16, n)
     used_v = used_e = used_c = used_i = 0  # rows written
     crossed_facets = np.zeros(hi - lo, np.int64)
@@ -715,7 +690,7 @@ def simplices_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lin
                     all_pos &= p
                 if any_pos != all_signs or all_pos != 0:
                     continue
-            if simplex_crosses(values, o, corner_row, simplex_corners, s, k, corner_signs, all_signs, work):
+            if simplex_crosses(values, o, corner_row, simplex_corners, s, k, corner_signs, all_signs, mat, rhs, lam):
                 crossed[s] = 1
                 facets |= simplex_cube_facets[s]
                 if used_v >= vk_out.shape[0]:
@@ -776,8 +751,9 @@ def simplices_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lin
                         i_out[used_i, 1] = key
                         i_out[used_i, 2] = _simplex_key(g_vertex, corner_vertex, simplex_c0, simplex_code, key_base, f)
                         used_i += 1
-    records = _records_upto(vk_out, vp_out, e_out, c_out, i_out, used_v, used_e, used_c, used_i)
-    return records, crossed_facets, degenerate
+    return (
+        _records_upto(vk_out, vp_out, e_out, c_out, i_out, used_v, used_e, used_c, used_i), crossed_facets, degenerate
+    )
 
 
 # ----------------------------------------------------------------------------- the candidate pass

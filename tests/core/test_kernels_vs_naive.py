@@ -516,8 +516,9 @@ def test_simplex_crosses_matches_naive_solve(k):
     corner_off = np.arange(m, dtype=np.int64)
     corners = np.arange(m, dtype=np.int64)[None]  # one simplex, as a table
     full = (1 << k) - 1
-    work = np.empty((k + 2, k + 1))
-    lam = work[k + 1]  # where the barycentric coordinates come out
+    mat = np.empty((k, k))
+    rhs = np.empty(k)
+    lam = np.empty(k + 1)
     hits = 0
     for trial in range(3000):
         vals = rng.normal(size=(m, k))
@@ -529,7 +530,7 @@ def test_simplex_crosses_matches_naive_solve(k):
             for j in range(k):
                 if vals[i, j] >= 0:
                     pos_mask[i] |= 1 << j
-        got = simplex_crosses(vals, 0, corner_off, corners, 0, k, pos_mask, full, work)
+        got = simplex_crosses(vals, 0, corner_off, corners, 0, k, pos_mask, full, mat, rhs, lam)
         want = simplex_lambdas(vals)
         assert got == (want is not None), (k, trial, vals, want)
         if got:
@@ -541,13 +542,12 @@ def test_simplex_crosses_matches_naive_solve(k):
 def test_simplex_crosses_singular_and_offsets():
     from gcmh_core._kernels import simplex_crosses
     k = 2
-    work = np.empty((k + 2, k + 1))
-    lam = work[k + 1]
+    mat, rhs, lam = np.empty((k, k)), np.empty(k), np.empty(k + 1)
     # identical components -> singular -> no vertex, in both
     vals = np.array([[-1.0, -1.0], [1.0, 1.0], [2.0, 2.0]])
     pos = np.array([0, 3, 3], np.int64)
     idx = np.arange(3, dtype=np.int64)
-    assert not simplex_crosses(vals, 0, idx, idx[None], 0, k, pos, 3, work)
+    assert not simplex_crosses(vals, 0, idx, idx[None], 0, k, pos, 3, mat, rhs, lam)
     assert simplex_lambdas(vals) is None
     # rows reached through o + corner_off[corner]: same answer as the packed layout
     rng = np.random.default_rng(9)
@@ -557,7 +557,7 @@ def test_simplex_crosses_singular_and_offsets():
     corner_off = np.array([0, 3, 7, 11], np.int64)     # "corner" c lives at row o + corner_off[c]
     corners = np.array([[9, 9, 9], [0, 1, 2]], np.int64)  # the simplex is row 1
     posm = np.array([(v >= 0) @ [1, 2] for v in big[5 + corner_off]], np.int64)
-    assert simplex_crosses(big, 5, corner_off, corners, 1, k, posm, 3, work)
+    assert simplex_crosses(big, 5, corner_off, corners, 1, k, posm, 3, mat, rhs, lam)
     assert np.allclose(lam, [0.5, 0.2, 0.3])
 
 
