@@ -79,16 +79,45 @@ def check_variables(text: str, n: int) -> str | None:
     return None
 
 
-def check_formula(text: str, names, index: int) -> str | None:
-    """None when ``text`` parses as component ``index`` of F in ``names``, else the parser's message.
-    (The panel calls this in a worker thread: a long formula never blocks the window.)"""
-    from gcmh_core.formula import check_component
+def check_formula(text: str, names, index: int, params=()) -> str | None:
+    """None when ``text`` parses as component ``index`` of F in ``names`` (with the parameters named in
+    ``params``), else the parser's message. (The panel calls this in a worker thread: a long formula
+    never blocks the window.)"""
+    from gcmh_core.formula import check_component, find_parameters
 
     try:
-        check_component(text, list(names), index)
+        if not params:
+            check_component(text, list(names), index)
+            return None
+        check_component(text, list(names), index, allow_parameters=True)
+        unknown = [p for p in find_parameters(text, list(names)) if p not in params]
     except Exception as e:  # noqa: BLE001 - FormulaError or any InputError
         return str(e)
+    if unknown:
+        return (f"component {index + 1} (F{index + 1}): unknown name {unknown[0]!r} (variables: {', '.join(names)}; "
+                f"parameters: {', '.join(params)})")
     return None
+
+
+def check_params(text: str, names) -> tuple[str | None, dict[str, float]]:
+    """The parameters field, ``a = 0.5, b = pi/4``: (a message or None, {name: value})."""
+    out: dict[str, float] = {}
+    for part in [p for p in re.split(r"[,;]", text) if p.strip()]:
+        name, eq, value = part.partition("=")
+        name = name.strip()
+        if not eq:
+            return f"parameters: write NAME = VALUE, got {part.strip()!r}", {}
+        if not _IDENT.match(name) or name in RESERVED:
+            return f"parameters: {name!r} cannot be a parameter's name", {}
+        if name in names:
+            return f"parameters: {name!r} is a variable", {}
+        if name in out:
+            return f"parameters: {name!r} appears twice", {}
+        try:
+            out[name] = parse_number(value)
+        except NumberError as e:
+            return f"parameters: {name}: {e}", {}
+    return None, out
 
 
 def check_nk(n: int, k: int) -> str | None:

@@ -6,7 +6,7 @@ runs it synchronously (the headless path, and the worker threads of
 ``view_data`` prepares the drawing arrays and the topology report of a result off
 the GUI thread.
 
-The numba kernels compile once per install (cached on disk), 40-60 s on two cores
+The numba kernels compile once per install (cached on disk), 25-55 s on two cores
 the first time: :func:`start_warm_up` compiles (or loads) them in a background
 thread as the app starts, with a tiny extraction by each method, so the first
 Run rarely waits; a run started meanwhile waits for it (:class:`WarmUp`).
@@ -19,9 +19,9 @@ import time
 import traceback
 from dataclasses import dataclass, field
 
-# what the first run on a new install waits while the kernels compile (measured on a busy 2-core machine:
-# gcmh 43 s, gcch 1.4 s, cms 9.5 s, ccs 0.01 s after those)
-COMPILE_NOTE = "about a minute"
+# what the first run on a new install waits while the kernels compile (measured on 2 cores: gcmh 23 s quiet,
+# 43 s busy; then gcch 1.4 s, cms 9.5 s, ccs 0.01 s)
+COMPILE_NOTE = "half a minute to a minute"
 
 
 @dataclass
@@ -37,6 +37,7 @@ class Job:
     start: list | str | None = None   # for continuation: a point, or "auto"
     scheduler: str | None = None      # None: this process; "local" or "tcp://host:port": a Dask cluster
     force: bool = False               # run even when the estimate says it won't fit (the user agreed)
+    params: dict | None = None        # the formulas' parameters, {name: value}
     extra: dict = field(default_factory=dict)
 
     def kwargs(self) -> dict:
@@ -48,6 +49,8 @@ class Job:
             kw["scheduler"] = self.scheduler
         if self.force:
             kw["force"] = True
+        if self.params:
+            kw["params"] = dict(self.params)
         kw.update(self.extra)
         return kw
 
@@ -64,7 +67,8 @@ def estimate_job(job: Job):
     running it. Bad input raises the InputError the run would."""
     from gcmh_core.budget import estimate
 
-    return estimate(list(job.formulas), [tuple(b) for b in job.bounds], job.div, variables=list(job.variables),
+    F = system_of(job) if job.params else list(job.formulas)   # (the estimate takes parameters as a System)
+    return estimate(F, [tuple(b) for b in job.bounds], job.div, variables=list(job.variables),
                     method=job.method, scheduler=job.scheduler or None)
 
 
@@ -153,7 +157,7 @@ def system_of(job: Job):
     """The parsed F of a job (a gcmh_core.formula.System)."""
     from gcmh_core.formula import parse_system
 
-    return parse_system(list(job.formulas), list(job.variables))
+    return parse_system(list(job.formulas), list(job.variables), params=dict(job.params) if job.params else None)
 
 
 def topology_of(cx, job: Job | None = None) -> dict | None:

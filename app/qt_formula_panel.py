@@ -292,6 +292,16 @@ class QtFormulaPanel(QWidget):
         self.formula_edits: list[QLineEdit] = []
         self.formula_errors: list[QLabel] = []
         self.formula_labels: list[QLabel] = []
+        pform = QFormLayout()
+        pform.setFieldGrowthPolicy(QFormLayout.AllNonFixedFieldsGrow)
+        self.params_edit = QLineEdit()
+        self.params_edit.setPlaceholderText("none (e.g. a = 0.5, b = pi/4)")
+        self.params_edit.setToolTip("values of the formulas' parameters: names that are neither a variable nor "
+                                    "a function, NAME = VALUE separated by commas")
+        pform.addRow("parameters", self.params_edit)
+        sl.addLayout(pform)
+        self.params_error = _error_label()
+        sl.addWidget(self.params_error)
 
         # --- domain -------------------------------------------------------
         dom_box, dl = group(lay, "Domain and grid")
@@ -362,6 +372,7 @@ class QtFormulaPanel(QWidget):
         self.per_axis.toggled.connect(self._on_per_axis)
         self.method_combo.currentIndexChanged.connect(self._on_method)
         self.start_edit.textChanged.connect(self._validate)
+        self.params_edit.textChanged.connect(self._validate)
         self.scheduler_edit.textChanged.connect(self._validate)
         self.seed_spin.valueChanged.connect(lambda *_: self.changed.emit())
 
@@ -509,6 +520,10 @@ class QtFormulaPanel(QWidget):
             self._update_table_headers()
         names = self.variables()
 
+        m, params = inputs.check_params(self.params_edit.text(), names)
+        _mark(self.params_edit, self.params_error, m)
+        if m:
+            errs["parameters"] = m
         wanted: set[tuple] = set()
         for i, (ed, lab) in enumerate(zip(self.formula_edits, self.formula_errors)):
             msg = None
@@ -519,7 +534,7 @@ class QtFormulaPanel(QWidget):
             elif "variables" in errs:
                 msg = None
             else:
-                key = (ed.text(), tuple(names), i)
+                key = (ed.text(), tuple(names), i, tuple(params))
                 if key in self._answers:
                     msg = self._answers[key]
                 else:   # not checked yet: keep the field's mark until the answer comes
@@ -709,7 +724,11 @@ class QtFormulaPanel(QWidget):
         """The job of the panel's contents as they stand (call when valid)."""
         return Job(formulas=self.formulas(), variables=self.variables(), bounds=self.bounds(),
                    div=self.div(), method=self.method(), seed=self.seed_spin.value(), start=self.start(),
-                   scheduler=check_scheduler(self.scheduler_edit.text())[1])
+                   scheduler=check_scheduler(self.scheduler_edit.text())[1], params=self.params() or None)
+
+    def params(self) -> dict[str, float]:
+        """The parameters' values ({} when there are none or the field is wrong)."""
+        return inputs.check_params(self.params_edit.text(), self.variables())[1]
 
     def _ask_estimate(self) -> None:
         if self._estimate_key is None or not self._valid:
@@ -744,6 +763,7 @@ class QtFormulaPanel(QWidget):
             "method": self.method(), "seed": self.seed_spin.value(),
             "start": self.start_edit.text(),
             "scheduler": self.scheduler_edit.text().strip(),
+            "params": self.params_edit.text(),
         }
 
     def set_state(self, d: dict) -> None:
@@ -800,6 +820,10 @@ class QtFormulaPanel(QWidget):
                 start = ", ".join(format_number(v) for v in start)
             self.start_edit.setText(start or "")
             self.scheduler_edit.setText(str(d.get("scheduler") or ""))
+            params = d.get("params") or ""
+            if isinstance(params, dict):
+                params = ", ".join(f"{p} = {v if isinstance(v, str) else format_number(v)}" for p, v in params.items())
+            self.params_edit.setText(str(params))
         finally:
             self._building = False
         self.table.setColumnHidden(2, not self.per_axis.isChecked())

@@ -71,3 +71,20 @@ def test_check_formula_refuses_pathological_text_with_a_limit():
                                           (9000, "2.5 h"), (86400 * 5, "5 days")])
 def test_human_seconds(seconds, text):
     assert inputs.human_seconds(seconds) == text
+
+
+def test_check_params_reads_name_value_pairs():
+    assert inputs.check_params("", ["x"]) == (None, {})
+    err, values = inputs.check_params("a = 0.5, b = pi/4", ["x", "y"])
+    assert err is None and values == pytest.approx({"a": 0.5, "b": math.pi / 4})
+    for bad, words in [("a 0.5", "NAME = VALUE"), ("x = 1", "is a variable"), ("a = 1, a = 2", "twice"),
+                       ("sin = 1", "cannot be"), ("a = 1/0", "a:")]:
+        err, values = inputs.check_params(bad, ["x", "y"])
+        assert err and words in err and values == {}
+
+
+def test_check_formula_with_parameters():
+    names = ["x", "y", "z"]
+    assert inputs.check_formula("x^2 + y^2 - z^2 - a", names, 0, ("a",)) is None
+    assert "'b'" in inputs.check_formula("x^2 + y^2 - z^2 - a*b", names, 0, ("a",))
+    assert "'a'" in inputs.check_formula("x^2 + y^2 - z^2 - a", names, 0)   # no parameters given

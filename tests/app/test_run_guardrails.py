@@ -198,13 +198,13 @@ def test_a_slow_formula_check_never_blocks_the_window(qtbot, window, monkeypatch
     real = app.inputs.check_formula
     spans = []
 
-    def slow(text, names, index):   # pure Python work, as a slow parse would be (it holds the GIL by turns)
+    def slow(text, names, index, params=()):   # pure Python work, as a slow parse would be (holds the GIL by turns)
         t0 = time.perf_counter()
         x = 0
         while time.perf_counter() - t0 < 0.8:
             x += 1
         spans.append((t0, time.perf_counter(), text))
-        return real(text, names, index)
+        return real(text, names, index, params)
 
     monkeypatch.setattr(app.inputs, "check_formula", slow)
     p = window.formula_panel
@@ -350,3 +350,27 @@ def test_every_undo_changes_what_the_panels_show(qtbot, window):
         assert (p.state(), pp.state()) != before
     assert window.redo()
     assert p.state() != first
+
+
+# --------------------------------------------------------------------------- parameters
+def test_an_example_with_parameters_runs_and_its_values_are_used(qtbot, window):
+    from gcmh_core.examples import load_example
+
+    ex = load_example("hyperboloid")
+    assert ex.params   # (a = 0.5: a hyperboloid of one sheet, chi = 0)
+    window.load_example("hyperboloid", div=16)
+    from app_helpers import wait_run
+
+    assert wait_run(qtbot, window) == "done", window.last_status
+    assert window.result.euler_characteristic() == 0
+    p = window.formula_panel
+    assert p.params() == ex.param_values()
+    p.params_edit.setText("a = -0.5")   # two sheets: two discs
+    assert run_and_wait(qtbot, window) == "done"
+    assert window.result.euler_characteristic() == 2
+    p.params_edit.setText("")            # the formula's parameter has no value now: refused next to the field
+    settle(qtbot, p)
+    assert not p.is_valid() and "'a'" in p.formula_errors[0].text()
+    p.params_edit.setText("a = 1/0")
+    settle(qtbot, p)
+    assert not p.is_valid() and p.params_error.text().startswith("parameters: a:")
