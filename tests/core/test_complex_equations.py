@@ -4,14 +4,13 @@ import json
 
 import numpy as np
 import pytest
+from test_parameters import same_complex  # (rootdir-style import, as test_properties does)
 
 from gcmh_core import extract
 from gcmh_core.cli import main
 from gcmh_core.complex_equations import DEFAULT_BOUNDS, complex_view, split_complex
 from gcmh_core.examples import load_example
 from gcmh_core.formula import FormulaError, parse_system
-
-from test_parameters import same_complex  # (rootdir-style import, as test_properties does)
 
 COSINE_BY_HAND = ["x - cos(u)*cosh(v)", "y + sin(u)*sinh(v)"]  # the paper's Section 6.1
 SQRT_BY_HAND = ["a**2 - b**2 - c", "2*a*b - d"]
