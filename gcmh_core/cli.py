@@ -358,6 +358,8 @@ def _job_from_args(args) -> dict:
         from .extract import CONTINUATION_METHODS
 
         start = ex.start if args.method.strip().lower() in CONTINUATION_METHODS else None
+        if start is not None and params != (ex.param_values() or None):
+            start = "auto"  # (the example's start point lies on M at its default values only)
         name = ex.name
     elif args.complex:
         from .complex_equations import DEFAULT_BOUNDS, split_complex

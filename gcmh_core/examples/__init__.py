@@ -90,7 +90,8 @@ class Example:
     bounds: list of n (lo, hi) float pairs; div: int or list of n ints;
     start: a point of M (list of n floats); view: dict(mapping=orthographic|perspective|stereographic,
     project=[3 variable names], color=variable name); path: the file it was read from.
-    params: {name: {"value", "min", "max"}} (floats) for each parameter of the formulas;
+    params: {name: {"value", "min", "max"}} (floats) for each parameter of the formulas
+    (``start`` lies on M at the values);
     complex / complex_variables: the equations over C^m the formulas were split from
     (else None); labels: {variable: what it means, e.g. "Re w"}.
     """

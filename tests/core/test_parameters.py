@@ -194,5 +194,9 @@ def test_cli_example_parameters_default_and_override(capsys):
     assert "hyperboloid at a = -0.3" in out and "Euler characteristic 2" in out
     assert main(["extract", "--example", "hyperboloid", "--div", "24", "--param", "a=0", "-q"]) == 0
     assert re.search(r"notice: F's Jacobian nearly loses rank at \d+ vertices", capsys.readouterr().out)
+    # continuation from the example's start point, which lies on M only at a = 0.5: "auto" otherwise
+    assert main(["extract", "--example", "hyperboloid", "--div", "24", "--param", "a=-0.3", "--method", "gcch",
+                 "-q"]) == 0
+    assert "Euler characteristic 2" in capsys.readouterr().out
     assert main(["examples"]) == 0
     assert "a = 0.5 in [-1, 1]" in capsys.readouterr().out
