@@ -419,8 +419,8 @@ def estimate(
     """The cost of `extract(F, bounds, div, ...)` with the same arguments, without running it
     (`gcmh extract --dry-run`; the app shows it before a run).  Bad arguments raise the
     InputError `extract` would."""
-    from ._validate import prepare  # noqa: PLC0415
     from ._methods import METHODS  # noqa: PLC0415
+    from ._validate import prepare  # noqa: PLC0415
 
     if method not in METHODS:
         raise InputError(f"unknown method {method!r}; choose from {', '.join(METHODS)}")

@@ -45,7 +45,8 @@ def _both(F, bounds, div, monkeypatch, **kw):
 @pytest.mark.parametrize("name", EXAMPLES)
 def test_pruned_equals_plain_on_every_example(name, monkeypatch):
     ex = next(e for e in list_examples() if e.name == name)
-    plain, pruned = _both(ex.formulas, ex.bounds, SMALL_DIV[ex.n], monkeypatch, variables=ex.variables)
+    plain, pruned = _both(ex.formulas, ex.bounds, SMALL_DIV[ex.n], monkeypatch, variables=ex.variables,
+                          params=ex.param_values() or None)
     assert len(plain.vertices) > 0
     assert 0 < pruned.meta["pruned_cubes"] < pruned.meta["cubes"]
 
