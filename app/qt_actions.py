@@ -55,7 +55,7 @@ class QtScreenshotDialog(QDialog):
 
 def big_run_text(est, gcch: bool) -> str:
     """What the big-run question says about ``est`` (a gcmh_core.budget.Estimate that doesn't fit)."""
-    if est.peak_bytes > est.available_bytes:
+    if not est.fits_memory:
         what = (f"This run needs about {human_bytes(est.peak_bytes)} of memory "
                 f"({est.cubes:,} cubes), but only {human_bytes(est.available_bytes)} is available.")
     else:

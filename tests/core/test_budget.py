@@ -169,7 +169,7 @@ def test_message_names_the_estimate_and_the_remedies(monkeypatch):
         budget.check_budget(est)
     message = str(info.value)
     assert "\n" not in message
-    for words in ("needs about", "GB", "1 GB is available", "smaller div", "gcch", "cluster", "force"):
+    for words in ("needs about", "GB", "the 1 GB available", "smaller div", "gcch", "cluster", "force"):
         assert words in message
     d = est.as_dict()
     assert d["fits"] is False and d["div"] == [40] * 6 and json.dumps(d)

@@ -101,7 +101,7 @@ def test_complex_cosine_div_600_fits_now_and_a_memory_limit_refuses_it(capsys, m
     monkeypatch.setenv("GCMH_MEMORY_LIMIT", "500M")
     monkeypatch.setattr(runner.Grid, "__init__", lambda *a, **k: pytest.fail("a grid was built"))
     code, out, err = run(capsys, "extract", "--example", "complex-cosine", "--div", "600")
-    assert "needs about" in one_line_error(code, out, err) and "500 MB is available" in err
+    assert "needs about" in one_line_error(code, out, err) and "the 500 MB available" in err
 
 
 def test_cli_force_and_dry_run(capsys, monkeypatch, limits):
