@@ -74,7 +74,7 @@ def test_paper_examples_match_the_paper():
     cc = load_example("complex-cosine")
     assert (cc.n, cc.k) == (4, 2)
     assert np.allclose(cc.bounds, [(-math.pi / 2, math.pi / 2)] * 4)
-    assert cc.div == 10 and cc.start == [0.0, 0.0, 1.0, 0.0]
+    assert cc.div == 40 and cc.start == [0.0, 0.0, 1.0, 0.0]
 
     kb = load_example("klein-bottle")
     assert (kb.n, kb.k) == (5, 3) and kb.variables == ["x", "y", "z", "s", "t"]
