@@ -12,7 +12,7 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["per_axis_ints", "as_div", "as_bounds", "infer_n", "prepare"]
+__all__ = ["per_axis_ints", "as_div", "as_bounds", "as_periodic", "infer_n", "prepare"]
 
 
 def per_axis_ints(value, n: int, what: str) -> np.ndarray:
@@ -82,6 +82,94 @@ def as_bounds(bounds, n: int) -> np.ndarray:
             raise InputError(f"axis {a + 1}: lower bound {lo:g} is not below upper bound {hi:g}")
         out[a] = lo, hi
     return out
+
+
+_PERIODIC_FORMS = ('periodic is {"t": True, "s": {"flip": ["t"]}} or a list like ["t", "s:flip=t"] '
+                   "(axis names; flip lists the axes reversed across that axis's seam)")
+
+
+def _periodic_entries(periodic):
+    """(name, value) pairs from the dict or list form; value is True, False or a flip list."""
+    if isinstance(periodic, dict):
+        items = list(periodic.items())
+    elif isinstance(periodic, (list, tuple)):
+        items = []
+        for item in periodic:
+            if not isinstance(item, str):
+                raise InputError(f"{_PERIODIC_FORMS}; got the entry {item!r}")
+            name, _, rest = item.partition(":")
+            rest = rest.strip()
+            if not rest:
+                items.append((name.strip(), True))
+                continue
+            key, eq, flips = rest.partition("=")
+            if key.strip() != "flip" or not eq:
+                raise InputError(f"periodic entry {item!r}: write NAME or NAME:flip=A,B")
+            items.append((name.strip(), {"flip": [f.strip() for f in flips.split(",") if f.strip()]}))
+    else:
+        raise InputError(f"{_PERIODIC_FORMS}; got {periodic!r}")
+    out = []
+    for name, value in items:
+        if value is True or value is False:
+            out.append((name, value))
+        elif isinstance(value, dict):
+            extra = set(value) - {"flip"}
+            if extra:
+                raise InputError(f"periodic axis {name!r}: unknown option {sorted(extra)[0]!r} (only 'flip')")
+            flip = value.get("flip", [])
+            if isinstance(flip, str):
+                flip = [f.strip() for f in flip.split(",") if f.strip()]
+            if not isinstance(flip, (list, tuple)) or not all(isinstance(f, str) for f in flip):
+                raise InputError(f"periodic axis {name!r}: flip must be a list of axis names, got {flip!r}")
+            out.append((name, list(flip)))
+        else:
+            raise InputError(f"periodic axis {name!r}: the value must be True, False or {{'flip': [...]}}, "
+                             f"got {value!r}")
+    return out
+
+
+def as_periodic(periodic, variables, div) -> tuple[tuple[int, tuple[int, ...]], ...]:
+    """The identified axes as ((axis, (flipped axes...)), ...), sorted by axis; () for none.
+
+    Refused with one message each: an unknown name, an axis named twice, an axis flipping
+    itself, fewer than 3 cubes on a periodic axis, an odd div on a flipped axis (its grid
+    must be mirror-symmetric, see `identify`), and a flipped axis whose own seam flips too."""
+    if periodic is None:
+        return ()
+    names = list(variables)
+    index = {v: a for a, v in enumerate(names)}
+
+    def axis_of(name, what):
+        if not isinstance(name, str) or name not in index:
+            raise InputError(f"{what} {name!r} is not a variable (variables: {', '.join(names)})")
+        return index[name]
+
+    spec = {}
+    for name, value in _periodic_entries(periodic):
+        p = axis_of(name, "periodic axis")
+        if p in spec:
+            raise InputError(f"periodic axis {name!r} is given twice")
+        if value is False:
+            spec[p] = None
+            continue
+        flips = [] if value is True else [axis_of(f, f"flip of {name!r}:") for f in value]
+        if p in flips:
+            raise InputError(f"periodic axis {name!r} cannot reverse itself across its own seam")
+        if len(set(flips)) != len(flips):
+            raise InputError(f"periodic axis {name!r} reverses an axis twice")
+        spec[p] = tuple(sorted(flips))
+    spec = {p: f for p, f in spec.items() if f is not None}
+    for p, flips in spec.items():
+        if int(div[p]) < 3:
+            raise InputError(f"periodic axis {names[p]!r} needs at least 3 cubes around it, div is {int(div[p])}")
+        for b in flips:
+            if int(div[b]) % 2:
+                raise InputError(f"axis {names[b]!r} is reversed across the seam of {names[p]!r}, so its grid is "
+                                 f"mirror-symmetric and needs an even div, got {int(div[b])}")
+            if spec.get(b):
+                raise InputError(f"axis {names[b]!r} is reversed across the seam of {names[p]!r} and cannot "
+                                 f"reverse axes across its own seam too")
+    return tuple((p, spec[p]) for p in sorted(spec))
 
 
 def infer_n(F, variables, bounds, div, n):

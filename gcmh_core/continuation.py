@@ -200,6 +200,7 @@ def run_continuation(
     for a in range(n - 2, -1, -1):
         cube_strides[a] = cube_strides[a + 1] * div[a + 1]
     visited = IntTable()
+    wrapped = getattr(grid, "wrapped_neighbours", None)
 
     def unvisited(cubes):  # the cubes not seen before, each once; they count as seen now
         cubes = cubes[np.all((cubes >= 0) & (cubes < div), axis=1)]
@@ -224,7 +225,10 @@ def run_continuation(
             wave = unvisited((wave[:, None, :] + around[None]).reshape(-1, n))
             continue
         expanded_start = True
-        cubes, keys = _kernels.facet_neighbours(wave, masks, div, cube_strides)
+        if wrapped is not None:  # periodic axes: across a seam to the identified cube
+            cubes, keys = wrapped(wave, masks, cube_strides)
+        else:
+            cubes, keys = _kernels.facet_neighbours(wave, masks, div, cube_strides)
         wave = cubes[visited.insert(keys)[1]]  # (in any order: the output does not depend on it)
     if isinstance(starts, list) and not any(len(v) for v in grid.parts["vk"]):
         # (with "auto" an empty result is an answer: M does not cross the domain)

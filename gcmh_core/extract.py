@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ._methods import CONTINUATION_METHODS, METHODS, SIMPLICIAL_METHODS
-from ._validate import as_div, prepare
+from ._validate import as_div, as_periodic, prepare
 from .budget import check_budget, estimate_run
 from .complex import CellComplex
 from .errors import InputError
@@ -60,6 +60,7 @@ def extract(
     block: int | Sequence[int] | None = None,
     force: bool = False,
     params: dict[str, float | str] | None = None,
+    periodic: dict | Sequence | None = None,
 ) -> CellComplex:
     """Approximate M = F^-1(0), F: R^n -> R^k, by a cell complex (GCMH).
 
@@ -97,6 +98,12 @@ def extract(
         The result's meta holds them ("params") and, with parameters, the number of
         vertices where F's Jacobian nearly loses rank ("singular_vertices": the
         parameter is at or near a critical value).
+    periodic : identified axes (`identify`): {"t": True, "s": {"flip": ["t"]}} or
+        ["t", "s:flip=t"]: each named axis is periodic (its lo and hi are one point), and
+        crossing its seam reverses the axes in "flip" (x_b -> lo_b + hi_b - x_b).  F must be
+        invariant under each identification (checked at a few hundred random points); a
+        flipped axis needs an even div.  With s periodic reversing t and t periodic, the
+        paper's Klein bottle is closed (chi 0, non-orientable) instead of cut open.
     force : run even when `budget.estimate_run` says the run needs more memory than is
         available or more than the time limit; by default that raises `budget.TooLargeError`
         (an InputError naming the estimate) before any work.
@@ -131,7 +138,25 @@ def extract(
                         scheduler=scheduler)
     check_budget(cost, force)
     amplitude = 0.0 if sampled is not None else PERTURBATION  # sampled data can't be moved: its positions are exact
-    axes = perturbed_axes(bounds_, div_, seed, amplitude)
+    names = list(system.variables) if system is not None else [f"x{i + 1}" for i in range(n_)]
+    spec = as_periodic(periodic, names, div_)
+    if spec:
+        from .identify import IdentifiedGrid, check_invariance, identified_axes  # noqa: PLC0415
+
+        if sampled is not None:
+            raise InputError("periodic axes need F as formulas: sampled values can't be checked for periodicity")
+        if scheduler is not None:
+            raise InputError("periodic axes are not supported on a Dask scheduler yet: run without scheduler")
+        check_invariance(system, bounds_, spec)
+        axes = identified_axes(bounds_, div_, seed, amplitude, spec)
+    else:
+        axes = perturbed_axes(bounds_, div_, seed, amplitude)
+
+    def new_grid():
+        if spec:
+            return IdentifiedGrid(n_, k_, axes, method, cancel, spec=spec, bounds=bounds_)
+        return Grid(n_, k_, axes, method, cancel)
+
     continuation = method in CONTINUATION_METHODS
     if continuation:
         starts = as_starts("auto" if start is None else start, n_)
@@ -149,9 +174,9 @@ def extract(
                                  progress, cancel)
     elif continuation:
         result = run_continuation(n_, k_, axes, bounds_, system, sampled, starts, progress, cancel,
-                                  grid=Grid(n_, k_, axes, method, cancel))
+                                  grid=new_grid())
     else:
-        result = run_sweep(n_, k_, axes, system, sampled, progress, cancel, grid=Grid(n_, k_, axes, method, cancel))
+        result = run_sweep(n_, k_, axes, system, sampled, progress, cancel, grid=new_grid())
     result.meta.update(
         method=method,
         div=div_.tolist(),
@@ -161,6 +186,10 @@ def extract(
         variables=list(system.variables) if system is not None else [f"x{i + 1}" for i in range(n_)],
         params=dict(system.params) if system is not None else {},
     )
+    if spec:
+        from .identify import describe_periodic  # noqa: PLC0415
+
+        result.meta["periodic"] = describe_periodic(spec, names)
     if system is not None and system.params:
         result.meta["singular_vertices"] = singular_vertices(system, result.vertices)
     result.meta["seconds"] = time.perf_counter() - t0

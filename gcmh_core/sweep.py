@@ -13,6 +13,8 @@ slabs, on as many threads as numba may use.  The work then grows with the
 size of M rather than with div^n, and the complex is the plain sweep's, bit for bit:
 a dropped block would have given the candidate pass nothing (no candidate, no
 non-finite vertex), and the others give the same values and the same records.
+
+Periodic axes (an `identify.IdentifiedGrid`): the grid's own sweep, never pruned.
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ import numpy as np
 
 from .complex import CellComplex
 from .errors import Cancelled
+from .identify import IdentifiedGrid
 from .interval import Enclosure
 from .runner import Grid
 
@@ -72,6 +75,8 @@ def run_sweep(n, k, axes, system, sampled, progress, cancel, grid=None) -> CellC
     """Every cube of the grid: pruned by F's bounds when F is a formula and the grid is
     large (see PRUNE), else in slabs along axis 0.  Same complex either way."""
     grid = Grid(n, k, axes) if grid is None else grid
+    if isinstance(grid, IdentifiedGrid):  # periodic axes: F's values on a seam are copies, not bounds
+        return grid.sweep(system, progress, cancel)
     prune = PRUNE
     if prune is None:
         prune = grid.stats["cubes"] >= _PRUNE_MIN_CUBES

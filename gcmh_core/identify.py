@@ -1,0 +1,482 @@
+"""Identified domain axes: a periodic axis, possibly reversing other axes across its seam.
+
+An axis p of the domain may be *periodic*: its bounds lo and hi are one point, so the
+grid's last line d is its line 0 (x_p + P ~ x_p, P = hi - lo).  Crossing the seam may
+also reverse other axes b (a *flip*): (x_p + P, x_b) ~ (x_p, c_b - x_b), c_b = lo_b + hi_b.
+The Klein bottle of the paper is F(x, y, z, s, t) with s periodic reversing t, and t
+periodic; the Moebius band reverses its width across its s seam.
+
+What has to agree across a seam for the cubes on either side to share their faces,
+vertices and cells exactly (as neighbouring cubes do everywhere else):
+
+1. The grid lines (`identified_axes`): on a periodic axis line d is line 0 + P; an axis
+   reversed by a flip is mirror-symmetric, x_{d-j} = c - x_j (for an even div: the
+   mirror maps cube j to cube d-1-j and each parity to the other, see 3.).
+2. F's values: line d holds *copies* of line 0's values (mirrored along the flipped
+   axes), never re-evaluations (F(2pi + e) and F(e) differ in the last bits, and a sign
+   that differs there would put a vertex on one side of the seam only).
+3. The triangulation.  The kernel splits each face into its Kuhn simplices, and a
+   reflection maps the Kuhn triangulation of a face with a flipped axis free to a
+   *different* triangulation.  So a cube whose index along a flipped axis b is odd is
+   processed in the frame mirrored along b (the "Union Jack" parity): axis b reversed,
+   its values read from the mirrored corners, the ordinary kernel run there, and its
+   records mapped back (positions x_b -> c_b - x_b; keys: each key's face anchor
+   mirrored along b, its local code kept).  Codes computed in different frames still
+   agree: a face with b fixed has the same triangulation and codes in both frames, and
+   a face with b free is shared only by cubes with the same index along b.  Across the
+   seam, cube j on one side meets cube d-1-j on the other, of the other parity: the
+   reflection maps one frame onto the other, so both sides compute the same local codes.
+4. The keys (`IdentifiedGrid.assemble`): every key whose face lies on a seam (its
+   anchor has index d on the periodic axis) becomes its image's key (index 0, anchors
+   mirrored along the flipped axes).  An identified vertex keeps the position computed
+   on the side away from the seam.
+
+The full sweep evaluates F in slabs along an axis that is neither periodic nor flipped
+(or all at once when every axis is) and runs the candidate cubes through this grid;
+the interval-pruned sweep is not used for periodic runs.  Continuation crosses seams
+to the identified cube (`IdentifiedGrid.wrapped_neighbours`).  Distributed (Dask) runs
+refuse periodic axes for now.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import time
+
+import numpy as np
+
+from ._tables import cube_tables
+from .complex import CellComplex
+from .errors import Cancelled, InputError
+from .grid import candidate_corner_sets, candidate_scan, perturbed_axes
+from .runner import Grid
+
+__all__ = ["IdentifiedGrid", "identified_axes", "check_invariance", "describe_periodic"]
+
+# F's invariance is checked at this many random points of the domain
+INVARIANCE_SAMPLES = 300
+# ... to this relative tolerance (of each component's largest |F| over the samples)
+INVARIANCE_RTOL = 1e-8
+# Vertices evaluated per slab of the sweep (as in `sweep.SLAB_VERTICES`)
+_SLAB_VERTICES = 1 << 22
+
+
+def describe_periodic(spec, variables) -> list[str]:
+    """The spec as command-line text: ["s:flip=t", "t"]."""
+    return [variables[p] + (":flip=" + ",".join(variables[b] for b in flips) if flips else "")
+            for p, flips in spec]
+
+
+def identified_axes(bounds, div, seed, amplitude, spec) -> list[np.ndarray]:
+    """`grid.perturbed_axes`, then made to wrap: line d = line 0 + P on a periodic axis,
+    x_{d-j} = c - x_j exactly on an axis a flip reverses (its line 0 stays at lo when it
+    is periodic too, since then line d = lo + P must be c - line 0)."""
+    axes = perturbed_axes(bounds, div, seed, amplitude)
+    periodic = {p for p, _ in spec}
+    flipped = {b for _, flips in spec for b in flips}
+    for b in sorted(flipped):
+        lo, hi = bounds[b]
+        c = lo + hi
+        line = axes[b]
+        d = len(line) - 1
+        if b in periodic:
+            line[0] = lo
+        line[d // 2] = 0.5 * c
+        for j in range(d // 2):
+            line[d - j] = c - line[j]
+    for p in sorted(periodic):
+        lo, hi = bounds[p]
+        axes[p][-1] = axes[p][0] + (hi - lo)
+    return axes
+
+
+def _constant_text(x: float) -> str:
+    for m, text in ((1, "pi"), (2, "2pi"), (4, "4pi"), (0.5, "pi/2")):
+        if math.isclose(x, m * math.pi, rel_tol=1e-12):
+            return text
+    return f"{x:g}"
+
+
+def check_invariance(system, bounds, spec, samples: int = INVARIANCE_SAMPLES) -> None:
+    """InputError unless F(image of x) = F(x) at `samples` random points x of the domain,
+    for the identification of every periodic axis (its flips included)."""
+    n = system.n
+    rng = np.random.default_rng(0x67636D68)
+    X = bounds[:, 0] + rng.uniform(0.0, 1.0, (samples, n)) * (bounds[:, 1] - bounds[:, 0])
+    names = system.variables
+    with np.errstate(all="ignore"):
+        F0 = np.asarray(system.evaluate_points(X), np.float64)
+    for p, flips in spec:
+        lo, hi = bounds[p]
+        Y = X.copy()
+        Y[:, p] += hi - lo
+        for b in flips:
+            Y[:, b] = (bounds[b, 0] + bounds[b, 1]) - X[:, b]
+        with np.errstate(all="ignore"):
+            F1 = np.asarray(system.evaluate_points(Y), np.float64)
+        ok = np.isfinite(F0).all(axis=1) & np.isfinite(F1).all(axis=1)
+        scale = np.max(np.abs(F0[ok]), axis=0, initial=0.0) if ok.any() else np.zeros(system.k)
+        bad = ok & np.any(np.abs(F1 - F0) > INVARIANCE_RTOL * np.maximum(scale, 1e-300), axis=1)
+        if not bad.any():
+            continue
+        i = int(np.flatnonzero(bad)[0])
+        period = _constant_text(hi - lo)
+
+        def at(x, image=False):
+            parts = []
+            for a in range(n):
+                if image and a == p:
+                    parts.append(f"{names[a]}={x[a]:.6g} + {period}")
+                elif image and a in flips:
+                    c = bounds[a, 0] + bounds[a, 1]
+                    parts.append(f"{names[a]}=-{x[a]:.6g}" if c == 0 else f"{names[a]}={_constant_text(c)} - {x[a]:.6g}")
+                else:
+                    parts.append(f"{names[a]}={x[a]:.6g}")
+            return ", ".join(parts)
+
+        def vec(v):
+            return ", ".join(f"{x:.6g}" for x in v)
+
+        how = f"{period}-periodic in {names[p]}"
+        if flips:
+            how += " with " + ", ".join(names[b] for b in flips) + " reversed"
+        raise InputError(f"F is not {how}: F({at(X[i])}) = ({vec(F0[i])}) but "
+                         f"F({at(X[i], True)}) = ({vec(F1[i])})")
+
+
+class IdentifiedGrid(Grid):
+    """A `Grid` whose periodic axes wrap (see the module docstring).
+
+    spec: ((p, (b, ...)), ...): periodic axis p, the axes its seam reverses.
+    bounds (n, 2): the domain (c_b = lo_b + hi_b is the mirror of a flipped axis).
+    axes: from `identified_axes`.
+    """
+
+    def __init__(self, n, k, axes, method="gcmh", cancel=None, *, spec, bounds):
+        super().__init__(n, k, axes, method, cancel)
+        self.spec = tuple((int(p), tuple(int(b) for b in flips)) for p, flips in spec)
+        self.periodic_axes = sorted(p for p, _ in self.spec)
+        self.flipped_axes = sorted({b for _, flips in self.spec for b in flips})
+        self.centres = np.asarray(bounds, np.float64).sum(axis=1)
+        self.div = self.dims - 1
+        self._tabs = cube_tables(n, k)
+        tab = self._tabs
+        # the free axes (bit mask) of a face of dimension dim with a given rank
+        self._rank_free = {}
+        for dim in range(k, n + 1):
+            rows = np.arange(tab.face_start[dim], tab.face_start[dim + 1])
+            free = np.zeros(int(tab.n_subsets[dim]), np.int64)
+            free[tab.face_rank[rows]] = tab.face_free[rows]
+            self._rank_free[dim] = free
+        self._frames = {}
+
+    # ------------------------------------------------------------------ vertices and frames
+    def canonical(self, multi: np.ndarray) -> np.ndarray:
+        """Grid vertex multi-indices (m, n) with every index d on a periodic axis replaced
+        by the vertex it is identified with (index 0 there, mirrored along its flips)."""
+        multi = multi.copy()
+        for _ in range(len(self.spec) + 1):
+            moved = False
+            for p, flips in self.spec:
+                sel = multi[:, p] == self.div[p]
+                if sel.any():
+                    moved = True
+                    multi[sel, p] = 0
+                    for b in flips:
+                        multi[sel, b] = self.div[b] - multi[sel, b]
+            if not moved:
+                break
+        return multi
+
+    def _frame(self, pattern: int) -> Grid:
+        """A shallow copy of this grid mirrored along the axes in `pattern` (bit b)."""
+        if pattern not in self._frames:
+            fg = copy.copy(self)
+            fg.axes_arr = self.axes_arr.copy()
+            for b in range(self.n):
+                if pattern >> b & 1:
+                    line = self.axes[b]
+                    fg.axes_arr[b, : len(line)] = self.centres[b] - line[::-1]
+            self._frames[pattern] = fg
+        fg = self._frames[pattern]
+        fg.parts = {key: [] for key in self.parts}
+        fg.stats = dict(candidate_cubes=0, degenerate=0)
+        fg.timings = dict(kernel=0.0)
+        return fg
+
+    def _run(self, values, cube_row, origin, value_off) -> np.ndarray:
+        """`Grid.run_kernel` on candidate cubes, each in its parity's frame.  value_off:
+        the row offsets of the corners in the ordinary frame."""
+        pattern = np.zeros(len(origin), np.int64)
+        for b in self.flipped_axes:
+            pattern |= (origin[:, b] & 1) << b
+        masks = np.zeros(len(origin), np.int64)
+        corners = np.arange(1 << self.n)
+        for pat in np.unique(pattern):
+            idx = np.flatnonzero(pattern == pat)
+            pat = int(pat)
+            if pat == 0:
+                masks[idx] = Grid.run_kernel(self, values, cube_row[idx], origin[idx], value_off)
+                continue
+            fg = self._frame(pat)
+            fo = origin[idx].copy()
+            mirrored = [b for b in range(self.n) if pat >> b & 1]
+            for b in mirrored:
+                fo[:, b] = self.div[b] - 1 - fo[:, b]
+            # corner c of the mirrored frame is corner c ^ pat of the cube
+            m = Grid.run_kernel(fg, values, cube_row[idx], fo, value_off[corners ^ pat])
+            for b in mirrored:  # its facets below/above along b swap sides
+                lo_bit, hi_bit = (m >> (2 * b)) & 1, (m >> (2 * b + 1)) & 1
+                m = (m & ~(np.int64(3) << (2 * b))) | (lo_bit << (2 * b + 1)) | (hi_bit << (2 * b))
+            masks[idx] = m
+            self._take_frame_records(fg, mirrored)
+        return masks
+
+    def _take_frame_records(self, fg, mirrored) -> None:
+        """The records of a mirrored frame, mapped back to the grid's frame and kept."""
+        k = self.k
+        for vk, vp, e, c, inc in zip(*(fg.parts[key] for key in ("vk", "vp", "e", "c", "i"))):
+            vk = self._frame_keys(vk, k, mirrored)
+            vp = vp.copy()
+            for b in mirrored:
+                vp[:, b] = self.centres[b] - vp[:, b]
+            e = e.copy()
+            e[:, 0] = self._frame_keys(e[:, 0], k + 1, mirrored)
+            e[:, 1] = self._frame_keys(e[:, 1], k, mirrored)
+            e[:, 2] = self._frame_keys(e[:, 2], k, mirrored)
+            c = c.copy()
+            inc = inc.copy()
+            for r in np.unique(c[:, 0]):
+                sel = c[:, 0] == r
+                c[sel, 1] = self._frame_keys(c[sel, 1], int(r) + k, mirrored)
+            for r in np.unique(inc[:, 0]):
+                sel = inc[:, 0] == r
+                inc[sel, 1] = self._frame_keys(inc[sel, 1], int(r) + k, mirrored)
+                inc[sel, 2] = self._frame_keys(inc[sel, 2], int(r) - 1 + k, mirrored)
+            for key, arr in zip(("vk", "vp", "e", "c", "i"), (vk, vp, e, c, inc)):
+                self.parts[key].append(arr)
+        self.stats["candidate_cubes"] += fg.stats["candidate_cubes"]
+        self.stats["degenerate"] += fg.stats["degenerate"]
+        self.timings["kernel"] += fg.timings["kernel"]
+
+    # ------------------------------------------------------------------ keys
+    def _decode(self, keys, dim):
+        """keys -> (anchor multi-indices (m, n), free axes (m, n) bool, the rest of the key)."""
+        n = self.n
+        if self.simplicial:  # (anchor vertex) * (n+1)^n + code, code = sum step_a (n+1)^a
+            base = self.stab.key_base
+            anchor, code = np.divmod(keys, base)
+            free = (code[:, None] // (n + 1) ** np.arange(n, dtype=np.int64)[None]) % (n + 1) > 0
+            rest = (code,)
+        else:  # (anchor * C(n, dim) + rank) * n_codes[dim] + local code
+            q, code = np.divmod(keys, self._tabs.n_codes[dim])
+            anchor, rank = np.divmod(q, self._tabs.n_subsets[dim])
+            free = (self._rank_free[dim][rank][:, None] >> np.arange(n)[None]) & 1 == 1
+            rest = (rank, code)
+        multi = (anchor[:, None] // self.strides[None]) % self.dims[None]
+        return multi, free, rest
+
+    def _encode(self, multi, rest, dim):
+        anchor = multi @ self.strides
+        if self.simplicial:
+            return anchor * self.stab.key_base + rest[0]
+        rank, code = rest
+        return (anchor * self._tabs.n_subsets[dim] + rank) * self._tabs.n_codes[dim] + code
+
+    def _frame_keys(self, keys, dim, mirrored):
+        """Keys from a frame mirrored along `mirrored`, as keys of the grid's frame: the
+        anchor (the face's lowest corner) of a face with b free moves to its other end."""
+        if not len(keys):
+            return keys
+        multi, free, rest = self._decode(keys, dim)
+        for b in mirrored:
+            multi[:, b] = self.div[b] - multi[:, b] - free[:, b]
+        return self._encode(multi, rest, dim)
+
+    def _seam_keys(self, keys, dim):
+        """Keys of faces on a seam replaced by their images' keys; and which were."""
+        moved_any = np.zeros(len(keys), bool)
+        if not len(keys):
+            return keys, moved_any
+        multi, free, rest = self._decode(keys, dim)
+        for _ in range(len(self.spec) + 1):
+            moved = False
+            for p, flips in self.spec:
+                sel = multi[:, p] == self.div[p]  # (a face with p free has its anchor below d)
+                if sel.any():
+                    moved = True
+                    moved_any |= sel
+                    multi[sel, p] = 0
+                    for b in flips:
+                        multi[sel, b] = self.div[b] - multi[sel, b] - free[sel, b]
+            if not moved:
+                break
+        return self._encode(multi, rest, dim), moved_any
+
+    def assemble(self) -> CellComplex:
+        """Seam keys replaced by their images', then `Grid.assemble`.  Vertices computed
+        on a seam go last, so an identified vertex keeps the position from the other side."""
+        k = self.k
+        t = time.perf_counter()
+        cat = {key: np.concatenate(arrs) if arrs else None for key, arrs in self.parts.items()}
+        if cat["vk"] is not None:
+            vk, moved = self._seam_keys(cat["vk"], k)
+            order = np.argsort(moved, kind="stable")
+            self.parts["vk"] = [vk[order]]
+            self.parts["vp"] = [cat["vp"][order]]
+        if cat["e"] is not None:
+            e = cat["e"].copy()
+            e[:, 0] = self._seam_keys(e[:, 0], k + 1)[0]
+            e[:, 1] = self._seam_keys(e[:, 1], k)[0]
+            e[:, 2] = self._seam_keys(e[:, 2], k)[0]
+            self.parts["e"] = [e]
+        if cat["c"] is not None:
+            c = cat["c"].copy()
+            for r in np.unique(c[:, 0]):
+                sel = c[:, 0] == r
+                c[sel, 1] = self._seam_keys(c[sel, 1], int(r) + k)[0]
+            self.parts["c"] = [c]
+        if cat["i"] is not None:
+            inc = cat["i"].copy()
+            for r in np.unique(inc[:, 0]):
+                sel = inc[:, 0] == r
+                inc[sel, 1] = self._seam_keys(inc[sel, 1], int(r) + k)[0]
+                inc[sel, 2] = self._seam_keys(inc[sel, 2], int(r) - 1 + k)[0]
+            self.parts["i"] = [inc]
+        seam_seconds = time.perf_counter() - t
+        cx = super().assemble()
+        cx.meta["timings"]["assemble"] += seam_seconds
+        return cx
+
+    # ------------------------------------------------------------------ the runs
+    def process_block(self, values, lo, hi, first_layer=None) -> np.ndarray:
+        """`Grid.process_block` with each cube in its frame.  values: F at the block's
+        vertices, line d of a periodic axis already holding line 0's (mirrored) values."""
+        n = self.n
+        lo = np.asarray(lo, np.int64)
+        hi = np.asarray(hi, np.int64)
+        values = np.ascontiguousarray(values, np.float64)
+        t = time.perf_counter()
+        origin, last_layer, nonfinite = candidate_scan(values, first_layer)
+        if nonfinite:  # (counted once: line d of a periodic axis is line 0)
+            owned = tuple(slice(None) if hi[a] == self.dims[a] - 1 and a not in self.periodic_axes
+                          else slice(None, -1) for a in range(n))
+            self.stats["nonfinite_vertices"] += int(np.count_nonzero(~np.isfinite(values[owned]).all(axis=-1)))
+        self.timings["candidates"] += time.perf_counter() - t
+        if len(origin) == 0:
+            return last_layer
+        block_strides = np.ones(n, np.int64)
+        for a in range(n - 2, -1, -1):
+            block_strides[a] = block_strides[a + 1] * values.shape[a + 1]
+        value_off = np.array([sum(int(block_strides[a]) for a in range(n) if c >> a & 1) for c in range(1 << n)],
+                             np.int64)
+        cube_row = origin @ block_strides
+        self._run(values.reshape(-1, self.k), cube_row, origin + lo, value_off)
+        return last_layer
+
+    def process_cubes(self, origins, system, sampled) -> tuple[np.ndarray, np.ndarray]:
+        """`Grid.process_cubes` with F's values at a seam copied from the vertex identified
+        with it, and each cube in its frame."""
+        n, k = self.n, self.k
+        t = time.perf_counter()
+        corners = (origins @ self.strides)[:, None] + self.corner_off[None]
+        ids = corners.reshape(-1)
+        multi = self.canonical(np.stack(np.unravel_index(ids, tuple(self.dims)), axis=1))
+        canon = multi @ self.strides
+        uniq, inverse = np.unique(canon, return_inverse=True)
+        umulti = np.stack(np.unravel_index(uniq, tuple(self.dims)), axis=1)
+        uvals = np.asarray(system.evaluate_points(
+            np.stack([self.axes[a][umulti[:, a]] for a in range(n)], axis=1)), np.float64)
+        nonfinite = uniq[~np.isfinite(uvals).all(axis=1)]
+        values = np.ascontiguousarray(uvals[inverse.reshape(-1)], np.float64)
+        self.timings["evaluate"] += time.perf_counter() - t
+        t = time.perf_counter()
+        cand = candidate_corner_sets(values, 1 << n)
+        self.timings["candidates"] += time.perf_counter() - t
+        idx = np.nonzero(cand)[0]
+        masks = np.zeros(len(origins), np.int64)
+        if len(idx):
+            masks[idx] = self._run(values, idx.astype(np.int64) << n, origins[idx], np.arange(1 << n, dtype=np.int64))
+        del k
+        return masks, nonfinite
+
+    def wrapped_neighbours(self, wave, masks, cube_strides) -> tuple[np.ndarray, np.ndarray]:
+        """`_kernels.facet_neighbours` with seams crossed: past the last cube of a periodic
+        axis is its first (and back), mirrored along the axes its seam reverses."""
+        n = self.n
+        out = []
+        for f in range(2 * n):
+            sel = (masks >> f) & 1 == 1
+            if not sel.any():
+                continue
+            a, up = f // 2, f & 1
+            cubes = wave[sel].copy()
+            cubes[:, a] += 1 if up else -1
+            flips = dict(self.spec).get(a)
+            if flips is not None:
+                wrap = (cubes[:, a] < 0) | (cubes[:, a] >= self.div[a])
+                cubes[wrap, a] %= self.div[a]
+                for b in flips:
+                    cubes[wrap, b] = self.div[b] - 1 - cubes[wrap, b]
+            else:
+                cubes = cubes[(cubes[:, a] >= 0) & (cubes[:, a] < self.div[a])]
+            out.append(cubes)
+        cubes = np.concatenate(out) if out else np.zeros((0, n), np.int64)
+        return cubes, cubes @ cube_strides
+
+    def _fill_seams(self, values) -> None:
+        """Line d of every periodic axis := line 0's values mirrored along its flips
+        (values span the whole grid on every periodic and flipped axis)."""
+        n = self.n
+        for _ in range(len(self.spec)):  # (a seam's copy may read another seam's line d)
+            for p, flips in self.spec:
+                src = [slice(None)] * n
+                dst = [slice(None)] * n
+                src[p], dst[p] = 0, -1
+                view = values[tuple(src)]
+                for b in flips:
+                    view = np.flip(view, axis=b if b < p else b - 1)
+                values[tuple(dst)] = view
+
+    def sweep(self, system, progress=None, cancel=None) -> CellComplex:
+        """Every cube: F in slabs along an axis neither periodic nor flipped (the whole
+        grid at once when there is none), line d of periodic axes copied, not evaluated."""
+        n, k = self.n, self.k
+        special = set(self.periodic_axes) | set(self.flipped_axes)
+        free_axes = [a for a in range(n) if a not in special]
+        dims = self.dims
+        if free_axes:
+            sa = free_axes[0]
+            layer = int(np.prod([int(d) for a, d in enumerate(dims) if a != sa]))
+            thickness = int(max(1, min(dims[sa] - 1, _SLAB_VERTICES // max(layer * k, 1))))
+        else:
+            sa, thickness = 0, int(dims[0] - 1)
+        starts = list(range(0, int(dims[sa]) - 1, thickness))
+        for si, i0 in enumerate(starts):
+            if cancel is not None and cancel():
+                raise Cancelled("extraction cancelled")
+            if progress is not None:
+                progress("extracting", si / len(starts))
+            i1 = min(i0 + thickness, int(dims[sa]) - 1)
+            lo = np.zeros(n, np.int64)
+            hi = dims - 1
+            lo[sa], hi[sa] = i0, i1
+            t = time.perf_counter()
+            lines = []
+            for a in range(n):
+                if a == sa and free_axes:
+                    lines.append(self.axes[a][i0 : i1 + 1])
+                elif a in self.periodic_axes:
+                    lines.append(self.axes[a][:-1])  # (line d is copied)
+                else:
+                    lines.append(self.axes[a])
+            values = np.empty((*(len(x) + (a in self.periodic_axes) for a, x in enumerate(lines)), k))
+            inner = tuple(slice(None, -1) if a in self.periodic_axes else slice(None) for a in range(n))
+            values[inner] = system.evaluate_grid(lines)
+            self._fill_seams(values)
+            self.timings["evaluate"] += time.perf_counter() - t
+            self.process_block(values, lo, hi)
+        if progress is not None:
+            progress("assembling", 1.0)
+        return self.assemble()
