@@ -12,7 +12,7 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["per_axis_ints", "as_div", "as_bounds", "as_periodic", "infer_n", "prepare"]
+__all__ = ["per_axis_ints", "as_div", "as_bounds", "as_periodic", "describe_periodic", "infer_n", "prepare"]
 
 
 def per_axis_ints(value, n: int, what: str) -> np.ndarray:
@@ -170,6 +170,12 @@ def as_periodic(periodic, variables, div) -> tuple[tuple[int, tuple[int, ...]], 
                 raise InputError(f"axis {names[b]!r} is reversed across the seam of {names[p]!r} and cannot "
                                  f"reverse axes across its own seam too")
     return tuple((p, spec[p]) for p in sorted(spec))
+
+
+def describe_periodic(spec, variables) -> list[str]:
+    """`as_periodic`'s result as text: ["s:flip=t", "t"] (the list form it accepts)."""
+    return [variables[p] + (":flip=" + ",".join(variables[b] for b in flips) if flips else "")
+            for p, flips in spec]
 
 
 def infer_n(F, variables, bounds, div, n):

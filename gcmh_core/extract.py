@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ._methods import CONTINUATION_METHODS, METHODS, SIMPLICIAL_METHODS
-from ._validate import as_div, as_periodic, prepare
+from ._validate import as_div, as_periodic, describe_periodic, prepare
 from .budget import check_budget, estimate_run
 from .complex import CellComplex
 from .errors import InputError
@@ -187,8 +187,6 @@ def extract(
         params=dict(system.params) if system is not None else {},
     )
     if spec:
-        from .identify import describe_periodic  # noqa: PLC0415
-
         result.meta["periodic"] = describe_periodic(spec, names)
     if system is not None and system.params:
         result.meta["singular_vertices"] = singular_vertices(system, result.vertices)

@@ -47,6 +47,7 @@ import time
 import numpy as np
 
 from ._tables import cube_tables
+from ._validate import describe_periodic
 from .complex import CellComplex
 from .errors import Cancelled, InputError
 from .grid import candidate_corner_sets, candidate_scan, perturbed_axes
@@ -60,12 +61,6 @@ INVARIANCE_SAMPLES = 300
 INVARIANCE_RTOL = 1e-8
 # Vertices evaluated per slab of the sweep (as in `sweep.SLAB_VERTICES`)
 _SLAB_VERTICES = 1 << 22
-
-
-def describe_periodic(spec, variables) -> list[str]:
-    """The spec as command-line text: ["s:flip=t", "t"]."""
-    return [variables[p] + (":flip=" + ",".join(variables[b] for b in flips) if flips else "")
-            for p, flips in spec]
 
 
 def identified_axes(bounds, div, seed, amplitude, spec) -> list[np.ndarray]:

@@ -31,6 +31,9 @@ may omit ``n`` and ``k``); the loader splits them into the real system
     variables = ["u", "v", "x", "y"]      # optional: Re w, Im w, Re z, Im z (default w_re, ...)
     formulas = ["u**2 + v**2 - 1"]        # optional: real equations added after the split ones
 
+Angles are coordinates that wrap around: ``periodic = ["t", "s:flip=t"]`` glues the
+domain's faces (t is a circle; crossing s = 2pi reverses t), see :mod:`gcmh_core.identify`.
+
 ``labels`` ({variable: "Re w"}) come from ``[view] labels`` or, for a complex
 example, from the split.  ``bounds`` may also be a single pair, meaning the same
 interval on every axis.
@@ -94,6 +97,8 @@ class Example:
     (``start`` lies on M at the values);
     complex / complex_variables: the equations over C^m the formulas were split from
     (else None); labels: {variable: what it means, e.g. "Re w"}.
+    periodic: the identified axes as ``extract(..., periodic=...)`` takes them, e.g.
+    ["s:flip=t", "t"] (empty: the domain box is cut open at its faces).
     """
 
     name: str
@@ -113,6 +118,7 @@ class Example:
     complex: list[str] | None = None
     complex_variables: list[str] | None = None
     labels: dict[str, str] = field(default_factory=dict)
+    periodic: list[str] = field(default_factory=list)
 
     def param_values(self) -> dict[str, float]:
         """{name: value}: the parameters' default values, for ``extract(..., params=...)``."""
@@ -257,6 +263,15 @@ def _from_dict(name: str, data: dict[str, Any], path: Traversable | None = None)
     if div is None:
         raise fail("missing key 'div'")
     paper_div = _read_div(data.get("paper_div"), n, "paper_div", fail)
+    periodic: list[str] = []
+    if "periodic" in data:
+        from .._validate import as_periodic, describe_periodic  # noqa: PLC0415
+
+        try:
+            spec = as_periodic(data["periodic"], variables, [div] * n if isinstance(div, int) else div)
+        except InputError as err:
+            raise fail(f"'periodic': {err}") from None
+        periodic = describe_periodic(spec, variables)
 
     start = need("start", list, f"a list of {n} numbers")
     if len(start) != n:
@@ -311,6 +326,7 @@ def _from_dict(name: str, data: dict[str, Any], path: Traversable | None = None)
         complex=complex_eqs,
         complex_variables=list(complex_vars) if complex_vars is not None else None,
         labels=dict(raw_labels),
+        periodic=periodic,
     )
 
 
