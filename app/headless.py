@@ -107,12 +107,46 @@ def write_frames(scene, projection, frames, window, paths, fps: float, progress=
 
     images = animation_images(scene, projection, frames, window)
     if len(paths) == 1:
-        return write_animation(paths[0], images, fps=fps, progress=progress, cancel=cancel)
+        return _written(paths[0], lambda temp: write_animation(temp, images, fps=fps, progress=progress,
+                                                               cancel=cancel), cancel)
     images = list(images)
     n = 0
     for p in paths:
-        n = write_animation(p, images, fps=fps, progress=progress, cancel=cancel)
+        n = _written(p, lambda temp: write_animation(temp, images, fps=fps, progress=progress, cancel=cancel),
+                     cancel)
     return n
+
+
+def _written(path, write, cancel=None):
+    """write(temporary file beside path), then the temporary replaces path: an interrupted
+    or cancelled export leaves the old file as it was and no temporary behind."""
+    import os
+
+    from gcmh_core.safe_io import AtomicFile
+
+    out = AtomicFile(path, suffix=os.path.splitext(str(path))[1], what=str(path))
+    try:
+        result = write(out.temp)
+        if os.path.exists(out.temp) and not (cancel is not None and cancel()):
+            out.commit()
+        return result
+    finally:
+        out.discard()
+
+
+def check_outputs(paths) -> str | None:
+    """The first problem with any output path (missing or read-only folder, a folder, a device
+    or FIFO), as one line, or None: checked before anything is extracted or drawn."""
+    from gcmh_core.errors import InputError
+    from gcmh_core.safe_io import check_output
+
+    for p in paths:
+        if p:
+            try:
+                check_output(p, what=str(p))
+            except InputError as e:
+                return str(e)
+    return None
 
 
 def _prepare(opts: Options):
@@ -204,6 +238,9 @@ def render(opts: Options) -> int:
 
     from .scene import Style, default_camera, draw_overlays, example_labels, view_subtitle
 
+    problem = check_outputs([opts.screenshot, opts.gif, opts.mp4])
+    if problem is not None:
+        return fail(problem)
     prep = _prepare(opts)
     if isinstance(prep, int):
         return prep
@@ -225,7 +262,10 @@ def render(opts: Options) -> int:
         if spec is not None:
             return _animation(opts, scene, model, window, spec)
         pl.render()
-        img = pl.screenshot(opts.screenshot, transparent_background=opts.transparent, return_img=True)
+        img = pl.screenshot(None, transparent_background=opts.transparent, return_img=True)
+        from PIL import Image
+
+        _written(opts.screenshot, lambda temp: Image.fromarray(np.asarray(img)).save(temp))
     counts = ", ".join(str(c) for c in cx.counts())
     print(f"{opts.screenshot}: {img.shape[1]}x{img.shape[0]}, {ex.title}, dim {cx.dim}, cells by dimension "
           f"{counts}, chi = {cx.euler_characteristic()}, {cx.meta.get('seconds', float('nan')):.2f} s")

@@ -33,7 +33,7 @@ import stat
 import sys
 from collections.abc import Sequence
 
-from ._safe_io import AtomicFile, check_output
+from .safe_io import AtomicFile, check_output
 from .errors import InputError
 
 # Nothing heavy is imported here: the engine (numba, sympy) is imported inside main(),
@@ -618,6 +618,8 @@ def _summary(cx, job, outputs) -> dict:
         "euler_characteristic": int(cx.euler_characteristic()),
         "boundary_facets": int(len(cx.boundary_facets())),
         "nonfinite_vertices": int(meta.get("nonfinite_vertices", 0) or 0),
+        # events the kernels could not resolve (meta["degenerate"]): 0 on a trustworthy complex
+        "degenerate": int(meta.get("degenerate", 0) or 0),
         "example": job["name"],
         "params": meta.get("params") or {},
         "singular_vertices": meta.get("singular_vertices"),
@@ -644,6 +646,9 @@ def _human(s: dict, job: dict) -> str:
         f"  Euler characteristic {s['euler_characteristic']}, {s['boundary_facets']} boundary facets"
         + (f", {s['nonfinite_vertices']} non-finite vertices" if s["nonfinite_vertices"] else ""),
     ]
+    if s["degenerate"]:
+        lines.append(f"  warning: {s['degenerate']} degenerate events the engine could not resolve "
+                     "(cells there may be malformed): try another --seed")
     if s["singular_vertices"]:
         lines.append(f"  notice: F's Jacobian nearly loses rank at {s['singular_vertices']} vertices: "
                      "M is singular there, the parameters are at or near a critical value")

@@ -59,7 +59,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from ._safe_io import atomic_write
+from .safe_io import atomic_write
 
 __all__ = ["CellComplex", "FORMAT"]
 
@@ -672,7 +672,7 @@ class CellComplex:
         numbers), except what depends on the machine and the moment (``seconds``,
         ``timings``): the same complex gives the same bytes.  ``timings=True`` keeps
         those in the optional key ``run_json``.  ``.npz`` is added to a file name that
-        lacks it.  A file name is written atomically (see `_safe_io`: a temporary file
+        lacks it.  A file name is written atomically (see `safe_io`: a temporary file
         beside it replaces it when complete, with the usual mode; a symlink is written
         through; a folder, device, FIFO or socket is refused with InputError); `path`
         may also be a binary file object.
