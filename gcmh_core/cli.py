@@ -137,6 +137,12 @@ def _build_parser() -> _Parser:
         "cms, ccs: the paper's simplicial baselines (whole grid, continuation)",
     )
     grid.add_argument("--start", metavar="X1,...,XN|auto", help="start point on M (continuation methods), or auto")
+    grid.add_argument(
+        "--periodic", action="append", metavar="NAME[:flip=A,B]|none",
+        help="glue the domain along an angle (repeat for each): --periodic t makes t a circle, "
+        "--periodic s:flip=t also reverses t across the seam of s (the closed Klein bottle: "
+        "--periodic s:flip=t --periodic t); 'none' cuts an example's glued domain open",
+    )
     dist = p.add_argument_group("on a dask cluster (pip install gcmh[cluster])")
     dist.add_argument(
         "--scheduler", metavar="local|tcp://HOST:PORT",
@@ -357,6 +363,7 @@ def _job_from_args(args) -> dict:
         div = ex.div
         from .extract import CONTINUATION_METHODS
 
+        periodic = list(ex.periodic) or None
         start = ex.start if args.method.strip().lower() in CONTINUATION_METHODS else None
         if start is not None and params != (ex.param_values() or None):
             start = "auto"  # (the example's start point lies on M at its default values only)
@@ -376,6 +383,7 @@ def _job_from_args(args) -> dict:
         div = 10
         start = None
         name = None
+        periodic = None
     else:
         formulas = list(args.formulas)
         if args.vars is not None:
@@ -396,7 +404,16 @@ def _job_from_args(args) -> dict:
         div = 10
         start = None
         name = None
+        periodic = None
 
+    if args.periodic:
+        items = [item.strip() for item in args.periodic]
+        if "none" in items:
+            if len(items) > 1:
+                raise InputError("--periodic none cuts the domain open: it goes alone")
+            periodic = None
+        else:
+            periodic = items
     if len(bounds) == 1:
         bounds = bounds * n
     elif len(bounds) != n:
@@ -428,6 +445,7 @@ def _job_from_args(args) -> dict:
         scheduler=scheduler,
         block=block,
         params=params,
+        periodic=periodic,
         title=" ; ".join(args.formulas) + " over C" if args.complex else None,
     )
 
@@ -507,6 +525,7 @@ def _cmd_extract(args) -> int:
             block=job["block"],
             force=args.force,
             params=job["params"],
+            periodic=job["periodic"],
         )
     finally:
         progress.close()
@@ -639,6 +658,8 @@ def _human(s: dict, job: dict) -> str:
     if s["params"]:
         what += " at " + ", ".join(f"{p} = {v:g}" for p, v in s["params"].items())
     div = "x".join(str(d) for d in s["div"]) if s["div"] else "?"
+    if job.get("periodic"):
+        div += ", glued " + " ".join(job["periodic"])
     cells = ", ".join(f"{c} {_CELL_NAMES.get(r, f'{r}-cells')}" for r, c in enumerate(s["cells"]))
     lines = [
         f"{what}: {dim}-manifold in R^{s['n']} (n={s['n']}, k={s['k']}), method {s['method']}, div {div}",

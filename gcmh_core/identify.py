@@ -165,6 +165,7 @@ class IdentifiedGrid(Grid):
             free[tab.face_rank[rows]] = tab.face_free[rows]
             self._rank_free[dim] = free
         self._frames = {}
+        self._frame_vk = []  # the vertex records that came from mirrored frames
 
     # ------------------------------------------------------------------ vertices and frames
     def canonical(self, multi: np.ndarray) -> np.ndarray:
@@ -251,6 +252,7 @@ class IdentifiedGrid(Grid):
                 inc[sel, 2] = self._frame_keys(inc[sel, 2], int(r) - 1 + k, mirrored)
             for key, arr in zip(("vk", "vp", "e", "c", "i"), (vk, vp, e, c, inc)):
                 self.parts[key].append(arr)
+            self._frame_vk.append(vk)  # (kept, so that ids stay unique: see assemble)
         self.stats["candidate_cubes"] += fg.stats["candidate_cubes"]
         self.stats["degenerate"] += fg.stats["degenerate"]
         self.timings["kernel"] += fg.timings["kernel"]
@@ -311,13 +313,17 @@ class IdentifiedGrid(Grid):
 
     def assemble(self) -> CellComplex:
         """Seam keys replaced by their images', then `Grid.assemble`.  Vertices computed
-        on a seam go last, so an identified vertex keeps the position from the other side."""
+        on a seam go last, so an identified vertex keeps the position from the other side;
+        before them, those computed in a mirrored frame (the same point, other last bits),
+        so the positions do not depend on the order in which cubes were processed."""
         k = self.k
         t = time.perf_counter()
         cat = {key: np.concatenate(arrs) if arrs else None for key, arrs in self.parts.items()}
         if cat["vk"] is not None:
             vk, moved = self._seam_keys(cat["vk"], k)
-            order = np.argsort(moved, kind="stable")
+            framed = {id(a) for a in self._frame_vk}
+            mirrored = np.concatenate([np.full(len(a), id(a) in framed) for a in self.parts["vk"]])
+            order = np.lexsort((mirrored, moved))
             self.parts["vk"] = [vk[order]]
             self.parts["vp"] = [cat["vp"][order]]
         if cat["e"] is not None:
