@@ -63,9 +63,37 @@ CELL_COLS = 2  # r, cell key
 INC_COLS = 3  # r, key of the r-cell X, key of its (r-1)-face Y
 
 
+@nb.njit(**JIT)
+def _zero_side(vals, o, value_off, table, s, k, lam):
+    """`simplex_crosses`'s answer 2 decided: 1 if the zero is inside the simplex, else 0.
+
+    A value 0 counts as +epsilon (the sign prune's rule, a symbolic perturbation).  Where
+    some F_j is 0 on the whole facet opposite corner i and < 0 at i, the solve finds
+    lam_i = 0 up to rounding, and the perturbed zero lies inside: lam_i = 0+.  Any other
+    slightly negative lam_i is outside.  (Called from the kernels' own loops, rarely: as a
+    branch inside the inlined solve it slowed every cube by a fifth.)
+    """
+    for i in range(k + 1):
+        if lam[i] >= 0.0:
+            continue
+        inside = False
+        for j in range(k):
+            if vals[o + value_off[table[s, i]], j] < 0.0:
+                on_facet = True
+                for q in range(k + 1):
+                    if q != i and vals[o + value_off[table[s, q]], j] != 0.0:
+                        on_facet = False
+                if on_facet:
+                    inside = True
+        if not inside:
+            return 0
+        lam[i] = 0.0
+    return 1
+
 @nb.njit(**INLINE_JIT)
 def simplex_crosses(vals, o, value_off, table, s, k, pos_mask, full, mat, rhs, lam):
     """Does the CFK simplex with cube corners table[s, 0..k] (chain order) hold a zero?
+    1 yes, 0 no, 2 only up to rounding on a facet: then `_zero_side` decides.
 
     vals (NV, k): F's values (`values` in the kernels); corner c of the cube is row
     o + value_off[c] (`corner_row`); pos_mask and full are the kernels' `corner_signs`
@@ -85,7 +113,7 @@ def simplex_crosses(vals, o, value_off, table, s, k, pos_mask, full, mat, rhs, l
         any_pos |= p
         all_pos &= p
     if any_pos != full or all_pos != 0:
-        return False
+        return 0
     # Solve sum_{i>=1} lam_i (F(v_i) - F(v_0)) = -F(v_0), a k x k system.
     r0 = o + value_off[table[s, 0]]
     for j in range(k):
@@ -93,25 +121,29 @@ def simplex_crosses(vals, o, value_off, table, s, k, pos_mask, full, mat, rhs, l
         rhs[j] = -f0
         for i in range(1, m):
             mat[j, i - 1] = vals[o + value_off[table[s, i]], j] - f0
-    scale = 0.0
+    # Scaled partial pivoting: each pivot is weighed against the largest entry of its
+    # own row (component F_j) as it came, so multiplying F_j by any positive factor
+    # changes neither the pivots nor the singularity test.  lam holds the rows'
+    # inverse scales until the back substitution writes it.
     for j in range(k):
+        scale = 0.0
         for i in range(k):
             a = abs(mat[j, i])
             if a > scale:
                 scale = a
-    if scale == 0.0:
-        return False
-    tiny = scale * 1e-14
-    for c in range(k):  # Gaussian elimination with partial pivoting
+        if scale == 0.0:
+            return 0
+        lam[j] = 1.0 / scale
+    for c in range(k):  # Gaussian elimination
         piv = c
-        best = abs(mat[c, c])
+        best = abs(mat[c, c]) * lam[c]
         for rr in range(c + 1, k):
-            a = abs(mat[rr, c])
+            a = abs(mat[rr, c]) * lam[rr]
             if a > best:
                 best = a
                 piv = rr
-        if best <= tiny:
-            return False
+        if not (best > 1e-14):  # (also NaN, from a subnormal row)
+            return 0
         if piv != c:
             for i in range(k):
                 t = mat[c, i]
@@ -120,6 +152,9 @@ def simplex_crosses(vals, o, value_off, table, s, k, pos_mask, full, mat, rhs, l
             t = rhs[c]
             rhs[c] = rhs[piv]
             rhs[piv] = t
+            t = lam[c]
+            lam[c] = lam[piv]
+            lam[piv] = t
         for rr in range(c + 1, k):
             fac = mat[rr, c] / mat[c, c]
             if fac != 0.0:
@@ -128,16 +163,19 @@ def simplex_crosses(vals, o, value_off, table, s, k, pos_mask, full, mat, rhs, l
                 rhs[rr] -= fac * rhs[c]
     total = 0.0
     for c in range(k - 1, -1, -1):
-        s = rhs[c]
+        acc = rhs[c]
         for i in range(c + 1, k):
-            s -= mat[c, i] * lam[i + 1]
-        lam[c + 1] = s / mat[c, c]
+            acc -= mat[c, i] * lam[i + 1]
+        lam[c + 1] = acc / mat[c, c]
         total += lam[c + 1]
     lam[0] = 1.0 - total
+    near = False
     for i in range(m):
         if not (lam[i] >= 0.0):
-            return False
-    return True
+            if not (lam[i] > -1e-9):
+                return 0
+            near = True  # on a facet up to rounding: `_zero_side` decides
+    return 2 if near else 1
 
 
 @nb.njit(**INLINE_JIT)
@@ -337,9 +375,12 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
                         all_pos &= p
                     if any_pos != all_signs or all_pos != 0:
                         continue
-                if simplex_crosses(
+                hit = simplex_crosses(
                     values, o, corner_row, ksimplex_corners, s, k, corner_signs, all_signs, mat, rhs, lam
-                ):
+                )
+                if hit == 2:
+                    hit = _zero_side(values, o, corner_row, ksimplex_corners, s, k, lam)
+                if hit:
                     vertex_of_ksimplex[s] = nv
                     vertex_ksimplex[nv] = s
                     row = used_v + nv
@@ -427,9 +468,12 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
                         if interior_crossed[ii] < 0:
                             for q in range(k + 1):
                                 interior_simplex[0, q] = walk_corner_map[kf1, walk_interior_corners[ii, q]]
-                            interior_crossed[ii] = 1 if simplex_crosses(
+                            hit = simplex_crosses(
                                 values, o, corner_row, interior_simplex, 0, k, corner_signs, all_signs, mat, rhs, lam
-                            ) else 0
+                            )
+                            if hit == 2:
+                                hit = _zero_side(values, o, corner_row, interior_simplex, 0, k, lam)
+                            interior_crossed[ii] = hit
                         crossed = interior_crossed[ii] == 1
                     if crossed:
                         if n_crossed == 0:
@@ -690,7 +734,10 @@ def simplices_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lin
                     all_pos &= p
                 if any_pos != all_signs or all_pos != 0:
                     continue
-            if simplex_crosses(values, o, corner_row, simplex_corners, s, k, corner_signs, all_signs, mat, rhs, lam):
+            hit = simplex_crosses(values, o, corner_row, simplex_corners, s, k, corner_signs, all_signs, mat, rhs, lam)
+            if hit == 2:
+                hit = _zero_side(values, o, corner_row, simplex_corners, s, k, lam)
+            if hit:
                 crossed[s] = 1
                 facets |= simplex_cube_facets[s]
                 if used_v >= vk_out.shape[0]:

@@ -120,8 +120,13 @@ def simplex_lambdas(F_at_vertices, sign_shortcut=True):
         return None
     if not np.all(np.isfinite(lam)):
         return None
-    if np.any(lam < 0):
-        return None
+    for i in np.flatnonzero(lam < 0):
+        # a value 0 is +epsilon: a component 0 on the facet opposite v_i and < 0 at v_i
+        # puts the zero inside, at lam_i = 0+ (the solve gives 0 up to rounding)
+        forced = any(Fv[i, j] < 0 and all(Fv[q, j] == 0 for q in range(m) if q != i) for j in range(k))
+        if lam[i] <= -1e-9 or not forced:
+            return None
+        lam[i] = 0.0
     return lam
 
 
@@ -512,3 +517,94 @@ def naive_facet_neighbours(wave, masks, div):
                 if 0 <= cube[a] < div[a]:
                     out.append(tuple(cube))
     return out
+
+
+# --------------------------------------------------------------------------
+# structural checks of a CellComplex (issue 13), the slow way
+# --------------------------------------------------------------------------
+
+def _cell_faces(cx, r):
+    """List of lists: the (r-1)-faces of each r-cell (r >= 1; for r = 1, its two vertices)."""
+    if r == 1:
+        return [list(e) for e in np.asarray(cx.edges).tolist()]
+    offsets, faces = cx.cells[r]
+    return [faces[offsets[i]:offsets[i + 1]].tolist() for i in range(len(offsets) - 1)]
+
+
+def _closure(cx, r, cell):
+    """{dimension: set of ids} of the cells in the closure of r-cell `cell`, below r."""
+    out = {d: set() for d in range(r)}
+    todo = {r - 1: set(_cell_faces(cx, r)[cell]) if r >= 1 else set()}
+    for d in range(r - 1, -1, -1):
+        here = todo.get(d, set())
+        out[d] |= here
+        if d >= 1:
+            below = _cell_faces(cx, d)
+            todo[d - 1] = {y for x in here for y in below[x]}
+    return out
+
+
+def structure_problems(cx, bounds=None) -> list[str]:
+    """What is wrong with cx as a regular cell complex of a manifold (empty if nothing):
+    edges with one end or duplicated, 2-cells whose edges are not one cycle of >= 3, r-cells
+    (r >= 3) whose boundary is not a closed connected (r-1)-pseudomanifold with the Euler
+    characteristic of a sphere, facets with more than two top cells, and, given the box
+    `bounds` ((lo, hi) per axis), boundary facets off the box's boundary."""
+    problems = []
+    E = np.asarray(cx.edges)
+    if len(E) and (E[:, 0] == E[:, 1]).any():
+        problems.append("an edge with one end")
+    if len(E) and len({tuple(sorted(e)) for e in E.tolist()}) != len(E):
+        problems.append("two edges with the same ends")
+    dim = cx.dim
+    for r in range(2, dim + 1):
+        for i, faces in enumerate(_cell_faces(cx, r)):
+            if len(set(faces)) != len(faces):
+                problems.append(f"{r}-cell {i} lists a face twice")
+                continue
+            if r == 2:
+                if len(faces) < 3:
+                    problems.append(f"2-cell {i} has {len(faces)} edges")
+                    continue
+                uf = UnionFind()
+                degree = defaultdict(int)
+                for e in faces:
+                    a, b = E[e]
+                    degree[a] += 1
+                    degree[b] += 1
+                    uf.union(a, b)
+                if any(d != 2 for d in degree.values()) or len({uf.find(v) for v in degree}) != 1:
+                    problems.append(f"2-cell {i}: its edges are not one cycle")
+                continue
+            # r >= 3: every (r-2)-face of the boundary in exactly two boundary cells,
+            # connected, and the Euler characteristic of S^(r-1)
+            below = _cell_faces(cx, r - 1)
+            count = defaultdict(int)
+            uf = UnionFind()
+            for y in faces:
+                uf.add(("c", y))
+                for z in below[y]:
+                    count[z] += 1
+                    uf.union(("c", y), ("f", z))
+            closure = _closure(cx, r, i)
+            chi = sum((-1) ** d * len(ids) for d, ids in closure.items())
+            if any(c != 2 for c in count.values()) or len({uf.find(("c", y)) for y in faces}) != 1 \
+                    or chi != 1 + (-1) ** (r - 1):
+                problems.append(f"{r}-cell {i}: its boundary is not a sphere")
+    if dim >= 1:
+        cofaces = cx.facet_cofaces()
+        if (cofaces > 2).any():
+            problems.append("a facet of more than two top cells")
+        if bounds is not None:
+            V = np.asarray(cx.vertices)
+            lo = np.array([b[0] for b in bounds], float)
+            hi = np.array([b[1] for b in bounds], float)
+            tol = 1e-9 * (hi - lo)
+            for f in np.flatnonzero(cofaces == 1):
+                vs = sorted(_closure(cx, dim - 1, f)[0]) if dim >= 2 else [f]
+                P = V[vs]
+                on = ((np.abs(P - lo) <= tol).all(axis=0) | (np.abs(P - hi) <= tol).all(axis=0)).any()
+                if not on:
+                    problems.append(f"boundary facet {f} inside the box")
+                    break
+    return problems
