@@ -454,6 +454,8 @@ class IdentifiedGrid(Grid):
         else:
             sa, thickness = 0, int(dims[0] - 1)
         starts = list(range(0, int(dims[sa]) - 1, thickness))
+        reuse = bool(free_axes) and sa == 0  # (slabs along axis 0: the last layer and its codes carry over)
+        previous = codes = None
         for si, i0 in enumerate(starts):
             if cancel is not None and cancel():
                 raise Cancelled("extraction cancelled")
@@ -464,20 +466,27 @@ class IdentifiedGrid(Grid):
             hi = dims - 1
             lo[sa], hi[sa] = i0, i1
             t = time.perf_counter()
+            first = 1 if reuse and previous is not None else 0
             lines = []
             for a in range(n):
                 if a == sa and free_axes:
-                    lines.append(self.axes[a][i0 : i1 + 1])
+                    lines.append(self.axes[a][i0 + first : i1 + 1])
                 elif a in self.periodic_axes:
                     lines.append(self.axes[a][:-1])  # (line d is copied)
                 else:
                     lines.append(self.axes[a])
-            values = np.empty((*(len(x) + (a in self.periodic_axes) for a, x in enumerate(lines)), k))
-            inner = tuple(slice(None, -1) if a in self.periodic_axes else slice(None) for a in range(n))
+            shape = [len(x) + (a in self.periodic_axes) for a, x in enumerate(lines)]
+            shape[sa] += first
+            values = np.empty((*shape, k))
+            inner = tuple(slice(None, -1) if a in self.periodic_axes else slice(first, None) if a == sa
+                          else slice(None) for a in range(n))
             values[inner] = system.evaluate_grid(lines)
+            if first:
+                values[0] = previous
             self._fill_seams(values)
             self.timings["evaluate"] += time.perf_counter() - t
-            self.process_block(values, lo, hi)
+            codes = self.process_block(values, lo, hi, codes if first else None)
+            previous = values[-1]
         if progress is not None:
             progress("assembling", 1.0)
         return self.assemble()
