@@ -129,14 +129,20 @@ def _bounded_candidates(axes, system) -> np.ndarray | None:
 _SEED_BLOCK = 4  # start=<previous result>: seeds one vertex per block of 4^n grid cubes
 
 
-def start_cubes(n, axes, bounds, system, sampled, starts) -> np.ndarray:
+def start_cubes(n, axes, bounds, system, sampled, starts, identified=None) -> np.ndarray:
     """Origins (m, n) of the cubes to start from.
 
     starts == "auto": with sampled data, every cube that crosses M; with a formula, every
     candidate cube F's bounds find (so continuation reaches every piece of M the full
     sweep finds, the small ones too), or when the bounds leave too much of the grid, the
     cubes of a lattice of points projected onto M.
+    identified: an `identify.IdentifiedGrid` when axes are glued: Newton may then cross a
+    seam, and the projected points are brought back into the domain.
     """
+    if identified is not None:
+        project = identified.project_wrapped(project_onto_M)
+    else:
+        project = project_onto_M
     if starts == "auto":
         if system is None:  # no Jacobian for sampled data: start from every cube that crosses M
             return candidate_origins(sampled)[0]
@@ -148,7 +154,7 @@ def start_cubes(n, axes, bounds, system, sampled, starts) -> np.ndarray:
         lattice = np.stack(
             np.meshgrid(*[np.linspace(lo, hi, per_axis + 2)[1:-1] for lo, hi in bounds], indexing="ij"), -1
         ).reshape(-1, n)
-        X, ok, _ = project_onto_M(system, lattice, bounds)
+        X, ok, _ = project(system, lattice, bounds)
         if not ok.any():
             raise InputError("start='auto' found no point of M in the domain")
         return np.unique(_cubes_of(axes, X[ok]), axis=0)
@@ -160,7 +166,7 @@ def start_cubes(n, axes, bounds, system, sampled, starts) -> np.ndarray:
         V = V[np.sort(np.unique(blocks, axis=0, return_index=True)[1])]
         if system is None:
             return np.unique(_cubes_of(axes, V), axis=0)
-        X, ok, _ = project_onto_M(system, V, bounds)
+        X, ok, _ = project(system, V, bounds)
         if not ok.any():
             raise InputError("no vertex of the previous result projects onto the new M in the domain: "
                              "start from 'auto' instead")
@@ -174,7 +180,7 @@ def start_cubes(n, axes, bounds, system, sampled, starts) -> np.ndarray:
     if system is None:
         X = X0
     else:
-        X, ok, why = project_onto_M(system, X0, bounds)
+        X, ok, why = project(system, X0, bounds)
         if not ok.all():
             i = int(np.flatnonzero(~ok)[0])
             raise InputError(f"start point ({', '.join(f'{v:g}' for v in X0[i])}): {why[i]}")
@@ -207,7 +213,8 @@ def run_continuation(
         return cubes[visited.insert(cubes @ cube_strides)[1]]
 
     nonfinite = []
-    wave = unvisited(start_cubes(n, axes, bounds, system, sampled, starts))
+    identified = grid if wrapped is not None else None
+    wave = unvisited(start_cubes(n, axes, bounds, system, sampled, starts, identified))
     expanded_start = False
     n_waves = 0
     while len(wave):

@@ -154,6 +154,7 @@ class IdentifiedGrid(Grid):
         self.periodic_axes = sorted(p for p, _ in self.spec)
         self.flipped_axes = sorted({b for _, flips in self.spec for b in flips})
         self.centres = np.asarray(bounds, np.float64).sum(axis=1)
+        self.widths = np.diff(np.asarray(bounds, np.float64), axis=1)[:, 0]
         self.div = self.dims - 1
         self._tabs = cube_tables(n, k)
         tab = self._tabs
@@ -425,6 +426,32 @@ class IdentifiedGrid(Grid):
             out.append(cubes)
         cubes = np.concatenate(out) if out else np.zeros((0, n), np.int64)
         return cubes, cubes @ cube_strides
+
+    def wrap_points(self, X: np.ndarray) -> np.ndarray:
+        """Points (m, n) brought into the domain across the seams (x_p mod P; an odd number
+        of crossings reverses the seam's flipped axes)."""
+        X = np.array(X, np.float64)
+        lo = 0.5 * (self.centres - self.widths)  # (centres = lo + hi, widths = hi - lo)
+        order = sorted(self.spec, key=lambda item: not item[1])  # (flipping seams first)
+        for p, flips in order:
+            period = self.widths[p]
+            turns = np.floor((X[:, p] - lo[p]) / period)
+            X[:, p] -= turns * period
+            odd = turns % 2 == 1
+            for b in flips:
+                X[odd, b] = self.centres[b] - X[odd, b]
+        return X
+
+    def project_wrapped(self, project):
+        """`continuation.project_onto_M` that may cross seams: Newton runs in the domain
+        widened by one period on each side of a glued axis, and its points are wrapped."""
+        def run(system, X0, bounds):
+            wide = np.array(bounds, np.float64)
+            for p, _ in self.spec:
+                wide[p] += (-self.widths[p], self.widths[p])
+            X, ok, why = project(system, X0, wide)
+            return self.wrap_points(X), ok, why
+        return run
 
     def _fill_seams(self, values) -> None:
         """Line d of every periodic axis := line 0's values mirrored along its flips

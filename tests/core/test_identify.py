@@ -199,3 +199,25 @@ def test_example_file_periodic_is_checked(tmp_path, monkeypatch):
     (tmp_path / "bad.toml").write_text(text.replace('periodic = ["s:flip=t", "t"]', 'periodic = ["s:flip=w"]'))
     with pytest.raises(InputError, match="example 'bad': 'periodic': flip of 's': 'w' is not a variable"):
         load_example("bad")
+
+
+def test_start_point_projected_across_a_seam():
+    """Newton may leave the box through a seam: its point comes back on the other side."""
+    ex = load_example("pentagon-linkage")
+    a = extract(ex.formulas, ex.bounds, 12, variables=ex.variables, periodic=ex.periodic, method="gcch",
+                start=[0, 1, 5, 3])  # (projects to a point with an angle below 0)
+    b = extract(ex.formulas, ex.bounds, 12, variables=ex.variables, periodic=ex.periodic)
+    assert a.counts() == b.counts() and np.array_equal(a.vertices, b.vertices)
+    with pytest.raises(InputError, match="left the domain"):  # (the cut-open box has no way round)
+        extract(ex.formulas, ex.bounds, 12, variables=ex.variables, method="gcch", start=[0, 1, 5, 3])
+
+
+def test_wrap_points_reverses_the_flipped_axis():
+    from gcmh_core.identify import IdentifiedGrid
+
+    bounds = np.array(KLEIN.bounds)
+    spec = as_periodic(KLEIN.periodic, KLEIN.variables, [4, 4, 2, 4, 4])
+    grid = IdentifiedGrid(5, 3, identified_axes(bounds, [4, 4, 2, 4, 4], 0, PERTURBATION, spec), spec=spec,
+                          bounds=bounds)
+    X = grid.wrap_points([[1.0, 2.0, 0.5, 2 * np.pi + 0.3, 0.7], [1.0, 2.0, 0.5, -0.3, -0.2]])
+    assert np.allclose(X, [[1.0, 2.0, 0.5, 0.3, 2 * np.pi - 0.7], [1.0, 2.0, 0.5, 2 * np.pi - 0.3, 0.2]])
