@@ -95,49 +95,66 @@ def _constant_text(x: float) -> str:
 
 def check_invariance(system, bounds, spec, samples: int = INVARIANCE_SAMPLES) -> None:
     """InputError unless F(image of x) = F(x) at `samples` random points x of the domain,
-    for the identification of every periodic axis (its flips included)."""
+    for the identification of every periodic axis (its flips included).  When F is
+    invariant with one more axis reversed, the message says so."""
     n = system.n
     rng = np.random.default_rng(0x67636D68)
     X = bounds[:, 0] + rng.uniform(0.0, 1.0, (samples, n)) * (bounds[:, 1] - bounds[:, 0])
     names = system.variables
     with np.errstate(all="ignore"):
         F0 = np.asarray(system.evaluate_points(X), np.float64)
-    for p, flips in spec:
-        lo, hi = bounds[p]
+
+    def images(p, flips):
+        """F at the images of X, and the index of a point where it differs from F(X) (or None)."""
         Y = X.copy()
-        Y[:, p] += hi - lo
+        Y[:, p] += bounds[p, 1] - bounds[p, 0]
         for b in flips:
             Y[:, b] = (bounds[b, 0] + bounds[b, 1]) - X[:, b]
         with np.errstate(all="ignore"):
             F1 = np.asarray(system.evaluate_points(Y), np.float64)
         ok = np.isfinite(F0).all(axis=1) & np.isfinite(F1).all(axis=1)
         scale = np.max(np.abs(F0[ok]), axis=0, initial=0.0) if ok.any() else np.zeros(system.k)
-        bad = ok & np.any(np.abs(F1 - F0) > INVARIANCE_RTOL * np.maximum(scale, 1e-300), axis=1)
-        if not bad.any():
+        bad = np.flatnonzero(ok & np.any(np.abs(F1 - F0) > INVARIANCE_RTOL * np.maximum(scale, 1e-300), axis=1))
+        return F1, (int(bad[0]) if len(bad) else None)
+
+    for p, flips in spec:
+        F1, i = images(p, flips)
+        if i is None:
             continue
-        i = int(np.flatnonzero(bad)[0])
-        period = _constant_text(hi - lo)
-
-        def at(x, image=False):
-            parts = []
-            for a in range(n):
-                if image and a == p:
-                    parts.append(f"{names[a]}={x[a]:.6g} + {period}")
-                elif image and a in flips:
-                    c = bounds[a, 0] + bounds[a, 1]
-                    parts.append(f"{names[a]}=-{x[a]:.6g}" if c == 0 else f"{names[a]}={_constant_text(c)} - {x[a]:.6g}")
-                else:
-                    parts.append(f"{names[a]}={x[a]:.6g}")
-            return ", ".join(parts)
-
-        def vec(v):
-            return ", ".join(f"{x:.6g}" for x in v)
-
+        period = _constant_text(bounds[p, 1] - bounds[p, 0])
         how = f"{period}-periodic in {names[p]}"
         if flips:
             how += " with " + ", ".join(names[b] for b in flips) + " reversed"
-        raise InputError(f"F is not {how}: F({at(X[i])}) = ({vec(F0[i])}) but "
-                         f"F({at(X[i], True)}) = ({vec(F1[i])})")
+        image = _image_text(X[i], names, bounds, p, flips, period)
+        hint = ""
+        for b in range(n):
+            if b != p and b not in flips and images(p, (*flips, b))[1] is None:
+                fix = ",".join(names[a] for a in (*flips, b))
+                hint = f"; it is with {names[b]} reversed too: {names[p]}:flip={fix}"
+                break
+        raise InputError(f"F is not {how}: F({_point_text(X[i], names)}) = ({_point_text(F0[i])}) but "
+                         f"F({image}) = ({_point_text(F1[i])}){hint}")
+
+
+def _point_text(x, names=None) -> str:
+    """"x=0.1, s=0.3" (or "0.1, 0.3" without names), six digits each."""
+    if names is None:
+        return ", ".join(f"{v:.6g}" for v in x)
+    return ", ".join(f"{name}={v:.6g}" for name, v in zip(names, x))
+
+
+def _image_text(x, names, bounds, p, flips, period) -> str:
+    """The image of x across the seam of axis p, written out: "s=0.3 + 2pi, t=2pi - 0.7"."""
+    parts = []
+    for a, (name, v) in enumerate(zip(names, x)):
+        if a == p:
+            parts.append(f"{name}={v:.6g} + {period}")
+        elif a in flips:
+            c = bounds[a, 0] + bounds[a, 1]
+            parts.append(f"{name}=-{v:.6g}" if c == 0 else f"{name}={_constant_text(c)} - {v:.6g}")
+        else:
+            parts.append(f"{name}={v:.6g}")
+    return ", ".join(parts)
 
 
 class IdentifiedGrid(Grid):
