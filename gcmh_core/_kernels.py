@@ -220,6 +220,55 @@ def _face_key(face_corner, n_subsets_dim, rank):
     return face_corner * n_subsets_dim + rank
 
 
+@nb.njit(**JIT)
+def _joined_pieces(values, o, corner_row, corner_signs, all_signs, kuhn, ksimplex_kuhn, vertex_ksimplex,
+                   f_free, f_fixed, cells, first, last, kuhn_parent, mat, rhs, lam):
+    """How many of the r-cells cells[first:last] (pieces of G_H in the cube face (f_free,
+    f_fixed), cells[c, 1] a vertex of each) M_A joins through the face: the cells minus the
+    pieces of M_A in f that hold them, found by marching the face's CFK simplices (CMS).
+    Not 0: a piece of M_A in f is not a ball (a tube through f meets its boundary in
+    several spheres), and GCMH's cells there do not have M_A's topology.
+    """
+    k = kuhn.k
+    start = kuhn.start
+    corners = kuhn.corners
+    facets = kuhn.facets
+    for s in range(start[k], start[kuhn.n + 1]):
+        kuhn_parent[s] = -1  # not crossed, or not in f
+    dim = 0
+    for a in range(kuhn.n):
+        dim += (f_free >> a) & 1
+    for d in range(k, dim + 1):
+        for s in range(start[d], start[d + 1]):
+            # a chain lies in f when its first and last corners do
+            if (corners[s, 0] & ~f_free) != f_fixed or (corners[s, d] & ~f_free) != f_fixed:
+                continue
+            if d == k:
+                hit = simplex_crosses(values, o, corner_row, corners, s, k, corner_signs, all_signs, mat, rhs, lam)
+                if hit == 2:
+                    hit = _zero_side(values, o, corner_row, corners, s, k, lam)
+                if hit:
+                    kuhn_parent[s] = s
+                continue
+            for j in range(d + 1):
+                t = facets[s, j]
+                if kuhn_parent[t] >= 0:
+                    if kuhn_parent[s] < 0:
+                        kuhn_parent[s] = s
+                    ra = _find(kuhn_parent, s)
+                    rb = _find(kuhn_parent, t)
+                    if ra != rb:
+                        kuhn_parent[rb] = ra
+    joined = 0
+    for c in range(first, last):
+        rc = _find(kuhn_parent, ksimplex_kuhn[vertex_ksimplex[cells[c, 1]]])
+        for c2 in range(first, c):
+            if _find(kuhn_parent, ksimplex_kuhn[vertex_ksimplex[cells[c2, 1]]]) == rc:
+                joined += 1
+                break
+    return joined
+
+
 # A helper inlined into a kernel loop takes scalars, not arrays: in functions as large
 # as the chunk kernels numba leaves the reference counts of array arguments of an
 # inlined call unpruned, and those atomic updates cost more than the work.
@@ -267,7 +316,9 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
     linear vertex index (corner c adds corner_vertex[c]; keys come from these, never from rows).
     grid_lines (n, max vertices per axis): the (perturbed) grid lines.  tables: `_tables.CubeTables`.
     Returns (vertex keys, vertex points, edges, cells, incidences) records in cube order,
-    each cube's crossed-facet mask, and the number of degenerate events.
+    each cube's crossed-facet mask, the number of degenerate events, and the number of
+    pieces of G_H that M_A joins through a face of the cube (`_joined_pieces`: cells that
+    are not balls; n <= 7).
     """
     n = tables.n
     k = tables.k
@@ -323,6 +374,11 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
     n_corners = 1 << n
     all_signs = (np.int64(1) << k) - 1
     degenerate = 0
+    kuhn = tables.kuhn
+    ksimplex_kuhn = tables.ksimplex_kuhn
+    check_balls = ksimplex_kuhn.shape[0] > 0
+    kuhn_parent = np.empty(kuhn.corners.shape[0], np.int64)
+    non_ball = 0
     for ci in range(lo, hi):
         o = cube_row[ci]
         g_vertex = cube_vertex[ci]
@@ -623,6 +679,11 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
                         c_out = _grown_rows(c_out, row)
                     c_out[row, 0] = r
                     c_out[row, 1] = cells[c, 2]
+                if n_here - first >= 2 and check_balls:  # several pieces: does M_A join them in f?
+                    non_ball += _joined_pieces(
+                        values, o, corner_row, corner_signs, all_signs, kuhn, ksimplex_kuhn, vertex_ksimplex,
+                        face_free[f], face_fixed[f], cells, first, n_here, kuhn_parent, mat, rhs, lam,
+                    )
                 # its (r-1)-faces: each lower-level piece in a face g of f lies in one piece of f
                 for y in range(n_lower):
                     if not _face_in_face(face_free[lower[y, 0]], face_fixed[lower[y, 0]], face_free[f], face_fixed[f]):
@@ -648,7 +709,8 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
         used_c += n_cells
         used_i += n_incidences
     return (
-        _records_upto(vk_out, vp_out, e_out, c_out, i_out, used_v, used_e, used_c, used_i), crossed_facets, degenerate
+        _records_upto(vk_out, vp_out, e_out, c_out, i_out, used_v, used_e, used_c, used_i), crossed_facets, degenerate,
+        non_ball,
     )
 
 
@@ -799,7 +861,8 @@ def simplices_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lin
                         i_out[used_i, 2] = _simplex_key(g_vertex, corner_vertex, simplex_c0, simplex_code, key_base, f)
                         used_i += 1
     return (
-        _records_upto(vk_out, vp_out, e_out, c_out, i_out, used_v, used_e, used_c, used_i), crossed_facets, degenerate
+        _records_upto(vk_out, vp_out, e_out, c_out, i_out, used_v, used_e, used_c, used_i), crossed_facets, degenerate,
+        0,
     )
 
 

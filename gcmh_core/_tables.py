@@ -73,6 +73,11 @@ class CubeTables(NamedTuple):
     ksimplex_corner_mask: np.ndarray  # (NS,) int64
     kface_corner_mask: np.ndarray  # (number of k-faces,) int64
     k1face_corner_mask: np.ndarray  # (NK1,) int64, the (k+1)-faces
+    # The cube's whole CFK triangulation (the simplicial baselines' tables, n <= 7; for larger
+    # n empty, start all 0) and each k-simplex's row in it: to check, where a face of the
+    # cube holds several pieces of G_H, that M_A doesn't join them through the face.
+    kuhn: "SimplexTables"
+    ksimplex_kuhn: np.ndarray  # (NS,) int64
 
 
 def _faces(n: int, r: int):
@@ -172,6 +177,16 @@ def cube_tables(n: int, k: int) -> CubeTables:
         a = np.array(x, np.int64)
         return np.ascontiguousarray(a.reshape(shape) if shape else a)
 
+    if n <= 7:
+        kuhn = simplex_tables(n, k)
+        row_of = {tuple(int(c) for c in kuhn.corners[i, : k + 1]): i for i in range(kuhn.start[k], kuhn.start[k + 1])}
+        ksimplex_kuhn = as_i64([row_of[tuple(int(c) for c in cs)] for cs in np.reshape(ks_corners, (-1, k + 1))])
+    else:  # (the check is skipped: n! simplices per cube are too many to tabulate)
+        z = np.zeros((0, n + 1), np.int64)
+        e = np.zeros(0, np.int64)
+        kuhn = SimplexTables(n, k, np.zeros(n + 2, np.int64), z, e, e, z, e, 1, e)
+        ksimplex_kuhn = np.zeros(0, np.int64)
+
     return CubeTables(
         n=n,
         k=k,
@@ -195,6 +210,8 @@ def cube_tables(n: int, k: int) -> CubeTables:
         ksimplex_corner_mask=_corner_masks(n, ks_corners),
         kface_corner_mask=_corner_masks(n, [_face_corners(free, fixed) for free, fixed, _ in kfaces]),
         k1face_corner_mask=_corner_masks(n, [_face_corners(free, fixed) for free, fixed, _ in k1faces]),
+        kuhn=kuhn,
+        ksimplex_kuhn=ksimplex_kuhn,
     )
 
 

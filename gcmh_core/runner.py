@@ -93,7 +93,8 @@ class Grid:
         for a in range(n):
             self.axes_arr[a, : self.dims[a]] = axes[a]
         self.timings = dict(evaluate=0.0, candidates=0.0, kernel=0.0, assemble=0.0)
-        self.stats = dict(candidate_cubes=0, cubes=int(np.prod(self.dims - 1)), nonfinite_vertices=0, degenerate=0)
+        self.stats = dict(candidate_cubes=0, cubes=int(np.prod(self.dims - 1)), nonfinite_vertices=0, degenerate=0,
+                          non_ball_cells=0)
         self.parts = dict(vk=[], vp=[], e=[], c=[], i=[])
         # the kernel's tables, one named tuple (`_tables.CubeTables` or `SimplexTables`)
         self.kernel_tables = self.stab if self.simplicial else self.tab
@@ -123,13 +124,15 @@ class Grid:
             results = [chunk(0, m, *common)]
         else:
             results = list(_kernel_pool().map(lambda lo, hi: chunk(lo, hi, *common), cuts[:-1], cuts[1:]))
-        for records, _, degenerate in results:
+        for records, _, degenerate, non_ball in results:
             for key, arr in zip(self.parts, records):
                 self.parts[key].append(arr)
             self.stats["degenerate"] += int(degenerate)
+            # (.get: identify's per-parity grids start from their own stats)
+            self.stats["non_ball_cells"] = self.stats.get("non_ball_cells", 0) + int(non_ball)
         self.stats["candidate_cubes"] += m
         self.timings["kernel"] += time.perf_counter() - t
-        return results[0][1] if pieces == 1 else np.concatenate([masks for _, masks, _ in results])
+        return results[0][1] if pieces == 1 else np.concatenate([result[1] for result in results])
 
     def process_block(self, values, lo, hi, first_layer=None) -> np.ndarray:
         """The candidate cubes of the block of cubes lo..hi-1 (per axis, global indices).
