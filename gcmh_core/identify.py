@@ -43,10 +43,11 @@ from __future__ import annotations
 import copy
 import math
 import time
+from itertools import combinations
+from math import comb, factorial
 
 import numpy as np
 
-from ._tables import cube_tables
 from ._validate import describe_periodic
 from .complex import CellComplex
 from .errors import Cancelled, InputError
@@ -173,15 +174,15 @@ class IdentifiedGrid(Grid):
         self.centres = np.asarray(bounds, np.float64).sum(axis=1)
         self.widths = np.diff(np.asarray(bounds, np.float64), axis=1)[:, 0]
         self.div = self.dims - 1
-        self._tabs = cube_tables(n, k)
-        tab = self._tabs
-        # the free axes (bit mask) of a face of dimension dim with a given rank
-        self._rank_free = {}
-        for dim in range(k, n + 1):
-            rows = np.arange(tab.face_start[dim], tab.face_start[dim + 1])
-            free = np.zeros(int(tab.n_subsets[dim]), np.int64)
-            free[tab.face_rank[rows]] = tab.face_free[rows]
-            self._rank_free[dim] = free
+        # the key layout of `_kernels` (its glossary), computed here rather than read from the
+        # tables: a face of dimension dim has key (anchor * C(n, dim) + rank) * n_codes[dim] + code,
+        # rank its free axes' index in combinations(range(n), dim); a simplex (anchor) * (n+1)^n + code
+        self._n_subsets = np.array([comb(n, d) for d in range(n + 1)], np.int64)
+        self._n_codes = np.array([comb(d, k) * 2 ** max(d - k, 0) * factorial(k) if d >= k else 1
+                                  for d in range(n + 1)], np.int64)
+        self._rank_free = {dim: np.array([sum(1 << a for a in axes) for axes in combinations(range(n), dim)],
+                                         np.int64) for dim in range(k, n + 1)}
+        self._key_base = (n + 1) ** n
         self._frames = {}
         self._frame_vk = []  # the vertex records that came from mirrored frames
 
@@ -280,13 +281,13 @@ class IdentifiedGrid(Grid):
         """keys -> (anchor multi-indices (m, n), free axes (m, n) bool, the rest of the key)."""
         n = self.n
         if self.simplicial:  # (anchor vertex) * (n+1)^n + code, code = sum step_a (n+1)^a
-            base = self.stab.key_base
+            base = self._key_base
             anchor, code = np.divmod(keys, base)
             free = (code[:, None] // (n + 1) ** np.arange(n, dtype=np.int64)[None]) % (n + 1) > 0
             rest = (code,)
         else:  # (anchor * C(n, dim) + rank) * n_codes[dim] + local code
-            q, code = np.divmod(keys, self._tabs.n_codes[dim])
-            anchor, rank = np.divmod(q, self._tabs.n_subsets[dim])
+            q, code = np.divmod(keys, self._n_codes[dim])
+            anchor, rank = np.divmod(q, self._n_subsets[dim])
             free = (self._rank_free[dim][rank][:, None] >> np.arange(n)[None]) & 1 == 1
             rest = (rank, code)
         multi = (anchor[:, None] // self.strides[None]) % self.dims[None]
@@ -295,9 +296,9 @@ class IdentifiedGrid(Grid):
     def _encode(self, multi, rest, dim):
         anchor = multi @ self.strides
         if self.simplicial:
-            return anchor * self.stab.key_base + rest[0]
+            return anchor * self._key_base + rest[0]
         rank, code = rest
-        return (anchor * self._tabs.n_subsets[dim] + rank) * self._tabs.n_codes[dim] + code
+        return (anchor * self._n_subsets[dim] + rank) * self._n_codes[dim] + code
 
     def _frame_keys(self, keys, dim, mirrored):
         """Keys from a frame mirrored along `mirrored`, as keys of the grid's frame: the
@@ -397,7 +398,7 @@ class IdentifiedGrid(Grid):
     def process_cubes(self, origins, system, sampled) -> tuple[np.ndarray, np.ndarray]:
         """`Grid.process_cubes` with F's values at a seam copied from the vertex identified
         with it, and each cube in its frame."""
-        n, k = self.n, self.k
+        n = self.n
         t = time.perf_counter()
         corners = (origins @ self.strides)[:, None] + self.corner_off[None]
         ids = corners.reshape(-1)
@@ -417,7 +418,6 @@ class IdentifiedGrid(Grid):
         masks = np.zeros(len(origins), np.int64)
         if len(idx):
             masks[idx] = self._run(values, idx.astype(np.int64) << n, origins[idx], np.arange(1 << n, dtype=np.int64))
-        del k
         return masks, nonfinite
 
     def wrapped_neighbours(self, wave, masks, cube_strides) -> tuple[np.ndarray, np.ndarray]:
