@@ -470,12 +470,14 @@ class IdentifiedGrid(Grid):
             return self.wrap_points(X), ok, why
         return run
 
-    def _fill_seams(self, values) -> None:
-        """Line d of every periodic axis := line 0's values mirrored along its flips
-        (values span the whole grid on every periodic and flipped axis)."""
+    def _fill_seams(self, values, skip) -> None:
+        """Line d of every periodic axis but `skip` := line 0's values mirrored along its
+        flips (values span the whole grid on every axis but `skip`)."""
         n = self.n
         for _ in range(len(self.spec)):  # (a seam's copy may read another seam's line d)
             for p, flips in self.spec:
+                if p == skip:
+                    continue
                 src = [slice(None)] * n
                 dst = [slice(None)] * n
                 src[p], dst[p] = 0, -1
@@ -485,21 +487,18 @@ class IdentifiedGrid(Grid):
                 values[tuple(dst)] = view
 
     def sweep(self, system, progress=None, cancel=None) -> CellComplex:
-        """Every cube: F in slabs along an axis neither periodic nor flipped (the whole
-        grid at once when there is none), line d of periodic axes copied, not evaluated."""
+        """Every cube: F in slabs along an axis no seam reverses (an unglued one if there is
+        one), line d of glued axes copied from line 0, not evaluated."""
         n, k = self.n, self.k
-        special = set(self.periodic_axes) | set(self.flipped_axes)
-        free_axes = [a for a in range(n) if a not in special]
         dims = self.dims
-        if free_axes:
-            sa = free_axes[0]
-            layer = int(np.prod([int(d) for a, d in enumerate(dims) if a != sa]))
-            thickness = int(max(1, min(dims[sa] - 1, _SLAB_VERTICES // max(layer * k, 1))))
-        else:
-            sa, thickness = 0, int(dims[0] - 1)
+        glued = set(self.periodic_axes)
+        sa = min((a for a in range(n) if a not in self.flipped_axes), key=lambda a: (a in glued, a))
+        flips_sa = dict(self.spec).get(sa, ())
+        layer = int(np.prod([int(d) for a, d in enumerate(dims) if a != sa]))
+        thickness = int(max(1, min(dims[sa] - 1, _SLAB_VERTICES // max(layer * k, 1))))
         starts = list(range(0, int(dims[sa]) - 1, thickness))
-        reuse = bool(free_axes) and sa == 0  # (slabs along axis 0: the last layer and its codes carry over)
-        previous = codes = None
+        reuse = sa == 0  # (slabs along axis 0: the last layer and its candidate codes carry over)
+        previous = codes = layer0 = None
         for si, i0 in enumerate(starts):
             if cancel is not None and cancel():
                 raise Cancelled("extraction cancelled")
@@ -511,26 +510,40 @@ class IdentifiedGrid(Grid):
             lo[sa], hi[sa] = i0, i1
             t = time.perf_counter()
             first = 1 if reuse and previous is not None else 0
+            copied = 1 if sa in glued and i1 == dims[sa] - 1 else 0  # (line d of the slab axis: line 0)
             lines = []
             for a in range(n):
-                if a == sa and free_axes:
-                    lines.append(self.axes[a][i0 + first : i1 + 1])
-                elif a in self.periodic_axes:
+                if a == sa:
+                    lines.append(self.axes[a][i0 + first : i1 + 1 - copied])
+                elif a in glued:
                     lines.append(self.axes[a][:-1])  # (line d is copied)
                 else:
                     lines.append(self.axes[a])
-            shape = [len(x) + (a in self.periodic_axes) for a, x in enumerate(lines)]
-            shape[sa] += first
+            shape = [len(x) + (a in glued) for a, x in enumerate(lines)]
+            shape[sa] = i1 - i0 + 1
             values = np.empty((*shape, k))
-            inner = tuple(slice(None, -1) if a in self.periodic_axes else slice(first, None) if a == sa
+            inner = tuple(slice(first, shape[a] - copied) if a == sa else slice(None, -1) if a in glued
                           else slice(None) for a in range(n))
-            values[inner] = system.evaluate_grid(lines)
+            if len(lines[sa]):
+                values[inner] = system.evaluate_grid(lines)
+            at = [slice(None)] * n
             if first:
-                values[0] = previous
-            self._fill_seams(values)
+                at[sa] = 0
+                values[tuple(at)] = previous
+            self._fill_seams(values, skip=sa)
+            if sa in glued and i0 == 0:
+                at[sa] = 0
+                layer0 = values[tuple(at)].copy()
+            if copied:
+                view = layer0
+                for b in flips_sa:
+                    view = np.flip(view, axis=b if b < sa else b - 1)
+                at[sa] = -1
+                values[tuple(at)] = view
             self.timings["evaluate"] += time.perf_counter() - t
             codes = self.process_block(values, lo, hi, codes if first else None)
-            previous = values[-1]
+            at[sa] = -1
+            previous = values[tuple(at)]
         if progress is not None:
             progress("assembling", 1.0)
         return self.assemble()

@@ -221,3 +221,24 @@ def test_wrap_points_reverses_the_flipped_axis():
                           bounds=bounds)
     X = grid.wrap_points([[1.0, 2.0, 0.5, 2 * np.pi + 0.3, 0.7], [1.0, 2.0, 0.5, -0.3, -0.2]])
     assert np.allclose(X, [[1.0, 2.0, 0.5, 0.3, 2 * np.pi - 0.7], [1.0, 2.0, 0.5, 2 * np.pi - 0.3, 0.2]])
+
+
+@pytest.mark.parametrize("slab", [1 << 22, 16])
+def test_curve_on_the_klein_bottle_is_one_circle(slab, monkeypatch):
+    """cos t = 1/2 on the Klein bottle: the two arcs t = pi/3 and t = 5pi/3 of the square
+    are one circle, since crossing s = 2pi reverses t.  Here the sweep's slabs run along
+    s, a glued axis with a reflection (16 vertices a slab: one slab per cube)."""
+    import gcmh_core.identify as identify
+
+    monkeypatch.setattr(identify, "_SLAB_VERTICES", slab)
+    square = [[0, "2*pi"], [0, "2*pi"]]
+    for full, cont in (("gcmh", "gcch"), ("cms", "ccs")):
+        a = extract("cos(t) - 0.5", square, [12, 10], variables="s,t", periodic=["s:flip=t", "t"], method=full)
+        b = extract("cos(t) - 0.5", square, [12, 10], variables="s,t", periodic=["s:flip=t", "t"], method=cont,
+                    start=[0.3, np.pi / 3])
+        assert (a.connected_components(), a.euler_characteristic(), len(a.boundary_facets())) == (1, 0, 0)
+        assert a.counts() == b.counts() and np.array_equal(a.vertices, b.vertices)
+    cut = extract("cos(t) - 0.5", square, [12, 10], variables="s,t")
+    assert (cut.connected_components(), len(cut.boundary_facets())) == (2, 4)
+    with pytest.raises(InputError, match="F is not 2pi-periodic in s with t reversed"):
+        extract("sin(t) - 0.5", square, [12, 10], variables="s,t", periodic=["s:flip=t", "t"])
