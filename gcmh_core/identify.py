@@ -31,9 +31,10 @@ vertices and cells exactly (as neighbouring cubes do everywhere else):
    mirrored along the flipped axes).  An identified vertex keeps the position computed
    on the side away from the seam.
 
-The full sweep evaluates F in slabs along an axis that is neither periodic nor flipped
-(or all at once when every axis is) and runs the candidate cubes through this grid;
-the interval-pruned sweep is not used for periodic runs.  Continuation crosses seams
+The full sweep (`IdentifiedGrid.sweep`) evaluates F in slabs along an axis no seam
+reverses (an unglued one when there is one) and runs the candidate cubes through this
+grid; the interval-pruned sweep is not used for periodic runs.  Start points may be
+projected across a seam (`project_wrapped`).  Continuation crosses seams
 to the identified cube (`IdentifiedGrid.wrapped_neighbours`).  Distributed (Dask) runs
 refuse periodic axes for now.
 """
