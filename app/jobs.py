@@ -59,7 +59,20 @@ def run_job(job: Job, progress=None, cancel=None):
     """Run one job synchronously (the headless path and the worker share this)."""
     import gcmh_core
 
-    return gcmh_core.extract(list(job.formulas), progress=progress, cancel=cancel, **job.kwargs())
+    kw = job.kwargs()
+    try:
+        return gcmh_core.extract(list(job.formulas), progress=progress, cancel=cancel, **kw)
+    except gcmh_core.InputError as err:
+        # an example's start point lies on M at its default parameters only: after a
+        # parameter changes, continuation starts from every piece F's bounds find instead
+        text = str(err)
+        if not (job.params and isinstance(kw.get("start"), list)
+                and (text.startswith("start point") or "start cube" in text)):
+            raise
+        kw["start"] = "auto"
+        cx = gcmh_core.extract(list(job.formulas), progress=progress, cancel=cancel, **kw)
+        cx.meta["start_note"] = f"the start point did not reach M at these parameters ({text}); started from 'auto'"
+        return cx
 
 
 def estimate_job(job: Job):

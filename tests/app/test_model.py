@@ -172,3 +172,18 @@ def test_exports(tmp_path, sphere):
         studio_io.export_complex(None, tmp_path / "d.npz")
     with pytest.raises(ValueError, match="unknown mesh format"):
         studio_io.export_mesh(None, tmp_path / "m.xyz", 2)
+
+
+def test_a_parameter_step_that_loses_the_start_point_continues_from_auto():
+    # the hyperboloid's start point lies on M for a > 0 only: at a = -0.3 Newton leaves the box
+    from app.jobs import Job, run_job
+    from gcmh_core.examples import load_example
+
+    ex = load_example("hyperboloid")
+    job = Job(formulas=ex.formulas, variables=ex.variables, bounds=ex.bounds, div=16, method="gcch",
+              start=list(ex.start), params={"a": -0.3})
+    cx = run_job(job)
+    assert cx.euler_characteristic() == 2 and "started from 'auto'" in cx.meta["start_note"]
+    job.params = {"a": 0.3}
+    cx = run_job(job)
+    assert cx.euler_characteristic() == 0 and "start_note" not in cx.meta
