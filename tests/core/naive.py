@@ -544,12 +544,13 @@ def _closure(cx, r, cell):
     return out
 
 
-def structure_problems(cx, bounds=None) -> list[str]:
+def structure_problems(cx, bounds=None, div=None) -> list[str]:
     """What is wrong with cx as a regular cell complex of a manifold (empty if nothing):
     edges with one end or duplicated, 2-cells whose edges are not one cycle of >= 3, r-cells
     (r >= 3) whose boundary is not a closed connected (r-1)-pseudomanifold with the Euler
     characteristic of a sphere, facets with more than two top cells, and, given the box
-    `bounds` ((lo, hi) per axis), boundary facets off the box's boundary."""
+    `bounds` ((lo, hi) per axis) and `div` (cubes per axis), boundary facets off the box's
+    boundary (the outer grid lines are perturbed: within half a cube of it, on one line)."""
     problems = []
     E = np.asarray(cx.edges)
     if len(E) and (E[:, 0] == E[:, 1]).any():
@@ -599,11 +600,13 @@ def structure_problems(cx, bounds=None) -> list[str]:
             V = np.asarray(cx.vertices)
             lo = np.array([b[0] for b in bounds], float)
             hi = np.array([b[1] for b in bounds], float)
-            tol = 1e-9 * (hi - lo)
+            tol = 0.5 * (hi - lo) / np.asarray(div if div is not None else 1, float)
             for f in np.flatnonzero(cofaces == 1):
                 vs = sorted(_closure(cx, dim - 1, f)[0]) if dim >= 2 else [f]
                 P = V[vs]
-                on = ((np.abs(P - lo) <= tol).all(axis=0) | (np.abs(P - hi) <= tol).all(axis=0)).any()
+                one_line = (np.abs(P - P[0]) <= 1e-9 * (hi - lo)).all(axis=0)
+                near = (np.abs(P[0] - lo) <= tol) | (np.abs(P[0] - hi) <= tol)
+                on = (one_line & near).any()
                 if not on:
                     problems.append(f"boundary facet {f} inside the box")
                     break
