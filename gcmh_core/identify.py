@@ -217,8 +217,8 @@ class IdentifiedGrid(Grid):
             self._frames[pattern] = fg
         fg = self._frames[pattern]
         fg.parts = {key: [] for key in self.parts}
-        fg.stats = dict(candidate_cubes=0, degenerate=0)
-        fg.timings = dict(kernel=0.0)
+        fg.stats = dict.fromkeys(self.stats, 0)  # (counts from zero, added back in _take_frame_records)
+        fg.timings = dict.fromkeys(self.timings, 0.0)
         return fg
 
     def _run(self, values, cube_row, origin, value_off) -> np.ndarray:
@@ -273,9 +273,10 @@ class IdentifiedGrid(Grid):
             for key, arr in zip(("vk", "vp", "e", "c", "i"), (vk, vp, e, c, inc)):
                 self.parts[key].append(arr)
             self._frame_vk.append(vk)  # (kept, so that ids stay unique: see assemble)
-        self.stats["candidate_cubes"] += fg.stats["candidate_cubes"]
-        self.stats["degenerate"] += fg.stats["degenerate"]
-        self.timings["kernel"] += fg.timings["kernel"]
+        for key, value in fg.stats.items():  # (every count the kernel run keeps, whatever it is)
+            self.stats[key] = self.stats.get(key, 0) + value
+        for key, value in fg.timings.items():
+            self.timings[key] = self.timings.get(key, 0.0) + value
 
     # ------------------------------------------------------------------ keys
     def _decode(self, keys, dim):

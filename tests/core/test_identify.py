@@ -29,7 +29,7 @@ def _check_manifold(cx, ex, div, seed):
     vertex on the lo side); every boundary vertex on the domain's boundary along an unglued axis."""
     cofaces = cx.facet_cofaces()
     assert cofaces.min() >= 1 and cofaces.max() <= 2
-    assert cx.meta["degenerate"] == 0
+    assert cx.meta["degenerate"] == 0 and cx.meta.get("non_ball_cells", 0) == 0
     assert topology_report(cx)["orientation"]["nonmanifold_edges"] == 0
     bounds = np.array(ex.bounds)
     spec = as_periodic(ex.periodic, ex.variables, div)
