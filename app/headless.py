@@ -214,7 +214,8 @@ def _prepare(opts: Options):
     job = Job(formulas=list(ex.formulas), variables=list(ex.variables), bounds=[tuple(b) for b in ex.bounds],
               div=opts.div if opts.div is not None else ex.div, seed=opts.seed, method=opts.method,
               start=(list(ex.start) if ex.start else "auto") if opts.method in CONTINUATION_METHODS else None,
-              extra={"params": ex.param_values()} if getattr(ex, "params", None) else {})
+              extra={"params": ex.param_values()} if getattr(ex, "params", None) else {},
+              periodic=list(getattr(ex, "periodic", None) or []) or None)
     try:
         cx = run_job(job)
     except InputError as e:

@@ -120,6 +120,24 @@ def check_params(text: str, names) -> tuple[str | None, dict[str, float]]:
     return None, out
 
 
+def check_periodic(text: str, names, div) -> tuple[str | None, list[str]]:
+    """The glued-axes field, ``t  s:flip=t`` (entries separated by spaces, commas or
+    semicolons, as ``gcmh extract --periodic`` takes them): (a message or None, the entries)."""
+    entries = [e for e in re.split(r"[\s;]+", text.replace(", ", " ").strip()) if e]
+    entries = [e.strip(",") for e in entries if e.strip(",")]
+    if not entries:
+        return None, []
+    if div is None:
+        return None, entries  # checked again once the division is valid
+    from gcmh_core._validate import as_periodic  # the engine's own check: the same messages as the CLI
+
+    try:
+        as_periodic(entries, list(names), list(div))
+    except InputError as e:
+        return f"glued axes: {e}", []
+    return None, entries
+
+
 def check_nk(n: int, k: int) -> str | None:
     if n < 1:
         return "n must be at least 1"

@@ -38,6 +38,7 @@ class Job:
     scheduler: str | None = None      # None: this process; "local" or "tcp://host:port": a Dask cluster
     force: bool = False               # run even when the estimate says it won't fit (the user agreed)
     params: dict | None = None        # the formulas' parameters, {name: value}
+    periodic: list | None = None      # glued axes, e.g. ["t", "s:flip=t"] (extract's periodic=)
     extra: dict = field(default_factory=dict)
 
     def kwargs(self) -> dict:
@@ -51,6 +52,8 @@ class Job:
             kw["force"] = True
         if self.params:
             kw["params"] = dict(self.params)
+        if self.periodic:
+            kw["periodic"] = list(self.periodic)
         kw.update(self.extra)
         return kw
 

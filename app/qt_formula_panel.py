@@ -325,6 +325,18 @@ class QtFormulaPanel(QWidget):
         drow.addWidget(self.per_axis)
         drow.addStretch(1)
         dl.addLayout(drow)
+        gform = QFormLayout()
+        gform.setFieldGrowthPolicy(QFormLayout.AllNonFixedFieldsGrow)
+        self.periodic_edit = QLineEdit()
+        self.periodic_edit.setPlaceholderText("none (e.g. t  s:flip=t)")
+        self.periodic_edit.setToolTip(
+            "axes whose ends are the same point (angles): 't' glues t's lower and upper bound; "
+            "'s:flip=t' glues s's and reverses t across that seam (the Klein bottle, the Moebius band). "
+            "F must be invariant under the gluing; a reversed axis needs an even div")
+        gform.addRow("glued axes", self.periodic_edit)
+        dl.addLayout(gform)
+        self.periodic_error = _error_label()
+        dl.addWidget(self.periodic_error)
         self.div_error = _error_label()
         dl.addWidget(self.div_error)
 
@@ -369,6 +381,7 @@ class QtFormulaPanel(QWidget):
         self.vars_edit.textChanged.connect(self._validate)
         self.table.itemChanged.connect(lambda *_: self._validate())
         self.div_edit.textChanged.connect(self._validate)
+        self.periodic_edit.textChanged.connect(self._validate)
         self.per_axis.toggled.connect(self._on_per_axis)
         self.method_combo.currentIndexChanged.connect(self._on_method)
         self.start_edit.textChanged.connect(self._validate)
@@ -585,6 +598,11 @@ class QtFormulaPanel(QWidget):
         else:
             _mark(self.div_edit, self.div_error, None)
 
+        m, _ = inputs.check_periodic(self.periodic_edit.text(), names, self.div_list())
+        _mark(self.periodic_edit, self.periodic_error, m)
+        if m:
+            errs["glued axes"] = m
+
         if self.continuation():
             m, _ = inputs.check_start(self.start_edit.text(), n)
             _mark(self.start_edit, self.start_error, m)
@@ -724,7 +742,12 @@ class QtFormulaPanel(QWidget):
         """The job of the panel's contents as they stand (call when valid)."""
         return Job(formulas=self.formulas(), variables=self.variables(), bounds=self.bounds(),
                    div=self.div(), method=self.method(), seed=self.seed_spin.value(), start=self.start(),
-                   scheduler=check_scheduler(self.scheduler_edit.text())[1], params=self.params() or None)
+                   scheduler=check_scheduler(self.scheduler_edit.text())[1], params=self.params() or None,
+                   periodic=self.periodic() or None)
+
+    def periodic(self) -> list[str]:
+        """The glued axes as extract's periodic= list ([] when none or the field is wrong)."""
+        return inputs.check_periodic(self.periodic_edit.text(), self.variables(), self.div_list())[1]
 
     def params(self) -> dict[str, float]:
         """The parameters' values ({} when there are none or the field is wrong)."""
@@ -764,6 +787,7 @@ class QtFormulaPanel(QWidget):
             "start": self.start_edit.text(),
             "scheduler": self.scheduler_edit.text().strip(),
             "params": self.params_edit.text(),
+            "periodic": self.periodic_edit.text(),
         }
 
     def set_state(self, d: dict) -> None:
@@ -824,6 +848,10 @@ class QtFormulaPanel(QWidget):
             if isinstance(params, dict):
                 params = ", ".join(f"{p} = {v if isinstance(v, str) else format_number(v)}" for p, v in params.items())
             self.params_edit.setText(str(params))
+            periodic = d.get("periodic") or ""
+            if isinstance(periodic, (list, tuple)):
+                periodic = "  ".join(str(p) for p in periodic)
+            self.periodic_edit.setText(str(periodic))
         finally:
             self._building = False
         self.table.setColumnHidden(2, not self.per_axis.isChecked())

@@ -361,7 +361,8 @@ class QtMainWindow(QMainWindow):
             n=ex.n, k=ex.k, variables=list(ex.variables), formulas=list(ex.formulas),
             bounds=[list(b) for b in ex.bounds], div=div if div is not None else ex.div,
             method=method, seed=0, start=list(ex.start) if ex.start else None,
-            params=ex.param_values() if getattr(ex, "params", None) else None))
+            params=ex.param_values() if getattr(ex, "params", None) else None,
+            periodic=list(getattr(ex, "periodic", None) or [])))
         self.model.expect(ex.title, ex.formulas, ex.variables, view=ex.view or {})
         self.setWindowTitle(f"GCMH Studio \u2014 {ex.title}")
         self.show_description(ex.title, " ".join(str(ex.description).split()))

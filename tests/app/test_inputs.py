@@ -88,3 +88,14 @@ def test_check_formula_with_parameters():
     assert inputs.check_formula("x^2 + y^2 - z^2 - a", names, 0, ("a",)) is None
     assert "'b'" in inputs.check_formula("x^2 + y^2 - z^2 - a*b", names, 0, ("a",))
     assert "'a'" in inputs.check_formula("x^2 + y^2 - z^2 - a", names, 0)   # no parameters given
+
+
+def test_glued_axes_field():
+    names, div = ["x", "y", "z", "s", "t"], [8, 8, 4, 8, 8]
+    assert inputs.check_periodic("", names, div) == (None, [])
+    assert inputs.check_periodic("t  s:flip=t", names, div) == (None, ["t", "s:flip=t"])
+    assert inputs.check_periodic("t; s:flip=t", names, div)[1] == ["t", "s:flip=t"]
+    m, entries = inputs.check_periodic("q", names, div)
+    assert entries == [] and "glued axes" in m and "'q' is not a variable" in m
+    m, _ = inputs.check_periodic("s:flip=t", names, [8, 8, 4, 8, 7])
+    assert "even div" in m

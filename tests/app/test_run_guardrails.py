@@ -374,3 +374,13 @@ def test_an_example_with_parameters_runs_and_its_values_are_used(qtbot, window):
     p.params_edit.setText("a = 1/0")
     settle(qtbot, p)
     assert not p.is_valid() and p.params_error.text().startswith("parameters: a:")
+
+
+def test_a_glued_example_runs_closed_in_the_window(qtbot, window):
+    # the closed Klein bottle's file glues t and s (t reversed): the panel carries it to the run
+    with qtbot.waitSignal(window.runFinished, timeout=120_000) as b:
+        window.load_example("klein-bottle-closed", div=[12, 12, 6, 12, 12])
+    assert b.args[0] == "done", window.last_status
+    assert window.formula_panel.periodic() == ["s:flip=t", "t"]
+    cx = window.result
+    assert cx.euler_characteristic() == 0 and len(cx.boundary_facets()) == 0
