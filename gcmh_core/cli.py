@@ -32,9 +32,10 @@ import signal
 import stat
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
-from .safe_io import AtomicFile, check_output
 from .errors import InputError
+from .safe_io import AtomicFile, check_output
 
 # Nothing heavy is imported here: the engine (numba, sympy) is imported inside main(),
 # after the signal handlers are in place, so Ctrl-C while it loads ends in one line too.
@@ -496,6 +497,23 @@ class _Progress:
             self.bar = None
 
 
+def kernels_cached() -> bool:
+    """Whether numba's on-disk cache holds the cube kernel (index files `_kernels.cubes_chunk-*.nbi`
+    beside the package, or under $NUMBA_CACHE_DIR): if not, the first extraction compiles."""
+    here = Path(__file__).resolve().parent
+    places = [here / "__pycache__"]
+    cache_dir = os.environ.get("NUMBA_CACHE_DIR")
+    if cache_dir:
+        places = [Path(cache_dir)]
+    for place in places:
+        try:
+            if next(place.rglob("_kernels.cubes_chunk-*.nbi"), None) is not None:
+                return True
+        except OSError:
+            continue
+    return False
+
+
 def _cmd_extract(args) -> int:
     job = _job_from_args(args)
     outputs = []
@@ -510,6 +528,9 @@ def _cmd_extract(args) -> int:
 
     import gcmh_core
 
+    if not args.quiet and not kernels_cached():
+        print("gcmh: first run: compiling the kernels, once per install (about a minute; later runs load "
+              "them from numba's cache)", file=sys.stderr, flush=True)
     progress = _Progress(enabled=not args.quiet and _isatty(sys.stderr))
     try:
         cx = gcmh_core.extract(

@@ -289,3 +289,18 @@ def test_python_m_extract_on_a_local_cluster(tmp_path):
         assert "vertices" in arrays and "cells_1" in arrays
         for key in arrays:
             assert x[key].tobytes() == y[key].tobytes(), key
+
+
+def test_first_run_says_the_kernels_compile(capsys, monkeypatch, tmp_path):
+    import gcmh_core.cli as cli
+
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))  # an empty cache: nothing compiled yet
+    assert not cli.kernels_cached()
+    monkeypatch.delenv("NUMBA_CACHE_DIR")
+    gcmh_core.extract("x^2 + y^2 + z^2 - 1", (-1.5, 1.5), 4, variables="x,y,z")  # (cached by now)
+    assert cli.kernels_cached()
+    monkeypatch.setattr(cli, "kernels_cached", lambda: False)
+    code, out, err = run(capsys, "extract", "--example", "sphere", "--div", "6")
+    assert code == 0 and "compiling the kernels, once per install" in err
+    code, out, err = run(capsys, "extract", "--example", "sphere", "--div", "6", "--quiet")
+    assert code == 0 and "compiling" not in err
