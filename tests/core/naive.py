@@ -331,17 +331,64 @@ class NaiveGCMH:
             self._face_cells[key] = [frozenset(c) for c in comps.values()]
         return self._face_cells[key]
 
+    # -- cells that are not balls (issue 13) -----------------------------------------
+    def joined_pieces(self, face, r):
+        """How many of the r-cells in ``face`` M_A joins through the face: the cells minus
+        the pieces of M_A (marching simplices over the face's Kuhn triangulation: every
+        chain of grid vertices c_0 < ... < c_d inside the face) that hold them."""
+        cells = self.face_cells(face, r)
+        if len(cells) < 2:
+            return 0
+        anchor, S = face
+        corners = [tuple(v) for v in itertools.product(*[
+            (anchor[a], anchor[a] + 1) if a in S else (anchor[a],) for a in range(self.n)])]
+
+        def chains(prefix):
+            yield prefix
+            for c in corners:
+                if c != prefix[-1] and all(x >= y for x, y in zip(c, prefix[-1])):
+                    yield from chains(prefix + (c,))
+
+        uf = UnionFind()
+        crossed = set()
+        by_dim = defaultdict(list)
+        for c0 in corners:
+            for ch in chains((c0,)):
+                if len(ch) - 1 >= self.k:
+                    by_dim[len(ch) - 1].append(ch)
+        for ch in by_dim[self.k]:
+            if self.lambdas(list(ch)) is not None:
+                crossed.add(ch)
+        for d in sorted(by_dim):
+            if d == self.k:
+                continue
+            for ch in by_dim[d]:
+                for j in range(d + 1):
+                    t = ch[:j] + ch[j + 1:]
+                    if t in crossed:
+                        crossed.add(ch)
+                        uf.union(ch, t)
+        roots = set()
+        for X in cells:
+            v = min(X)
+            anchor_v, _, perm = self.vertex_keys[v]
+            roots.add(uf.find(tuple(kuhn_path(anchor_v, perm))))
+        return len(cells) - len(roots)
+
     # -- driver ---------------------------------------------------------------------
     def run(self):
         n, k = self.n, self.k
         dim = n - k
         cells = {r: {} for r in range(1, dim + 1)}   # r -> {(face, vset): faces}
+        non_ball = 0  # counted per cube and face, as the kernel does
         for origin in naive_candidates(self.values):
             cube = (tuple(origin), tuple(range(n)))
             for kf in subfaces(cube, k):               # all vertices of the cube
                 self.kface_vertices(kf)
             for r in range(1, dim + 1):
                 for f in subfaces(cube, r + k):
+                    if r >= 2:
+                        non_ball += self.joined_pieces(f, r)
                     for X in self.face_cells(f, r):
                         ident = (f, X)
                         if ident in cells[r]:
@@ -380,6 +427,7 @@ class NaiveGCMH:
             "candidates": naive_candidates(self.values),
             "walk_dead_ends": list(self.walk_dead_ends),
             "walked_faces": list(self.walked_faces),
+            "non_ball_cells": non_ball,
         }
 
 
