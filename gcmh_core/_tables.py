@@ -76,7 +76,7 @@ class CubeTables(NamedTuple):
     # The cube's whole CFK triangulation (the simplicial baselines' tables, n <= 7; for larger
     # n empty, start all 0) and each k-simplex's row in it: to check, where a face of the
     # cube holds several pieces of G_H, that M_A doesn't join them through the face.
-    kuhn: "SimplexTables"
+    kuhn: SimplexTables
     ksimplex_kuhn: np.ndarray  # (NS,) int64
 
 

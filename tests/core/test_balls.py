@@ -7,9 +7,10 @@ by cells is not built yet: those tests are marked xfail (strict) and name the ca
 
 import numpy as np
 import pytest
-from naive import structure_problems
 
 from gcmh_core import extract
+
+from naive import structure_problems
 
 TUBE = "(x - (x+y+z)/3)^2 + (y - (x+y+z)/3)^2 + (z - (x+y+z)/3)^2 - 0.04"
 BOX = [(-1, 1)] * 3

@@ -22,10 +22,11 @@ import pytest
 hypothesis = pytest.importorskip("hypothesis")
 from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
-from naive import structure_problems  # noqa: E402
 
 from gcmh_core import extract  # noqa: E402
 from gcmh_core.formula import System  # noqa: E402
+
+from naive import structure_problems  # noqa: E402
 
 LONG = os.environ.get("GCMH_HYPOTHESIS_PROFILE") == "long"
 SHAPES = [(3, 1, 6), (4, 2, 4), (5, 3, 3), (6, 3, 2), (6, 4, 2)]  # n, k, div
@@ -44,7 +45,8 @@ def quadrics(n, k, seed):
         q = rng.integers(-2, 3, n)
         lin = rng.normal(size=n).round(3)
         c = round(float(rng.normal() * 0.3), 3)
-        terms = [f"{int(q[a])}*x{a + 1}^2" for a in range(n) if q[a]] + [f"{float(lin[a])!r}*x{a + 1}" for a in range(n)]
+        terms = [f"{int(q[a])}*x{a + 1}^2" for a in range(n) if q[a]]
+        terms += [f"{float(lin[a])!r}*x{a + 1}" for a in range(n)]
         texts.append(" + ".join(terms + [repr(c)]))
         hessian.append(2.0 * np.abs(q).max())
     return texts, np.array(hessian)

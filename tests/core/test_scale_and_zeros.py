@@ -9,10 +9,11 @@ cannot resolve are counted (meta["degenerate"], the CLI summary's "degenerate").
 
 import numpy as np
 import pytest
-from naive import structure_problems
 
 from gcmh_core import extract
 from gcmh_core.examples import load_example
+
+from naive import structure_problems
 
 METHODS = ["gcmh", "gcch", "cms", "ccs"]
 SPHERE = "x^2+y^2+z^2-1"
