@@ -387,7 +387,7 @@ class NaiveGCMH:
                 self.kface_vertices(kf)
             for r in range(1, dim + 1):
                 for f in subfaces(cube, r + k):
-                    if r >= 2:
+                    if r >= 2 and n <= NON_BALL_MAX_N:
                         non_ball += self.joined_pieces(f, r)
                     for X in self.face_cells(f, r):
                         ident = (f, X)
@@ -427,8 +427,13 @@ class NaiveGCMH:
             "candidates": naive_candidates(self.values),
             "walk_dead_ends": list(self.walk_dead_ends),
             "walked_faces": list(self.walked_faces),
-            "non_ball_cells": non_ball,
+            "non_ball_cells": non_ball if n <= NON_BALL_MAX_N else None,
         }
+
+
+# The non-ball count marches every chain of corners of a face: fine up to R^5, minutes per
+# grid in R^7.  Above this n the naive run leaves it out (non_ball_cells None).
+NON_BALL_MAX_N = 6
 
 
 def naive_extract(values, axes, sign_shortcut=True):
@@ -448,7 +453,7 @@ def naive_extract(values, axes, sign_shortcut=True):
       'walk_dead_ends': walks that did not reach a second boundary vertex
       'walked_faces': (k+1)-faces with more than two vertices (the walk ran)
     """
-    return NaiveGCMH(values, axes, sign_shortcut).run()
+    return NaiveGCMH(values, axes, sign_shortcut).run()  # non_ball_cells None for n > NON_BALL_MAX_N
 
 
 # --------------------------------------------------------------------------
