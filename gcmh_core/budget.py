@@ -73,7 +73,7 @@ _VERTEX_SECONDS = 4e-9
 _RECORD_SECONDS_PER_N = 1.5e-9  # per byte of records and dimension n (the walks grow with n)
 WORK_LIMIT_SECONDS = 300.0
 # A run goes ahead only when the memory available is this many times its estimated peak.
-MEMORY_MARGIN = 1.5
+MEMORY_MARGIN = 2.0
 _KEY_LIMIT = 2**63
 # A run's fixed working set: thread pools, per-thread copies of the grid, kernel scratch
 # (measured 10-30 MB above an idle process for runs with almost no cells)
@@ -107,8 +107,9 @@ class Estimate:
 
     @property
     def fits_memory(self) -> bool:
-        # the estimate is within a factor of two of measured peaks, and was seen 1.5 times
-        # under them (n = 7, k = 1): a run is let through only with that much room to spare
+        # the estimate is within a factor of two of measured peaks (tests/core/test_budget.py),
+        # and was seen twice under one (n = 7, k = 1, div 8: 3.9 GB, measured 7.8 GB):
+        # a run is let through only with that much room to spare
         return self.peak_bytes * MEMORY_MARGIN <= self.available_bytes
 
     @property
@@ -200,12 +201,12 @@ def _bytes_per_cube(n: int, k: int, faces: np.ndarray) -> float:
 
     The kernel's records (`_kernels`): a vertex per crossed k-face (its key and n
     coordinates), an edge per crossed (k+1)-face (three keys), an r-cell per crossed
-    (k+r)-face (two words) with up to 2(k+r) faces (three words each); held while the
+    (k+r)-face (two words) with its 2r faces (three words each); held while the
     kernel grows its buffers by doubling, then concatenated and sorted."""
     faces = np.asarray(faces, np.float64)
     raw = faces[k] * (8 + 8 * n) + (faces[k + 1] * 24 if k + 1 <= n else 0.0)
-    for d in range(k + 2, n + 1):  # a piece in a d-face has facets in up to all 2d of its facets
-        raw += faces[d] * (16 + 2 * d * 24)
+    for d in range(k + 2, n + 1):
+        raw += faces[d] * (16 + 2 * (d - k) * 24)
     return _RECORD_OVERHEAD * raw * _K_FACTOR.get(k, _K_FACTOR_MORE)
 
 
