@@ -281,7 +281,11 @@ class QtMainWindow(QMainWindow):
             self.kernel_label.setText(f"Kernel warm-up failed ({warm.error}); the first run compiles them.")
         elif warm.seconds is not None and warm.seconds > 3.0:
             self.kernel_label.setText(f"Kernels compiled in {warm.seconds:.0f} s; they are kept for later runs.")
-            QTimer.singleShot(15_000, lambda: self.kernel_label.setText(""))
+            # a timer owned by the label: it dies with the window instead of firing on a deleted label
+            clear = QTimer(self.kernel_label)
+            clear.setSingleShot(True)
+            clear.timeout.connect(self.kernel_label.clear)
+            clear.start(15_000)
         else:
             self.kernel_label.setText("")
 
