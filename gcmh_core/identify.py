@@ -52,7 +52,7 @@ import numpy as np
 from ._validate import describe_periodic
 from .complex import CellComplex
 from .errors import Cancelled, InputError
-from .grid import candidate_corner_sets, candidate_scan, perturbed_axes
+from .grid import candidate_scan, perturbed_axes
 from .runner import Grid
 
 __all__ = ["IdentifiedGrid", "identified_axes", "check_invariance", "describe_periodic"]
@@ -413,14 +413,7 @@ class IdentifiedGrid(Grid):
         nonfinite = uniq[~np.isfinite(uvals).all(axis=1)]
         values = np.ascontiguousarray(uvals[inverse.reshape(-1)], np.float64)
         self.timings["evaluate"] += time.perf_counter() - t
-        t = time.perf_counter()
-        cand = candidate_corner_sets(values, 1 << n)
-        self.timings["candidates"] += time.perf_counter() - t
-        idx = np.nonzero(cand)[0]
-        masks = np.zeros(len(origins), np.int64)
-        if len(idx):
-            masks[idx] = self._run(values, idx.astype(np.int64) << n, origins[idx], np.arange(1 << n, dtype=np.int64))
-        return masks, nonfinite
+        return self.cubes_from_corner_values(values, origins, self._run), nonfinite
 
     def wrapped_neighbours(self, wave, masks, cube_strides) -> tuple[np.ndarray, np.ndarray]:
         """`_kernels.facet_neighbours` with seams crossed: past the last cube of a periodic

@@ -190,6 +190,12 @@ class Grid:
             nonfinite = uniq[~np.isfinite(uvals).all(axis=1)]
         values = np.ascontiguousarray(uvals[inverse], np.float64)
         self.timings["evaluate"] += time.perf_counter() - t
+        return self.cubes_from_corner_values(values, origins, self.run_kernel), nonfinite
+
+    def cubes_from_corner_values(self, values, origins, run) -> np.ndarray:
+        """The candidate pass and `run` (run_kernel or a subclass's) on cubes whose 2^n corner
+        values are rows i * 2^n + c of values; returns each cube's crossed-facet mask."""
+        n = self.n
         t = time.perf_counter()
         cand = candidate_corner_sets(values, 1 << n)
         self.timings["candidates"] += time.perf_counter() - t
@@ -197,8 +203,8 @@ class Grid:
         masks = np.zeros(len(origins), np.int64)
         if len(idx):
             value_off = np.arange(1 << n, dtype=np.int64)
-            masks[idx] = self.run_kernel(values, idx.astype(np.int64) << n, origins[idx], value_off)
-        return masks, nonfinite
+            masks[idx] = run(values, idx.astype(np.int64) << n, origins[idx], value_off)
+        return masks
 
     def assemble(self) -> CellComplex:
         t = time.perf_counter()
