@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import re
 
+from gcmh_core._memory import available_memory as available_memory  # used by the formula panel
+from gcmh_core._memory import format_bytes, format_seconds
 from gcmh_core.errors import InputError
 from gcmh_core.formula import evaluate_constant
 
@@ -196,40 +198,6 @@ def check_start(text: str, n: int):
     return None, out
 
 
-def human_bytes(b: float) -> str:
-    b = float(b)
-    for unit in ("B", "KB", "MB", "GB", "TB"):
-        if abs(b) < 1024 or unit == "TB":
-            return f"{b:.0f} {unit}" if unit == "B" else f"{b:.1f} {unit}"
-        b /= 1024
-    return f"{b:.1f} TB"
-
-
-def human_seconds(s: float) -> str:
-    """A duration said the way a person would: 0.3 s, 12 s, 4 min, 2.5 h."""
-    s = float(s)
-    if s < 10:
-        return f"{s:.1g} s" if s < 1 else f"{s:.0f} s"
-    if s < 90:
-        return f"{s:.0f} s"
-    if s < 5400:
-        return f"{s / 60:.0f} min"
-    if s < 2 * 86400:
-        return f"{s / 3600:.1f} h"
-    return f"{s / 86400:.0f} days"
-
-
-def available_memory() -> int | None:
-    """Bytes of memory available now (Linux /proc/meminfo, else total physical), or None."""
-    try:
-        with open("/proc/meminfo") as f:
-            for line in f:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    except OSError:
-        pass
-    try:
-        import os
-        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
-    except (ValueError, OSError, AttributeError):
-        return None
+# Sizes, durations and free memory are said the same way by the engine's budget and the app.
+human_bytes = format_bytes
+human_seconds = format_seconds

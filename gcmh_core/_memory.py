@@ -1,4 +1,4 @@
-"""What this machine can hold: the memory a run may use, and sizes in words.
+"""What this machine can hold: the memory a run may use, and sizes and durations in words.
 
 A leaf module (it imports only `errors`), so that `complex` (bounded loads) and
 `budget` (run estimates) can both use it without importing each other.
@@ -11,7 +11,7 @@ import os
 
 from .errors import InputError
 
-__all__ = ["available_memory", "format_bytes"]
+__all__ = ["available_memory", "format_bytes", "format_seconds"]
 
 
 def format_bytes(b: float) -> str:
@@ -19,6 +19,20 @@ def format_bytes(b: float) -> str:
         if b >= size:
             return f"{b / size:.3g} {unit}"
     return f"{int(b)} B"
+
+
+def format_seconds(s: float) -> str:
+    """A duration said the way a person would: 0.3 s, 12 s, 4 min, 2.5 h, 5 days."""
+    s = float(s)
+    if s < 1:
+        return f"{s:.1g} s"
+    if s < 90:
+        return f"{s:.0f} s"
+    if s < 5400:
+        return f"{s / 60:.0f} min"
+    if s < 2 * 86400:
+        return f"{s / 3600:.1f} h"
+    return f"{s / 86400:.0f} days"
 
 
 def _parse_size(text: str) -> int:
