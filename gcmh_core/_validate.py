@@ -1,6 +1,9 @@
 """Checking `extract`'s arguments before any work: one specific message per mistake.
 
-Shared by `extract` and `distributed` (block sizes); nothing here computes.
+Shared by `extract` and `distributed` (block sizes), and by what reads a system from
+text -- the command lines (`cli`, the app's) and the example loader (`examples`) --
+for the parameters' values (`parse_params`) and the glued axes (`glued_axes`), so
+each mistake gets the same message wherever it is made; nothing here computes.
 """
 
 from __future__ import annotations
@@ -12,7 +15,8 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["per_axis_ints", "as_div", "as_bounds", "as_periodic", "describe_periodic", "infer_n", "prepare"]
+__all__ = ["per_axis_ints", "as_div", "as_bounds", "as_periodic", "describe_periodic", "glued_axes", "parse_params",
+           "infer_n", "prepare"]
 
 
 def per_axis_ints(value, n: int, what: str) -> np.ndarray:
@@ -176,6 +180,41 @@ def describe_periodic(spec, variables) -> list[str]:
     """`as_periodic`'s result as text: ["s:flip=t", "t"] (the list form it accepts)."""
     return [variables[p] + (":flip=" + ",".join(variables[b] for b in flips) if flips else "")
             for p, flips in spec]
+
+
+def glued_axes(periodic, variables, div) -> list[str]:
+    """The glued axes checked against the variables and the grid (`as_periodic`), as the list of
+    texts extract's ``periodic=`` takes, e.g. ["s:flip=t", "t"]; [] for None.  ``div``: an int or
+    one per axis.  What the example files' ``periodic`` and ``--periodic`` both go through."""
+    if periodic is None:
+        return []
+    n = len(variables)
+    return describe_periodic(as_periodic(periodic, variables, per_axis_ints(div, n, "div")), list(variables))
+
+
+def parse_params(items, option: str = "--param") -> dict[str, float] | None:
+    """``NAME=VALUE`` texts (``option``'s values, e.g. ["a=0.3", "c=pi/4"]) -> {name: value}; None for none.
+
+    Values are constant text (`formula.evaluate_constant`); a malformed item, a name given twice or a
+    value that is not a number is one InputError naming ``option``.  Whether each name is a parameter
+    of the formulas is for `formula.parse_system` to say (it knows them)."""
+    if not items:
+        return None
+    from .formula import evaluate_constant  # noqa: PLC0415  (sympy's parser: not for `import gcmh_core`)
+
+    out: dict[str, float] = {}
+    for item in items:
+        name, eq, value = str(item).partition("=")
+        name = name.strip()
+        if not eq or not name.isidentifier():
+            raise InputError(f"{option}: expected NAME=VALUE, e.g. {option} a=0.3, got {item!r}")
+        if name in out:
+            raise InputError(f"{option}: {name} is given twice")
+        try:
+            out[name] = evaluate_constant(value)
+        except InputError as err:
+            raise InputError(f"{option} {name}: {err}") from None
+    return out
 
 
 def infer_n(F, variables, bounds, div, n):

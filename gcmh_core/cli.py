@@ -34,6 +34,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from ._validate import glued_axes, parse_params
 from .errors import InputError
 from .safe_io import AtomicFile, check_output
 
@@ -316,27 +317,6 @@ def _cmd_examples(args) -> int:
     return 0
 
 
-def _parse_params(items: Sequence[str] | None) -> dict[str, float] | None:
-    """--param NAME=VALUE ... -> {name: value} (values are constant text: 0.3, -pi/4)."""
-    if not items:
-        return None
-    from .examples import evaluate_constant
-
-    out: dict[str, float] = {}
-    for item in items:
-        name, eq, value = str(item).partition("=")
-        name = name.strip()
-        if not eq or not name.isidentifier():
-            raise InputError(f"--param: expected NAME=VALUE, e.g. --param a=0.3, got {item!r}")
-        if name in out:
-            raise InputError(f"--param: {name} is given twice")
-        try:
-            out[name] = evaluate_constant(value)
-        except InputError as err:
-            raise InputError(f"--param {name}: {err}") from None
-    return out
-
-
 def _job_from_args(args) -> dict:
     """Validate the extract arguments; return the keyword arguments of extract()."""
     if args.example and args.formulas:
@@ -346,7 +326,7 @@ def _job_from_args(args) -> dict:
 
     n_opt = _parse_int(args.n, "--n", minimum=1) if args.n is not None else None
     bounds = _parse_bounds(args.bounds) if args.bounds is not None else None
-    params = _parse_params(args.params)
+    params = parse_params(args.params)
     if args.complex and args.example:
         raise InputError("--complex goes with --f (an example says itself whether it is complex)")
 
@@ -425,6 +405,8 @@ def _job_from_args(args) -> dict:
         div = _parse_per_axis(args.div, "--div", n)
     if args.start is not None:
         start = _parse_start(args.start, n)
+    if periodic:  # (an example's glued axes again too: --div may have changed the grid)
+        periodic = glued_axes(periodic, variables, div)
     seed = _parse_int(args.seed, "--seed", minimum=0)
     method = args.method.strip().lower()
     scheduler = _parse_scheduler(args.scheduler) if args.scheduler is not None else None

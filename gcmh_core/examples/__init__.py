@@ -57,6 +57,7 @@ from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from .._validate import glued_axes
 from ..errors import InputError
 from ..formula import check_component, evaluate_constant, find_parameters  # (evaluate_constant re-exported)
 
@@ -263,15 +264,10 @@ def _from_dict(name: str, data: dict[str, Any], path: Traversable | None = None)
     if div is None:
         raise fail("missing key 'div'")
     paper_div = _read_div(data.get("paper_div"), n, "paper_div", fail)
-    periodic: list[str] = []
-    if "periodic" in data:
-        from .._validate import as_periodic, describe_periodic  # noqa: PLC0415
-
-        try:
-            spec = as_periodic(data["periodic"], variables, [div] * n if isinstance(div, int) else div)
-        except InputError as err:
-            raise fail(f"'periodic': {err}") from None
-        periodic = describe_periodic(spec, variables)
+    try:
+        periodic = glued_axes(data.get("periodic"), variables, div)
+    except InputError as err:
+        raise fail(f"'periodic': {err}") from None
 
     start = need("start", list, f"a list of {n} numbers")
     if len(start) != n:

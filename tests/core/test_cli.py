@@ -304,3 +304,31 @@ def test_first_run_says_the_kernels_compile(capsys, monkeypatch, tmp_path):
     assert code == 0 and "compiling the kernels, once per install" in err
     code, out, err = run(capsys, "extract", "--example", "sphere", "--div", "6", "--quiet")
     assert code == 0 and "compiling" not in err
+
+
+# ---------------------------------------------------------------- glued axes and parameters, checked first
+
+
+def test_periodic_is_checked_before_the_run_and_the_dry_run(capsys):
+    """--periodic goes through the example loader's check (_validate.glued_axes): one line, before any work."""
+    for extra in ([], ["--dry-run"]):
+        code, out, err = run(capsys, "extract", "--example", "klein-bottle", "--periodic", "u", *extra)
+        assert_one_line_error(code, out, err)
+        assert "periodic axis 'u' is not a variable (variables: x, y, z, s, t)" in err
+    # an example's own glued axes are checked again against a --div that breaks them
+    code, out, err = run(capsys, "extract", "--example", "klein-bottle-closed", "--div", "12,12,6,12,11", "--dry-run")
+    assert_one_line_error(code, out, err)
+    assert "needs an even div, got 11" in err
+
+
+def test_shared_checks_name_their_option():
+    from gcmh_core._validate import glued_axes, parse_params
+
+    assert parse_params(["a=pi/4", " b = -1"]) == {"a": pytest.approx(0.7853981633974483), "b": -1.0}
+    assert parse_params([]) is None
+    with pytest.raises(gcmh_core.InputError, match="^--param: expected NAME=VALUE, e.g. --param a=0.3, got 'a'$"):
+        parse_params(["a"])
+    with pytest.raises(gcmh_core.InputError, match="^-p: a is given twice$"):
+        parse_params(["a=1", "a=2"], option="-p")
+    assert glued_axes(["t", "s:flip=t"], ["x", "y", "z", "s", "t"], [8, 8, 4, 8, 8]) == ["s:flip=t", "t"]
+    assert glued_axes(None, ["x", "y"], 4) == []
