@@ -39,13 +39,16 @@ class Job:
     force: bool = False               # run even when the estimate says it won't fit (the user agreed)
     params: dict | None = None        # the formulas' parameters, {name: value}
     periodic: list | None = None      # glued axes, e.g. ["t", "s:flip=t"] (extract's periodic=)
+    labels: dict | None = None        # what the variables mean, {"u": "Re w"} (complex mode; not the engine's)
+    step: str | None = None           # a parameter step: "coarse" (a slider held) or "full" (let go); None: a run
     extra: dict = field(default_factory=dict)
 
     def kwargs(self) -> dict:
         kw = dict(bounds=[tuple(b) for b in self.bounds], div=self.div, variables=list(self.variables),
                   seed=int(self.seed), method=self.method)
-        if self.start is not None:
-            kw["start"] = self.start if isinstance(self.start, str) else list(self.start)
+        if self.start is not None:   # a point, "auto", or the previous result (a CellComplex: continue from it)
+            kw["start"] = self.start if isinstance(self.start, str) or hasattr(self.start, "vertices") \
+                else list(self.start)
         if self.scheduler:
             kw["scheduler"] = self.scheduler
         if self.force:
@@ -63,19 +66,26 @@ def run_job(job: Job, progress=None, cancel=None):
     import gcmh_core
 
     kw = job.kwargs()
+    previous = hasattr(kw.get("start"), "vertices")
     try:
-        return gcmh_core.extract(list(job.formulas), progress=progress, cancel=cancel, **kw)
-    except gcmh_core.InputError as err:
-        # an example's start point lies on M at its default parameters only: after a
-        # parameter changes, continuation starts from every piece F's bounds find instead
-        text = str(err)
-        if not (job.params and isinstance(kw.get("start"), list)
-                and (text.startswith("start point") or "start cube" in text)):
-            raise
-        kw["start"] = "auto"
         cx = gcmh_core.extract(list(job.formulas), progress=progress, cancel=cancel, **kw)
-        cx.meta["start_note"] = f"the start point did not reach M at these parameters ({text}); started from 'auto'"
-        return cx
+    except gcmh_core.InputError as err:
+        # an example's start point lies on M at its default parameters only (and a previous
+        # result's vertices may all miss the new M): after a parameter changes, continuation
+        # starts from every piece F's bounds find instead
+        text = str(err)
+        if not (job.params and (isinstance(kw.get("start"), list) or previous)
+                and (text.startswith("start point") or "start cube" in text or previous)):
+            raise
+        note = f"the {'previous result' if previous else 'start point'} did not reach M at these parameters ({text})"
+    else:
+        if not (previous and cx.count(0) == 0):
+            return cx
+        note = "continuing from the previous result found nothing"
+    kw["start"] = "auto"
+    cx = gcmh_core.extract(list(job.formulas), progress=progress, cancel=cancel, **kw)
+    cx.meta["start_note"] = f"{note}; started from 'auto'"
+    return cx
 
 
 def estimate_job(job: Job):

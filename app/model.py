@@ -172,6 +172,7 @@ class StudioModel:
         self.result = None              # the CellComplex on screen
         self.names: list[str] = []      # its variable names
         self.title = ""                 # its title (an example's, or "" for a system typed in)
+        self.labels: dict = {}          # what its variables mean, {"u": "Re w"} (a system typed in complex mode)
         self.serial = 0                 # counts the results shown: a refinement belongs to one
         self.job = None                 # the app.jobs.Job of the last run started (refinement evaluates its F)
         self.picked: dict | None = None
@@ -236,17 +237,24 @@ class StudioModel:
         title, system = self._expected
         return title if system == (list(formulas), list(variables)) else ""
 
+    def suggest_view(self, view: dict) -> None:
+        """The next result gets ``view`` unless an example already suggested one."""
+        if self._pending_view is None:
+            self._pending_view = dict(view)
+
     def take_view(self) -> dict | None:
         """The suggested view for the result being shown, once."""
         view, self._pending_view = self._pending_view, None
         return view
 
     # ------------------------------------------------------------ the result
-    def set_result(self, cx, names, title: str = "") -> int:
-        """A new result on screen: returns its serial number; the pick is cleared."""
+    def set_result(self, cx, names, title: str = "", labels: dict | None = None) -> int:
+        """A new result on screen: returns its serial number; the pick is cleared. ``labels``: what the
+        variables mean ({"u": "Re w"}), when the system says (complex mode)."""
         self.result = cx
         self.names = list(names)
         self.title = title
+        self.labels = dict(labels or {})
         self.serial += 1
         self.set_picked(None)
         self.events.result.emit(cx)

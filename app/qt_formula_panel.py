@@ -25,7 +25,7 @@ import math
 import threading
 from fractions import Fraction
 
-from qtpy.QtCore import QObject, QTimer, Signal
+from qtpy.QtCore import QObject, Qt, QTimer, Signal
 from qtpy.QtGui import QColor
 from qtpy.QtWidgets import (
     QAbstractItemView,
@@ -37,6 +37,7 @@ from qtpy.QtWidgets import (
     QHeaderView,
     QLabel,
     QLineEdit,
+    QPlainTextEdit,
     QSpinBox,
     QTableWidget,
     QTableWidgetItem,
@@ -46,6 +47,7 @@ from qtpy.QtWidgets import (
 
 from . import inputs
 from .jobs import Job, estimate_job
+from .qt_parameters import QtParameterPanel
 from .qt_widgets import clear_layout, error_label, group, panel_layout
 
 N_MAX = 12
@@ -79,6 +81,79 @@ def check_scheduler(text: str) -> tuple[str | None, str | None]:
         return str(e), None
 
 
+# the real variables of a complex one, as on the blackboard: w = u + iv, z = x + iy
+_REAL_PAIRS = {"z": ("x", "y"), "w": ("u", "v"), "zeta": ("xi", "eta")}
+_REAL_POOL = (("x", "y"), ("u", "v"), ("a", "b"), ("c", "d"), ("p", "q"), ("s", "t"), ("g", "h"), ("m", "n"))
+
+
+def default_real_names(cvars, equations=()) -> list[str]:
+    """Two real names per complex variable: z -> x, y and w -> u, v, then a, b; c, d; ...; never a name the
+    equations use (a parameter) or a complex variable; ``z_re, z_im`` when the letters run out."""
+    import re
+
+    used = set(cvars) | set(inputs.RESERVED) | {t for e in equations for t in re.findall(r"[A-Za-z_]\w*", e)}
+    out: list[str] = []
+    for v in cvars:
+        pairs = ([_REAL_PAIRS[v]] if v in _REAL_PAIRS else []) + list(_REAL_POOL)
+        pair = next((p for p in pairs if not (set(p) & used) and not (set(p) & set(out))), None)
+        pair = pair or (f"{v}_re", f"{v}_im")
+        out.extend(pair)
+        used |= set(pair)
+    return out
+
+
+def real_equation(text: str) -> str:
+    """``lhs = rhs`` as the formula lhs - rhs (a real equation in complex mode); other text unchanged."""
+    if text.count("=") == 1 and "==" not in text:
+        lhs, rhs = text.split("=")
+        return f"{lhs.strip()} - ({rhs.strip()})"
+    return text.strip()
+
+
+def check_key(key: tuple):
+    """A formula check, made in a worker thread (sympy may take a moment on a long formula).
+
+    ``("real", text, names, index)``: (message or None, the formula's parameters);
+    ``("complex", equations, complex variables, real names, real equations)``: (message or None, the split:
+    dict(texts (the real formulas: Re and Im of each equation, then the real equations), labels ({real
+    name: "Re w"}), params)) or (message, None)."""
+    from gcmh_core.formula import FormulaError, check_component, find_parameters
+
+    if key[0] == "real":
+        _, text, names, index = key
+        try:
+            check_component(text, list(names), index, allow_parameters=True)
+            return None, tuple(find_parameters(text, list(names)))
+        except Exception as e:  # noqa: BLE001 - FormulaError or any InputError, as the field's message
+            return str(e), ()
+    from gcmh_core.complex_equations import split_complex
+
+    _, equations, cvars, names, extras = key
+    try:
+        texts, reals, labels = split_complex(list(equations), list(cvars), list(names), allow_parameters=True)
+    except FormulaError as e:
+        if e.component is None:
+            return e.detail, None
+        where = f"equation {e.component + 1}" + (f", column {e.position}" if e.position else "")
+        return f"{where}: {e.detail}", None
+    except Exception as e:  # noqa: BLE001 - any InputError
+        return str(e), None
+    first = len(texts)
+    texts = texts + [real_equation(t) for t in extras]
+    for j in range(len(extras)):
+        try:
+            check_component(texts[first + j], reals, first + j, allow_parameters=True)
+        except FormulaError as e:
+            return f"real equation {j + 1}: {e.detail}", None
+        except Exception as e:  # noqa: BLE001
+            return f"real equation {j + 1}: {e}", None
+    try:
+        params = tuple(find_parameters(texts, reals))
+    except Exception as e:  # noqa: BLE001
+        return str(e), None
+    return None, {"texts": texts, "labels": labels, "params": params}
+
+
 def engine_methods() -> tuple[str, ...]:
     """The extraction methods the installed engine supports."""
     try:
@@ -94,10 +169,10 @@ def engine_methods() -> tuple[str, ...]:
 class FormulaChecker(QObject):
     """Checks formulas in a worker thread, one batch at a time.
 
-    ``submit(keys)`` (keys: (text, names tuple, index)) replaces any batch not yet
+    ``submit(keys)`` (keys of :func:`check_key`) replaces any batch not yet
     started: only the newest texts are checked; the rest of a batch is dropped
-    when a newer one arrives. Each answer comes as ``checked(key, message or None)``,
-    queued to the GUI thread.
+    when a newer one arrives. Each answer comes as ``checked(key, answer)``
+    (:func:`check_key`'s), queued to the GUI thread.
     """
 
     checked = Signal(object, object)
@@ -131,9 +206,9 @@ class FormulaChecker(QObject):
                 with self._lock:
                     if self._next is not None:   # newer texts came: this batch is stale
                         break
-                message = inputs.check_formula(*key)
+                answer = check_key(key)
                 try:
-                    self.checked.emit(key, message)
+                    self.checked.emit(key, answer)
                 except RuntimeError:   # the panel is gone
                     with self._lock:
                         self._busy = False
@@ -253,6 +328,44 @@ class QtFormulaPanel(QWidget):
 
         # --- system -------------------------------------------------------
         sys_box, sl = group(lay, "System  F(x) = 0,  F: R^n \u2192 R^k")
+        self.complex_check = QCheckBox("complex: equations over C^m")
+        self.complex_check.setToolTip("type equations in complex variables (z^2 = w, z = cos(w)); they are split "
+                                      "exactly into real and imaginary parts over Re and Im of each variable")
+        sl.addWidget(self.complex_check)
+        self.complex_box = QWidget()
+        cform = QFormLayout(self.complex_box)
+        cform.setContentsMargins(0, 0, 0, 0)
+        cform.setFieldGrowthPolicy(QFormLayout.AllNonFixedFieldsGrow)
+        self.cvars_edit = QLineEdit()
+        self.cvars_edit.setPlaceholderText("e.g. w, z")
+        self.cvars_edit.setToolTip("the complex variables, separated by commas; each is two real ones (Re, Im)")
+        cform.addRow("complex variables", self.cvars_edit)
+        self.cvars_error = _error_label()
+        cform.addRow(self.cvars_error)
+        self.ceq_edit = QPlainTextEdit()
+        self.ceq_edit.setPlaceholderText("one equation a line, e.g.\nz = cos(w)")
+        self.ceq_edit.setToolTip("equations lhs = rhs over C^m, one a line (i is the imaginary unit); "
+                                 "holomorphic functions only: sin, cos, exp, log, sqrt, powers ...")
+        self.ceq_edit.setTabChangesFocus(True)
+        self.ceq_edit.setFixedHeight(self.ceq_edit.fontMetrics().lineSpacing() * 3 + 12)
+        cform.addRow("equations", self.ceq_edit)
+        self.ceq_error = _error_label()
+        cform.addRow(self.ceq_error)
+        self.creal_edit = QLineEdit()
+        self.creal_edit.setPlaceholderText("none (e.g. x^2 + y^2 + u^2 + v^2 = 1)")
+        self.creal_edit.setToolTip("real equations over the real variables, separated by ';' (a real condition such "
+                                   "as |z|^2 + |w|^2 = 1 is not holomorphic: write it here)")
+        cform.addRow("real equations", self.creal_edit)
+        self.split_label = QLabel("")
+        self.split_label.setWordWrap(True)
+        self.split_label.setTextInteractionFlags(Qt.TextSelectableByMouse)
+        self.split_label.setStyleSheet("color: #555; font-size: 11px;")
+        self.split_label.setToolTip("the real system the equations give (split exactly by sympy)")
+        cform.addRow(self.split_label)
+        sl.addWidget(self.complex_box)
+        self.complex_box.setVisible(False)
+        self._split: dict | None = None   # the complex check's answer for the equations on show
+
         row = QHBoxLayout()
         self.n_spin = QSpinBox()
         self.n_spin.setRange(1, N_MAX)
@@ -279,7 +392,8 @@ class QtFormulaPanel(QWidget):
         form.setFieldGrowthPolicy(QFormLayout.AllNonFixedFieldsGrow)
         self.vars_edit = QLineEdit()
         self.vars_edit.setToolTip("the variable names, separated by commas")
-        form.addRow("variables", self.vars_edit)
+        self.vars_label = QLabel("variables")
+        form.addRow(self.vars_label, self.vars_edit)
         sl.addLayout(form)
         self.vars_error = _error_label()
         sl.addWidget(self.vars_error)
@@ -292,16 +406,9 @@ class QtFormulaPanel(QWidget):
         self.formula_edits: list[QLineEdit] = []
         self.formula_errors: list[QLabel] = []
         self.formula_labels: list[QLabel] = []
-        pform = QFormLayout()
-        pform.setFieldGrowthPolicy(QFormLayout.AllNonFixedFieldsGrow)
-        self.params_edit = QLineEdit()
-        self.params_edit.setPlaceholderText("none (e.g. a = 0.5, b = pi/4)")
-        self.params_edit.setToolTip("values of the formulas' parameters: names that are neither a variable nor "
-                                    "a function, NAME = VALUE separated by commas")
-        pform.addRow("parameters", self.params_edit)
-        sl.addLayout(pform)
-        self.params_error = _error_label()
-        sl.addWidget(self.params_error)
+        self._field_params: dict[int, tuple] = {}   # the parameters last found in each formula field
+        self.parameters = QtParameterPanel()
+        sl.addWidget(self.parameters)
 
         # --- domain -------------------------------------------------------
         dom_box, dl = group(lay, "Domain and grid")
@@ -385,7 +492,11 @@ class QtFormulaPanel(QWidget):
         self.per_axis.toggled.connect(self._on_per_axis)
         self.method_combo.currentIndexChanged.connect(self._on_method)
         self.start_edit.textChanged.connect(self._validate)
-        self.params_edit.textChanged.connect(self._validate)
+        self.parameters.changed.connect(self._on_parameters)
+        self.complex_check.toggled.connect(self._on_complex)
+        self.cvars_edit.textChanged.connect(self._validate)
+        self.ceq_edit.textChanged.connect(self._validate)
+        self.creal_edit.textChanged.connect(self._validate)
         self.scheduler_edit.textChanged.connect(self._validate)
         self.seed_spin.valueChanged.connect(lambda *_: self.changed.emit())
 
@@ -408,6 +519,105 @@ class QtFormulaPanel(QWidget):
 
     def _on_vars_edited(self, *_):
         self._auto_names = False
+
+    # ------------------------------------------------------------ complex mode
+    def is_complex(self) -> bool:
+        return self.complex_check.isChecked()
+
+    def complex_variables(self) -> list[str]:
+        return inputs.split_names(self.cvars_edit.text())
+
+    def complex_equations(self) -> list[str]:
+        return [" ".join(t.split()) for t in self.ceq_edit.toPlainText().splitlines() if t.strip()]
+
+    def real_equations(self) -> list[str]:
+        return [" ".join(t.split()) for t in self.creal_edit.text().split(";") if t.strip()]
+
+    def labels(self) -> dict[str, str]:
+        """{real variable: "Re w"} in complex mode ({} otherwise)."""
+        if not self.is_complex():
+            return {}
+        cv, names = self.complex_variables(), self.variables()
+        if len(names) != 2 * len(cv):
+            return {}
+        return {names[2 * j + p]: f"{'Im' if p else 'Re'} {v}" for j, v in enumerate(cv) for p in (0, 1)}
+
+    def _on_complex(self, on: bool) -> None:
+        """The user turned complex mode on (a first equation to start from, bounds for C^m) or off (the real
+        system of the split stays, to read and edit)."""
+        if self._building:
+            return
+        if on and not self.complex_equations():
+            self._building = True
+            try:
+                self.cvars_edit.setText("z, w")
+                self.ceq_edit.setPlainText("z^2 = w")
+                self.creal_edit.setText("")
+            finally:
+                self._building = False
+            self._auto_names = True
+        self._show_mode()
+        if on:
+            self._sync_complex_shape()
+            self._building = True
+            try:
+                from gcmh_core.complex_equations import DEFAULT_BOUNDS
+
+                for r in range(self.table.rowCount()):
+                    self.table.item(r, 0).setText(format_number(DEFAULT_BOUNDS[0]))
+                    self.table.item(r, 1).setText(format_number(DEFAULT_BOUNDS[1]))
+            finally:
+                self._building = False
+        self._validate()
+
+    def _show_mode(self) -> None:
+        on = self.is_complex()
+        self.complex_box.setVisible(on)
+        self.formula_box.setVisible(not on)
+        self.n_spin.setEnabled(not on)
+        self.k_spin.setEnabled(not on)
+        self.vars_label.setText("real variables" if on else "variables")
+        self.vars_edit.setToolTip("the real variables: Re and Im of each complex variable in turn" if on
+                                  else "the variable names, separated by commas")
+
+    def _sync_complex_shape(self) -> None:
+        """n = 2m, k = 2 (equations) + (real equations), and default real names (x, y for z; u, v for w) until
+        the user types their own."""
+        cv = self.complex_variables()
+        if not cv:
+            return
+        n = 2 * len(cv)
+        k = max(1, 2 * len(self.complex_equations()) + len(self.real_equations()))
+        self._building = True
+        try:
+            if self._auto_names:
+                names = ", ".join(default_real_names(cv, self.complex_equations()))
+                if names != self.vars_edit.text():
+                    self.vars_edit.setText(names)
+            if (n, k) != (self.n, self.k) and n <= N_MAX and k <= N_MAX:
+                self.n_spin.setValue(n)
+                self.k_spin.setValue(k)
+                self._building = False
+                self._rebuild(n, k)
+        finally:
+            self._building = False
+
+    def _apply_split(self, split: dict) -> None:
+        """The complex check's answer: its real formulas go into the (hidden) formula fields."""
+        self._building = True
+        try:
+            for e, t in zip(self.formula_edits, split["texts"]):
+                if e.text() != t:
+                    e.setText(t)
+        finally:
+            self._building = False
+        lines = [f"F{i + 1} = {t}" for i, t in enumerate(split["texts"])]
+        self.split_label.setText("real system:\n" + "\n".join(lines))
+
+    def _on_parameters(self) -> None:
+        """A value or range changed: the panel's state (sessions, undo) and the run's estimate."""
+        if not self._building:
+            self.changed.emit()
 
     def _on_nk(self, *_):
         if self._building:
@@ -461,7 +671,8 @@ class QtFormulaPanel(QWidget):
             old = self._kept_rows = old + self._kept_rows[len(old):]
             self.table.setRowCount(n)
             for r in range(n):
-                lo, hi, dv = old[r] if r < len(old) else ("-1", "1", self.div_edit.text() or "10")
+                blank = ("-2", "2") if self.is_complex() else ("-1", "1")   # (C^m: complex_equations.DEFAULT_BOUNDS)
+                lo, hi, dv = old[r] if r < len(old) else (*blank, self.div_edit.text() or "10")
                 for c, t in enumerate((lo, hi, dv)):
                     self.table.setItem(r, c, QTableWidgetItem(t))
             self._update_table_headers()
@@ -477,8 +688,9 @@ class QtFormulaPanel(QWidget):
 
     def _update_table_headers(self) -> None:
         names = self.variables()
+        meaning = self.labels()
         labels = [names[r] if r < len(names) else f"x{r + 1}" for r in range(self.table.rowCount())]
-        self.table.setVerticalHeaderLabels(labels)
+        self.table.setVerticalHeaderLabels([f"{nm} = {meaning[nm]}" if nm in meaning else nm for nm in labels])
 
     def _on_per_axis(self, on: bool) -> None:
         self.table.setColumnHidden(2, not on)
@@ -525,6 +737,17 @@ class QtFormulaPanel(QWidget):
         self.nk_error.setVisible(bool(m))
         self.dim_label.setText("" if m else f"{n - k}-dimensional manifold in R^{n}")
 
+        cmsg = None
+        if self.is_complex():
+            cv = self.complex_variables()
+            cmsg = inputs.check_variables(self.cvars_edit.text(), len(cv)) if cv else "name the complex variables"
+            _mark(self.cvars_edit, self.cvars_error, cmsg)
+            if cmsg:
+                errs["complex variables"] = cmsg
+            else:
+                self._sync_complex_shape()
+                n, k = self.n, self.k
+
         m = inputs.check_variables(self.vars_edit.text(), n)
         _mark(self.vars_edit, self.vars_error, m)
         if m:
@@ -533,30 +756,62 @@ class QtFormulaPanel(QWidget):
             self._update_table_headers()
         names = self.variables()
 
-        m, params = inputs.check_params(self.params_edit.text(), names)
-        _mark(self.params_edit, self.params_error, m)
-        if m:
-            errs["parameters"] = m
         wanted: set[tuple] = set()
-        for i, (ed, lab) in enumerate(zip(self.formula_edits, self.formula_errors)):
+        found: list[str] = []
+        if self.is_complex():
+            eqs = self.complex_equations()
             msg = None
-            if i >= k:
-                msg = None
-            elif not ed.text().strip():
-                msg = "empty formula"
-            elif "variables" in errs:
-                msg = None
-            else:
-                key = (ed.text(), tuple(names), i, tuple(params))
+            if not eqs:
+                msg = "type an equation, e.g. z^2 = w"
+            elif not cmsg and "variables" not in errs:
+                key = ("complex", tuple(eqs), tuple(self.complex_variables()), tuple(names),
+                       tuple(self.real_equations()))
                 if key in self._answers:
-                    msg = self._answers[key]
-                else:   # not checked yet: keep the field's mark until the answer comes
+                    msg, split = self._answers[key]
+                    if split is not None:
+                        self._split = split
+                        self._apply_split(split)
+                        found = list(split["params"])
+                else:   # not checked yet: keep the mark (and the sliders) until the answer comes
                     wanted.add(key)
-                    msg = lab.text() if lab.isVisible() else None
-            _mark(ed, lab, msg)
+                    msg = self.ceq_error.text() if self.ceq_error.isVisible() else None
+                    found = self.parameters.names()
+            self.ceq_edit.setStyleSheet(ERROR_STYLE.replace("QLineEdit", "QPlainTextEdit") if msg else "")
+            self.ceq_error.setText(msg or "")
+            self.ceq_error.setVisible(bool(msg))
             if msg:
-                errs[f"F{i + 1}"] = msg
+                errs["equations"] = msg
+                self.split_label.setText("")
+            for ed, lab in zip(self.formula_edits, self.formula_errors):
+                _mark(ed, lab, None)
+        else:
+            for i, (ed, lab) in enumerate(zip(self.formula_edits, self.formula_errors)):
+                msg = None
+                if i >= k:
+                    msg = None
+                elif not ed.text().strip():
+                    msg = "empty formula"
+                elif "variables" in errs:
+                    msg = None
+                else:
+                    key = ("real", ed.text(), tuple(names), i)
+                    if key in self._answers:
+                        msg, params = self._answers[key]
+                        self._field_params[i] = params
+                    else:   # not checked yet: keep the field's mark (and its sliders) until the answer comes
+                        wanted.add(key)
+                        msg = lab.text() if lab.isVisible() else None
+                    if i < k:
+                        found.extend(self._field_params.get(i, ()))
+                _mark(ed, lab, msg)
+                if msg:
+                    errs[f"F{i + 1}"] = msg
         self._ask(wanted)
+        self._building = True   # (new rows bring their values: one change, emitted below)
+        try:
+            self.parameters.set_names(found)
+        finally:
+            self._building = False
 
         # domain
         dom_msgs = []
@@ -639,7 +894,7 @@ class QtFormulaPanel(QWidget):
         """Send the formulas waiting for a check to the worker now (Run does not wait for the debounce)."""
         self._check_timer.stop()
         if self._waiting:
-            self.checker.submit(sorted(self._waiting, key=lambda key: key[2]))
+            self.checker.submit(sorted(self._waiting, key=lambda key: key[-1] if key[0] == "real" else -1))
 
     def checking(self) -> bool:
         """Is a formula on show still waiting for its check?"""
@@ -743,15 +998,15 @@ class QtFormulaPanel(QWidget):
         return Job(formulas=self.formulas(), variables=self.variables(), bounds=self.bounds(),
                    div=self.div(), method=self.method(), seed=self.seed_spin.value(), start=self.start(),
                    scheduler=check_scheduler(self.scheduler_edit.text())[1], params=self.params() or None,
-                   periodic=self.periodic() or None)
+                   periodic=self.periodic() or None, labels=self.labels() or None)
 
     def periodic(self) -> list[str]:
         """The glued axes as extract's periodic= list ([] when none or the field is wrong)."""
         return inputs.check_periodic(self.periodic_edit.text(), self.variables(), self.div_list())[1]
 
     def params(self) -> dict[str, float]:
-        """The parameters' values ({} when there are none or the field is wrong)."""
-        return inputs.check_params(self.params_edit.text(), self.variables())[1]
+        """The parameters' values, {name: value} ({} when the formulas have none)."""
+        return self.parameters.values()
 
     def _ask_estimate(self) -> None:
         if self._estimate_key is None or not self._valid:
@@ -777,6 +1032,15 @@ class QtFormulaPanel(QWidget):
 
     # ------------------------------------------------------------- state
     def state(self) -> dict:
+        """The panel as a plain dict: in complex mode, the equations as typed ("complex", "complex_variables";
+        "formulas" are the real equations beside them), not their split; "params": {name: {value, min, max}}."""
+        d = self._state()
+        if self.is_complex():
+            d.update(complex=self.complex_equations(), complex_variables=self.complex_variables(),
+                     formulas=self.real_equations())
+        return d
+
+    def _state(self) -> dict:
         return {
             "n": self.n, "k": self.k, "variables": self.variables(),
             "formulas": [e.text() for e in self.formula_edits[: self.k]],
@@ -786,35 +1050,53 @@ class QtFormulaPanel(QWidget):
             "method": self.method(), "seed": self.seed_spin.value(),
             "start": self.start_edit.text(),
             "scheduler": self.scheduler_edit.text().strip(),
-            "params": self.params_edit.text(),
+            "params": self.parameters.state(),
             "periodic": self.periodic_edit.text(),
         }
 
     def set_state(self, d: dict) -> None:
-        """Fill the panel from a dict like :meth:`state` (numbers or texts accepted)."""
-        n = int(d.get("n", self.n))
-        k = int(d.get("k", self.k))
+        """Fill the panel from a dict like :meth:`state` (numbers or texts accepted); with "complex" (equations
+        over C^m, as in an example's file), in complex mode."""
+        cx_eqs = d.get("complex")
+        on = bool(cx_eqs)
+        if on:
+            cvars = list(d.get("complex_variables") or [])
+            extras = [str(t) for t in d.get("formulas") or []]
+            n, k = 2 * len(cvars), 2 * len(cx_eqs) + len(extras)
+        else:
+            n = int(d.get("n", self.n))
+            k = int(d.get("k", self.k))
         self._building = True
         try:
+            self.complex_check.setChecked(on)
+            if on:
+                self.cvars_edit.setText(", ".join(cvars))
+                self.ceq_edit.setPlainText("\n".join(str(e) for e in cx_eqs))
+                self.creal_edit.setText("; ".join(extras))
             self.n_spin.setValue(n)
             self.k_spin.setValue(k)
         finally:
             self._building = False
-        variables = d.get("variables") or inputs.default_variables(n)
-        self._auto_names = list(variables) == inputs.default_variables(n)
+        self._show_mode()
+        defaults = default_real_names(cvars, self.complex_equations()) if on else inputs.default_variables(n)
+        variables = d.get("variables") or defaults
+        self._auto_names = list(variables) == defaults
         self._building = True   # (no check, no history entry, for the half-filled panel)
         try:
             self.vars_edit.setText(", ".join(variables))
         finally:
             self._building = False
         # a new system: what an earlier one hid does not come back in it
-        self._kept_formulas, self._kept_names = [str(t) for t in d.get("formulas", [])], list(variables)
+        formulas = [] if on else [str(t) for t in d.get("formulas", [])]   # (complex: the split fills them)
+        self._kept_formulas, self._kept_names = list(formulas), list(variables)
         self._kept_rows = []
+        self._field_params = {}
+        self.split_label.setText("")
         self._rebuild(n, k, fresh=True)
         self._building = True
         try:
-            for e, t in zip(self.formula_edits, d.get("formulas", [])):
-                e.setText(str(t))
+            for e, t in zip(self.formula_edits, formulas):
+                e.setText(t)
             bounds = d.get("bounds")
             if bounds is not None:
                 if len(bounds) == 2 and not isinstance(bounds[0], (list, tuple)):
@@ -844,10 +1126,10 @@ class QtFormulaPanel(QWidget):
                 start = ", ".join(format_number(v) for v in start)
             self.start_edit.setText(start or "")
             self.scheduler_edit.setText(str(d.get("scheduler") or ""))
-            params = d.get("params") or ""
-            if isinstance(params, dict):
-                params = ", ".join(f"{p} = {v if isinstance(v, str) else format_number(v)}" for p, v in params.items())
-            self.params_edit.setText(str(params))
+            params = d.get("params") or {}
+            if isinstance(params, str):   # (sessions of before the sliders: "a = 0.5, b = pi/4")
+                params = inputs.check_params(params, variables)[1]
+            self.parameters.set_state(dict(params))
             periodic = d.get("periodic") or ""
             if isinstance(periodic, (list, tuple)):
                 periodic = "  ".join(str(p) for p in periodic)

@@ -24,7 +24,9 @@ off screen by :mod:`app.headless`. Only the GUI thread touches VTK.
 
 from __future__ import annotations
 
+import math
 import os
+import time
 
 import numpy as np
 from qtpy.QtCore import Qt, QTimer, Signal
@@ -48,9 +50,11 @@ from .model import EMPTY_RESULT, StudioModel, animation_frames, telling_plane
 from .qt_actions import StudioActions, ask_big_run
 from .qt_animation_panel import QtAnimationPanel
 from .qt_formula_panel import QtFormulaPanel
+from .qt_parameters import format_value
 from .qt_projection_panel import QtProjectionPanel
 from .qt_run_controller import QtRunController
 from .qt_viewer import QtViewer
+from .scene import view_subtitle
 from .worker import COMPILING, ENGINE, STOPPING
 
 # phases whose fraction means nothing: shown without a percentage
@@ -66,6 +70,44 @@ except ImportError:
     QtGallery = None
 
 DEFAULT_EXAMPLE = "klein-bottle"
+
+# a parameter step while a slider is held: its grid is coarsened until a step (extraction and drawing) takes
+# about this long; never below COARSE_MIN_DIV cubes an axis (nor above the full div)
+COARSE_STEP_SECONDS = 0.1
+COARSE_MIN_DIV = 4
+COARSE_MAX_CUBES = 300_000   # the first coarse grid's size at most (the Klein bottle: about 50 ms on 2 cores)
+
+
+class _Viewer(QtViewer):
+    """The 3D view, also labelled for a system typed in complex mode ("u = Re w"): the viewer itself finds
+    an example's labels only (by its title)."""
+
+    def style(self):
+        st = super().style()
+        labels = self.model.labels
+        if labels and not st.labels:
+            st.labels = dict(labels)
+            pp = self.panel
+            two = pp.two_sided_check.isChecked()
+            mapping = pp.model.mapping if pp.model.n >= 4 else "orthographic"
+            st.subtitle = view_subtitle(self.model.result, self.model.names, pp.color_by(), two, mapping, st.labels)
+        return st
+
+
+def coarse_div(div, factor: float) -> list[int]:
+    """The grid of a step while a slider is held: each axis' div times ``factor`` (even, for glued axes
+    that reverse another), at least COARSE_MIN_DIV, at most the full div, and at most COARSE_MAX_CUBES cubes."""
+    def scaled(d, f):
+        return min(d, max(COARSE_MIN_DIV, 2 * int(round(d * f / 2))))
+
+    full = [int(d) for d in div]
+    out = [scaled(d, factor) for d in full]
+    while math.prod(out) > COARSE_MAX_CUBES:
+        smaller = [scaled(d, 0.85) for d in out]
+        if smaller == out:
+            break
+        out = smaller
+    return out
 
 
 class QtMainWindow(QMainWindow):
@@ -84,6 +126,13 @@ class QtMainWindow(QMainWindow):
         self._run_waiting = False   # Run was pressed while a formula check was under way
         self.last_estimate = None   # the gcmh_core.budget.Estimate of the last run started
         self._session: tuple[dict, dict | None] = ({}, None)   # the view and camera of the session being opened
+        # parameter steps (a slider moved): the newest one waiting for the run in flight (never a queue), the
+        # coarse grid's scale for the system (key) being stepped, and when the step on its way started
+        self._next_step = None
+        self._superseded = False
+        self._coarse = (None, 0.5)
+        self._step_t0 = 0.0
+        self.last_step_seconds: float | None = None   # from a slider's change to the result drawn (the benchmark)
         self.model = StudioModel()
         self.runs = QtRunController(self)
 
@@ -152,7 +201,7 @@ class QtMainWindow(QMainWindow):
         side.setMinimumWidth(430)
 
         # --- viewer
-        self.viewer = QtViewer(self.model, self.projection_panel, self)
+        self.viewer = _Viewer(self.model, self.projection_panel, self)
         self.plotter, self.scene = self.viewer.plotter, self.viewer.scene
 
         split = QSplitter(Qt.Horizontal)
@@ -210,6 +259,10 @@ class QtMainWindow(QMainWindow):
         self.runs.estimated.connect(self._on_estimated)
         self.runs.confirm.connect(self._on_confirm)
         self.formula_panel.checked.connect(self._on_checked)
+        fpp = self.formula_panel.parameters
+        fpp.dragging.connect(lambda *_: self.parameter_step(coarse=True))
+        fpp.committed.connect(lambda *_: self.parameter_step(coarse=False))
+        self.runFinished.connect(self._start_next_step)
         m.events.history.connect(self.menu_actions.set_history)
         self.runs.refined.connect(self._on_refined)
         self.runs.refineFailed.connect(self._on_refine_failed)
@@ -361,12 +414,16 @@ class QtMainWindow(QMainWindow):
         except Exception as e:  # noqa: BLE001
             self.set_status(str(e), error=True)
             return False
-        self.formula_panel.set_state(dict(
+        state = dict(
             n=ex.n, k=ex.k, variables=list(ex.variables), formulas=list(ex.formulas),
             bounds=[list(b) for b in ex.bounds], div=div if div is not None else ex.div,
             method=method, seed=0, start=list(ex.start) if ex.start else None,
-            params=ex.param_values() if getattr(ex, "params", None) else None,
-            periodic=list(getattr(ex, "periodic", None) or [])))
+            params={p: dict(spec) for p, spec in (getattr(ex, "params", None) or {}).items()},
+            periodic=list(getattr(ex, "periodic", None) or []))
+        if getattr(ex, "complex", None):   # as on the blackboard: the equations over C^m, split by the panel
+            state.update(complex=list(ex.complex), complex_variables=list(ex.complex_variables),
+                         formulas=list(ex.formulas)[2 * len(ex.complex):])
+        self.formula_panel.set_state(state)
         self.model.expect(ex.title, ex.formulas, ex.variables, view=ex.view or {})
         self.setWindowTitle(f"GCMH Studio \u2014 {ex.title}")
         self.show_description(ex.title, " ".join(str(ex.description).split()))
@@ -422,12 +479,92 @@ class QtMainWindow(QMainWindow):
             self.set_status("Cannot run: " + "; ".join(f"{k}: {v}" for k, v in errs.items()), error=True)
             return False
         job = self.formula_panel.job()
+        self._next_step = None   # (a Run is newer than any slider step waiting)
         self.model.job = job
+        self._suggest_complex_view(job)
         self.progress.setValue(0)
         warm = current_warm_up()
         self.progress.setFormat(f"{COMPILING}\u2026" if warm is not None and warm.waits_for(job.method)
                                 else "starting\u2026")
         return self.runs.start(job)
+
+    def _suggest_complex_view(self, job) -> None:
+        """A new system typed in complex mode opens as a graph: the first variable's plane flat, the real part
+        of the second as height, coloured by its imaginary part (gcmh_core.complex_equations.complex_view)."""
+        fp = self.formula_panel
+        if not fp.is_complex() or list(job.variables) == self.model.names:
+            return
+        try:
+            from gcmh_core.complex_equations import complex_view
+
+            self.model.suggest_view(complex_view(fp.complex_variables(), list(job.variables)))
+        except Exception:  # noqa: BLE001 - one complex variable (a curve in C): the default view
+            pass
+
+    # ------------------------------------------------------------------ parameter steps (a slider moved)
+    def parameter_step(self, coarse: bool) -> bool:
+        """Re-extract at the parameters' values on show: while a slider is held (``coarse``) on a coarse grid,
+        when it is let go on the full one. The newest step wins: it waits for the coarse step in flight (which
+        is shown: the picture follows the slider), and a full step or a user's run in flight is cancelled for
+        it; older waiting steps are dropped. Continuation starts from the result on screen. False when the
+        panel can't run now (a wrong field, a check under way, a Run waiting for it)."""
+        fp = self.formula_panel
+        if self._closing or self._run_waiting or not fp.is_valid() or fp.checking():
+            return False
+        job = fp.job_unchecked()
+        job.step = "coarse" if coarse else "full"
+        key = self._step_key(job)
+        if coarse:
+            if self._coarse[0] != key:
+                self._coarse = (key, 0.5)
+            job.div = coarse_div(fp.div_list(), self._coarse[1])
+        prev = self.model.job
+        same = prev is not None and self.result is not None and self._step_key(prev) == key
+        if same and prev.force and not coarse:
+            job.force = True   # the user agreed to this run's size already
+        if same and fp.continuation() and not job.scheduler:
+            job.start = self.result   # continue from the result on screen (gcmh_core: start=<CellComplex>)
+        self._next_step = job
+        if self.runs.is_running():
+            running = self.runs.worker.job
+            if not (coarse and running.step == "coarse"):
+                self._superseded = True
+                self.runs.cancel()
+            return True
+        return self._start_next_step()
+
+    @staticmethod
+    def _step_key(job) -> tuple:
+        """What a parameter step keeps: the system but for its parameters' values and the grid."""
+        return (tuple(job.formulas), tuple(job.variables), tuple(map(tuple, job.bounds)), job.method,
+                tuple(job.periodic or ()), int(job.seed))
+
+    def _start_next_step(self, *_) -> bool:
+        """Start the parameter step waiting, if any (after the run in flight ended)."""
+        job, self._next_step = self._next_step, None
+        if job is None or self._closing or self.runs.is_running():
+            self._next_step = self._next_step or job
+            return False
+        self._step_t0 = time.perf_counter()
+        self.model.job = job
+        return self.runs.start(job)
+
+    def _critical_notice(self, cx) -> str:
+        """The notice of a result at (or very near) a critical value of its parameters, or ""."""
+        k = int(cx.meta.get("singular_vertices") or 0)
+        params = cx.meta.get("params") or {}
+        if not k or not params:
+            return ""
+        moved = self.formula_panel.parameters.last_moved
+        name = moved if moved in params else next(iter(params))
+        try:
+            chi = cx.euler_characteristic()
+        except Exception:  # noqa: BLE001
+            chi = "?"
+        return (f"{name} = {format_value(params[name])} is a critical value: F's Jacobian loses rank at {k} "
+                f"vertices, so M is singular there (a cone point, a pinch) and \u03c7 = {chi} describes the grid's "
+                f"picture of a singular set, not a manifold. Move {name} a little to either side to see the "
+                "topology on each side.")
 
     def _on_checked(self) -> None:
         """The formula checks are answered: a Run pressed meanwhile starts now (or is refused)."""
@@ -459,6 +596,8 @@ class QtMainWindow(QMainWindow):
 
     def _on_estimated(self, est) -> None:
         self.last_estimate = est
+        if self.model.job is not None and self.model.job.step is not None:
+            return   # (a slider step: the status line keeps what the result says)
         self.set_status(f"This run: about {inputs.human_bytes(est.peak_bytes)} of memory "
                         f"(of {inputs.human_bytes(est.available_bytes)} available), "
                         f"about {inputs.human_seconds(est.seconds)}.")
@@ -500,20 +639,45 @@ class QtMainWindow(QMainWindow):
         job = self.model.job
         self.progress.setValue(1000)
         self.progress.setFormat(f"done \u00b7 {self.runs.elapsed():.1f} s")
-        view = self.model.take_view()
+        # a parameter step of the system on screen keeps the whole view: projection, turns, slice, colour, camera
+        keep = job.step is not None and self.result is not None and list(job.variables) == self.model.names
+        view = None if keep else self.model.take_view()
         title = self.model.title_for(job.formulas, job.variables)
         if not title:   # a system typed in: the last example's description no longer applies
             self.show_description("", "")
+        camera = studio_io.camera_state(self.plotter.camera) if keep else None
         try:
-            self.show_result(cx, job.variables, view=view, title=title, geometry=geometry, report=report)
+            self.show_result(cx, job.variables, view=view, title=title, geometry=geometry, report=report,
+                             keep_view=keep, labels=job.labels)
+            if camera is not None:
+                studio_io.apply_camera(self.plotter.camera, camera)
+                self.plotter.renderer.ResetCameraClippingRange()
         except Exception as e:  # noqa: BLE001 - a drawing problem must not take the window down
             self.set_status(f"Could not draw the result: {type(e).__name__}: {e}", error=True)
             self.runFinished.emit("failed")
             return
+        notice = self._critical_notice(cx)
+        self.formula_panel.parameters.set_notice(notice)
+        if notice and self.topology_panel is not None:
+            euler = self.topology_panel.values.get("euler")
+            if euler is not None:
+                euler.setText(f"{euler.text()}  \u2014 critical value: M is singular")
+                euler.setStyleSheet("color: #a04000; font-weight: bold;")
         if cx.count(0) == 0:
             self.set_status(EMPTY_RESULT, error=True)
+        elif notice:
+            self.set_status(notice)
         else:
-            self.set_status("")
+            self.set_status(cx.meta.get("start_note", "") if job.step is None else "")
+        if job.step is not None:
+            self.last_step_seconds = time.perf_counter() - self._step_t0
+            if job.step == "coarse" and self._coarse[0] == self._step_key(job):   # aim the next coarse grid
+                key, f = self._coarse
+                if self.last_step_seconds > COARSE_STEP_SECONDS:
+                    f = max(0.05, f * 0.8)
+                elif self.last_step_seconds < 0.4 * COARSE_STEP_SECONDS:
+                    f = min(0.5, f * 1.2)
+                self._coarse = (key, f)
         self.runFinished.emit("done")
 
     def _on_failed(self, message: str) -> None:
@@ -523,6 +687,10 @@ class QtMainWindow(QMainWindow):
         self.runFinished.emit("failed")
 
     def _on_cancelled(self, seconds: float) -> None:
+        if self._superseded:   # a newer parameter step took its place: it starts now
+            self._superseded = False
+            self.runFinished.emit("cancelled")
+            return
         self.progress.setValue(0)
         self.progress.setFormat("cancelled")
         keep = " The previous result stays on screen." if self.result is not None else ""
@@ -531,12 +699,23 @@ class QtMainWindow(QMainWindow):
 
     # ------------------------------------------------------------------ showing a result
     def show_result(self, cx, names, view: dict | None = None, title: str = "", geometry=None,
-                    report: dict | None = None) -> None:
-        """Put a CellComplex on screen (GUI thread). ``report``: its topology report if already made."""
+                    report: dict | None = None, keep_view: bool = False, labels: dict | None = None) -> None:
+        """Put a CellComplex on screen (GUI thread). ``report``: its topology report if already made;
+        ``keep_view``: the same system at other parameters (the View tab is left as it is); ``labels``: what
+        the variables mean ({"u": "Re w"})."""
         names = list(names)
+        if keep_view and self.result is not None and names == self.model.names:
+            self.model.set_result(cx, names, title, labels)
+            self._sync_view()
+            self.viewer.show(geometry)
+            self.result_label.setText(self.model.summary())
+            if self.topology_panel is not None:
+                self._show_topology(cx, report)
+            self.resultChanged.emit(cx)
+            return
         prev_dim = self.result.dim if self.result is not None else None
         prev_names = self.model.names
-        self.model.set_result(cx, names, title)
+        self.model.set_result(cx, names, title, labels)
         pp = self.projection_panel
         pp.set_variables(names, keep=(names == prev_names))
         pp.model.set_vertices(cx.vertices)

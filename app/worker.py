@@ -149,14 +149,16 @@ class ExtractWorker(QThread):
     def _should_cancel(self) -> bool:
         return self._cancel.is_set()
 
-    def _wait(self, done) -> None:
-        """Wait until ``done()`` (which may block up to POLL seconds), looking at the cancel flag in between."""
+    def _wait(self, done, pause=None) -> None:
+        """Wait until ``done()`` (which may block up to POLL seconds), looking at the cancel flag in between;
+        ``pause()``: how to wait between looks (default 20 ms of sleep; a thread's join ends the wait as soon
+        as the thread does, which a parameter step's 50 ms budget needs)."""
         from gcmh_core.errors import Cancelled
 
         while not done():
             if self._cancel.is_set():
                 raise Cancelled("cancelled while waiting")
-            time.sleep(0.02)
+            (pause or (lambda: time.sleep(0.02)))()
 
     def _wait_for_kernels(self) -> None:
         warm = current_warm_up()
@@ -179,7 +181,7 @@ class ExtractWorker(QThread):
         with _helpers_lock:
             _helpers.append(t)
         t.start()
-        self._wait(lambda: not t.is_alive())
+        self._wait(lambda: not t.is_alive(), pause=lambda: t.join(0.02))
         if "error" in out:
             raise out["error"]
         return out["value"]
@@ -195,6 +197,10 @@ class ExtractWorker(QThread):
         self.estimated.emit(est)
         if est.fits or self.job.force:
             return True
+        if self.job.step is not None:   # a slider step never opens a dialog: Run asks
+            from gcmh_core.errors import InputError
+
+            raise InputError("this parameter value's run would not fit: press Run to be asked")
         self.confirm.emit(est)
         self._wait(self._answered.is_set)
         if self._answer == "gcch":
@@ -220,7 +226,7 @@ class ExtractWorker(QThread):
             self._wait_for_kernels()
             if helpers_running():
                 self.progress.emit(STOPPING, 0.0, time.perf_counter() - self._t0)
-                self._wait(lambda: not helpers_running())
+                self._wait(lambda: not helpers_running(), pause=lambda: wait_for_helpers(0.02))
             if not self._estimate_and_ask():
                 self.declined.emit()
                 return
