@@ -32,7 +32,8 @@ from .complex import CellComplex
 from .errors import Cancelled, InputError
 from .grid import candidate_corner_sets, candidate_scan
 
-__all__ = ["METHODS", "CONTINUATION_METHODS", "SIMPLICIAL_METHODS", "Grid", "assemble_records", "block_values"]
+__all__ = ["METHODS", "CONTINUATION_METHODS", "SIMPLICIAL_METHODS", "Grid", "assemble_records", "block_values",
+           "complex_of"]
 
 
 
@@ -291,5 +292,11 @@ def assemble_records(n, k, vk, vp, e, c, inc) -> CellComplex:
         offsets = np.zeros(len(keys[r][0]) + 1, np.int64)
         np.cumsum(np.bincount(pairs // n_lower, minlength=len(keys[r][0])), out=offsets[1:])
         cells[r] = (offsets, (pairs % n_lower).astype(np.int64))
+    return complex_of(n, k, vertices, edges, cells)
+
+
+def complex_of(n, k, vertices, edges, cells) -> CellComplex:
+    """The CellComplex of assembled cells (ids in key order), lens 2-cells collapsed
+    (`_regular`); meta counts them.  (Also the end of `sweep`'s marching pass for n = 3.)"""
     edges, cells, collapsed, left = collapse_lenses(edges, cells)
     return CellComplex(n, k, vertices, edges, cells, dict(collapsed_lenses=collapsed, lenses_left=left))

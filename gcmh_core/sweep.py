@@ -31,9 +31,9 @@ from .complex import CellComplex
 from .errors import Cancelled
 from .identify import IdentifiedGrid
 from .interval import Enclosure
-from .runner import Grid
+from .runner import Grid, complex_of
 
-__all__ = ["run_sweep", "surviving_blocks", "enclosure_of", "SLAB_VERTICES", "PRUNE"]
+__all__ = ["run_sweep", "surviving_blocks", "enclosure_of", "SLAB_VERTICES", "PRUNE", "MARCHING3"]
 
 # Vertices evaluated per slab: bounds the memory of a run independently of div along axis 0.
 SLAB_VERTICES = 1 << 22
@@ -57,6 +57,10 @@ _MAX_BLOCKS = 1 << 20
 # Blocks bounded in one vectorised call (memory: a few (m,) arrays per node of F).
 _BOUND_CHUNK = 1 << 16
 
+# None: GCMH for n = 3, k = 1 takes the marching pass (`_marching3`) unless PRUNE is True;
+# False: never (tests compare it with the general path).  Periodic axes never take it.
+MARCHING3: bool | None = None
+
 _enclosures: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
@@ -72,11 +76,20 @@ def enclosure_of(system) -> Enclosure | None:
 
 
 def run_sweep(n, k, axes, system, sampled, progress, cancel, grid=None) -> CellComplex:
-    """Every cube of the grid: pruned by F's bounds when F is a formula and the grid is
-    large (see PRUNE), else in slabs along axis 0.  Same complex either way."""
+    """Every cube of the grid: for n = 3, k = 1 in one marching pass (see MARCHING3);
+    else pruned by F's bounds when F is a formula and the grid is large (see PRUNE), else
+    in slabs along axis 0.  Same complex every way."""
     grid = Grid(n, k, axes) if grid is None else grid
     if isinstance(grid, IdentifiedGrid):  # periodic axes: F's values on a seam are copies, not bounds
         return grid.sweep(system, progress, cancel)
+    marching = MARCHING3
+    if marching is None:
+        marching = PRUNE is not True
+    if marching and (grid.n, grid.k) == (3, 1) and not grid.simplicial:
+        result = _marching_sweep(grid, axes, system, sampled, progress, cancel)
+        if result is not None:
+            return result
+        grid.timings = dict.fromkeys(grid.timings, 0.0)  # (a value the pass can't take: the general path)
     prune = PRUNE
     if prune is None:
         prune = grid.stats["cubes"] >= _PRUNE_MIN_CUBES
@@ -122,6 +135,70 @@ def _plain_sweep(grid, axes, system, sampled, progress, cancel) -> CellComplex:
     if progress is not None:
         progress("assembling", 1.0)
     return grid.assemble()
+
+
+def _marching_sweep(grid, axes, system, sampled, progress, cancel) -> CellComplex | None:
+    """n = 3, k = 1: F slab by slab as in `_plain_sweep` (the same slabs, so the same values),
+    each slab through `_marching3.march_layers`, which writes the complex in its final
+    order.  None when a value is not finite or a difference overflows (the general
+    path then runs: it counts and skips such vertices)."""
+    from . import _marching3  # noqa: PLC0415  (compiled on first use only)
+
+    cases = _marching3.cube_cases()
+    d0, d1, d2 = (int(d) for d in grid.dims)
+    thickness = int(max(1, min(d0 - 1, SLAB_VERTICES // (d1 * d2))))
+    buffer = None if sampled is not None else np.empty((thickness + 1, d1, d2, 1))
+    # ring buffers of the pass (see march_layers), and outputs sized for a surface
+    # crossing the grid a few times (they grow when needed)
+    sg = np.empty((4, d1, d2), np.uint8)
+    rowc = np.empty((4, d1), np.uint8)
+    vid = np.empty((3, d1, d2, 3), np.int64)
+    eid = np.empty((3, d1, d2, 3, 2), np.int64)
+    room = 2 * (d0 * d1 + d1 * d2 + d0 * d2) + 64
+    vert = np.empty((room, 3))
+    edges = np.empty((2 * room, 2), np.int64)
+    offsets = np.zeros(room + 1, np.int64)
+    faces = np.empty(4 * room, np.int64)
+    counts = np.zeros(7, np.int64)
+    tables = (cases.square_edges, cases.square_count, cases.cube_pieces, cases.cube_nonball, cases.piece_start,
+              cases.piece_face)
+    values = None
+    n_slabs = -(-(d0 - 1) // thickness)
+    for si, i0 in enumerate(range(0, d0 - 1, thickness)):
+        if cancel is not None and cancel():
+            raise Cancelled("extraction cancelled")
+        if progress is not None:
+            progress("extracting", si / n_slabs)
+        i1 = min(i0 + thickness, d0 - 1)
+        t = time.perf_counter()
+        if sampled is not None:
+            values = np.ascontiguousarray(sampled[i0 : i1 + 1, :, :, 0], np.float64)
+        else:
+            if values is not None:
+                buffer[0] = values[-1]
+            values = buffer[: i1 - i0 + 1]
+            first = 0 if si == 0 else 1
+            system.evaluate_grid([axes[0][i0 + first : i1 + 1]] + list(axes[1:]), out=values[first:])
+        t2 = time.perf_counter()
+        grid.timings["evaluate"] += t2 - t
+        t_first = 0 if si == 0 else i0 + 1
+        vert, edges, offsets, faces = _marching3.march_layers(
+            values[..., 0] if sampled is None else values, i0, t_first, i1, d0, grid.axes_arr, sg, rowc, vid, eid,
+            vert, edges, offsets, faces, counts, *tables)
+        grid.timings["kernel"] += time.perf_counter() - t2
+        if counts[6] != _marching3.OK:
+            return None
+    if progress is not None:
+        progress("assembling", 1.0)
+    t = time.perf_counter()
+    nv, ne, nc, nf = (int(c) for c in counts[:4])
+    grid.stats["candidate_cubes"] += int(counts[4])
+    grid.stats["non_ball_cells"] += int(counts[5])
+    cx = complex_of(3, 1, vert[:nv], edges[:ne], {2: (offsets[: nc + 1], faces[:nf])})
+    grid.timings["assemble"] = time.perf_counter() - t
+    cx.meta.update(grid.stats)
+    cx.meta["timings"] = grid.timings
+    return cx
 
 
 def surviving_blocks(enclosure, axes, lo, hi, leaf_cubes, cancel=None, max_blocks=None):

@@ -1,0 +1,510 @@
+"""GCMH for n = 3, k = 1 in one pass over the grid's layers: the Combinatorial Marching
+Cubes case of the paper (Section 3 with n = 3, k = 1), written like a marching-cubes code.
+
+For k = 1 a k-simplex is a grid edge and it is crossed exactly when F changes sign
+along it (a value 0 counts as positive), so everything the general kernel
+(`_kernels.cubes_chunk`) finds in a cube but the vertices' positions is fixed by its
+8 corner signs: the vertex of M_A on each crossed edge, the edges of M_A on each
+square (the walk of Section 3.1.1 pairs four crossings), the 2-cells (pieces of G_H
+in the cube, Section 3.1.2) and the pieces M_A joins through the cube (`non_ball_cells`).
+`cube_cases` derives these tables once from the general kernel's own `_tables.CubeTables`,
+by the same steps run on signs instead of values.
+
+`march_layers` then walks the grid layer by layer along axis 0 and writes the complex
+directly in the general path's order: vertices keyed (grid vertex, axis), edges
+(square's anchor, its axes, smallest local code), 2-cells (cube, smallest code), so the
+ids are assigned in key order as things are found: no hashing, no sort, no assembly.
+A layer t arrives with F's values; then, lagging behind it,
+  S(t)   signs of layer t, and per row (fixed t, j) whether it is all >= 0, all < 0 or mixed;
+  V(t-1) the vertices on the edges starting in layer t-1 (positions from F's values);
+  E(t-2) the edges of M_A on the squares anchored in layer t-2 (they need V(t-1));
+  C(t-3) the 2-cells of the cubes in layer t-3 (they need E(t-2)).
+Rows whose neighbourhood has one sign throughout are skipped whole (flying edges' trick).
+
+The result is the general path's complex bit for bit (tests/core/test_marching3.py):
+the positions are computed by the same arithmetic as `_kernels.simplex_crosses` for k = 1.
+Where that arithmetic could differ from a pure sign test (a value that is not finite,
+or a difference F(b) - F(a) that overflows) the pass stops and says so; the caller
+then runs the general path.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numba as nb
+import numpy as np
+
+from ._config import JIT
+from ._tables import cube_tables
+
+__all__ = ["cube_cases", "march_layers", "OK", "NOT_FINITE", "OVERFLOW"]
+
+# march_layers' status
+OK, NOT_FINITE, OVERFLOW = 0, 1, 2
+
+
+# ----------------------------------------------------------------------------- the tables
+def _local_code(f_free: int, g_free: int, g_fixed: int) -> int:
+    """`_kernels._local_code` for k = 1 (perm 0, kfact 1)."""
+    pos = rank = bits = j = 0
+    for a in range(3):
+        if f_free >> a & 1:
+            if g_free >> a & 1:
+                rank += pos  # binom[pos, 1]
+            else:
+                bits |= (g_fixed >> a & 1) << j
+                j += 1
+            pos += 1
+    return rank * (1 << j) + bits
+
+
+def _square_edges(tab, kf1: int, positive) -> list[tuple[int, int]]:
+    """The edges of M_A on the cube's square kf1 (its (k+1)-face), as pairs of cube
+    edges (k-simplices), in the order `cubes_chunk` emits them; positive[c]: F >= 0
+    at cube corner c.  The same steps as the kernel's, on signs."""
+    crossed = [positive[a] != positive[b] for a, b in tab.ksimplex_corners.tolist()]
+    n_boundary = tab.walk_boundary_nodes
+    wbs = tab.walk_boundary_simplex[kf1].tolist()
+    cmap = tab.walk_corner_map[kf1].tolist()
+    found = [b for b in range(n_boundary) if crossed[wbs[b]]]
+    if len(found) == 0:
+        return []
+    if len(found) == 2:
+        return [(wbs[found[0]], wbs[found[1]])]
+    interior = tab.walk_interior_corners.tolist()
+    links: dict[int, list[int]] = {}
+    for corners, nodes in zip(tab.walk_simplex_corners.tolist(), tab.walk_simplex_nodes.tolist()):
+        signs = {positive[cmap[c]] for c in corners}
+        if len(signs) != 2:
+            continue
+        hit = []
+        for node in nodes:
+            if node < n_boundary:
+                if crossed[wbs[node]]:
+                    hit.append(node)
+            else:
+                a, b = interior[node - n_boundary]
+                if positive[cmap[a]] != positive[cmap[b]]:
+                    hit.append(node)
+        if len(hit) != 2:
+            raise AssertionError("a triangle with a sign change crosses two of its edges")
+        for u, w in (hit, hit[::-1]):
+            links.setdefault(u, []).append(w)
+            if len(links[u]) > 2:
+                raise AssertionError("a node of the walk is linked thrice")
+    edges, walked = [], set()
+    for start in found:
+        if start in walked:
+            continue
+        before, at, end = -1, start, -1
+        for _ in range(len(links) + 2):
+            nxt = [w for w in links.get(at, []) if w != before]
+            if not nxt:
+                break
+            before, at = at, nxt[0]
+            if at < n_boundary:
+                end = at
+                break
+        if end < 0 or end == start:
+            raise AssertionError("the walk ends where it started")
+        walked.update((start, end))
+        edges.append((wbs[start], wbs[end]))
+    return edges
+
+
+def _joined(tab, positive, pieces_vertices) -> int:
+    """`_kernels._joined_pieces` for the whole cube, on signs: the pieces of G_H minus the
+    pieces of M_A (marched over the cube's CFK triangulation) that hold them."""
+    kuhn = tab.kuhn
+    corners, facets, start = kuhn.corners, kuhn.facets, kuhn.start
+    parent = {}
+
+    def find(s):
+        while parent[s] != s:
+            s = parent[s]
+        return s
+
+    for d in range(1, 4):
+        for s in range(start[d], start[d + 1]):
+            if d == 1:
+                if positive[corners[s, 0]] != positive[corners[s, 1]]:
+                    parent[s] = s
+                continue
+            for j in range(d + 1):
+                t = int(facets[s, j])
+                if t in parent:
+                    parent.setdefault(s, s)
+                    ra, rb = find(s), find(t)
+                    if ra != rb:
+                        parent[rb] = ra
+    roots = [find(int(tab.ksimplex_kuhn[vs[0]])) for vs in pieces_vertices]
+    return len(roots) - len(set(roots))
+
+
+class Cases:
+    """The 256 sign cases of a cube and the 16 of each square, as arrays for `march_layers`.
+
+    A corner c is a bit mask (bit a: +1 along axis a); a square's rank q is that of its
+    free axes (0: axes 0 and 1, 1: axes 0 and 2, 2: axes 1 and 2), as in `_tables`.
+
+    square_edges[q, case, slot, 0 or 1]: the grid edges (corner << 2 | axis, the corner
+      relative to the square's anchor) joined by the edge `slot` of M_A in that square,
+      slots in the order of their keys; square_count[q, case] of them.
+    cube_pieces[case]: the number of 2-cells; cube_nonball[case]: the pieces of G_H that
+      M_A joins through the cube.  piece_start[case, p]: the piece p's rows in piece_face
+      (pieces in the order of their keys), each row an edge of M_A as
+      (anchor corner << 3 | q << 1 | slot), rows in the order of the edges' keys.
+    """
+
+    def __init__(self):
+        tab = cube_tables(3, 1)
+        self.tab = tab
+        face0 = int(tab.face_start[2])
+        free = tab.face_free.tolist()
+        fixed = tab.face_fixed.tolist()
+        rank = tab.face_rank.tolist()
+        ks = tab.ksimplex_corners.tolist()
+
+        def grid_edge(s, anchor):  # cube edge s relative to a square anchored at corner `anchor`
+            c0, c1 = ks[s]
+            return ((c0 & ~anchor) << 2) | (c0 ^ c1).bit_length() - 1
+
+        def edge_code(s, f):
+            c0, c1 = ks[s]
+            return _local_code(free[f], c0 ^ c1, c0)
+
+        def square(kf1, positive):
+            """The square's edges of M_A, sorted by key (smallest local code): (code, a, b)."""
+            f = face0 + kf1
+            out = [(min(edge_code(a, f), edge_code(b, f)), a, b) for a, b in _square_edges(tab, kf1, positive)]
+            return sorted(out)
+
+        self.square_edges = np.zeros((3, 16, 2, 2), np.int64)
+        self.square_count = np.zeros((3, 16), np.int64)
+        for kf1 in range(6):
+            f = face0 + kf1
+            if fixed[f] != 0:
+                continue
+            q = rank[f]
+            cmap = tab.walk_corner_map[kf1].tolist()
+            for case in range(16):
+                positive = [False] * 8
+                for local in range(4):
+                    positive[cmap[local]] = bool(case >> local & 1)
+                edges = square(kf1, positive)
+                self.square_count[q, case] = len(edges)
+                for slot, (_, a, b) in enumerate(edges):
+                    self.square_edges[q, case, slot] = grid_edge(a, 0), grid_edge(b, 0)
+        # each square of the cube: its anchor corner, rank, and local corners (for its case)
+        self.square_anchor = np.array([fixed[face0 + kf1] for kf1 in range(6)], np.int64)
+        self.square_rank = np.array([rank[face0 + kf1] for kf1 in range(6)], np.int64)
+        self.square_corners = tab.walk_corner_map.copy()
+
+        def order(anchor, q, slot):  # the edge's key order within a cube: anchor's grid index first
+            lin = (anchor & 1) * 4 + (anchor >> 1 & 1) * 2 + (anchor >> 2 & 1)
+            return (lin * 3 + q) * 2 + slot
+
+        self.cube_pieces = np.zeros(256, np.int64)
+        self.cube_nonball = np.zeros(256, np.int64)
+        self.piece_start = np.zeros((256, 5), np.int64)
+        faces = []
+        for case in range(256):
+            positive = [bool(case >> c & 1) for c in range(8)]
+            crossed = [s for s in range(12) if positive[ks[s][0]] != positive[ks[s][1]]]
+            parent = {s: s for s in crossed}
+
+            def find(s):
+                while parent[s] != s:
+                    s = parent[s]
+                return s
+
+            cube_edges = []
+            for kf1 in range(6):
+                for slot, (_, a, b) in enumerate(square(kf1, positive)):
+                    cube_edges.append((a, b, order(self.square_anchor[kf1], self.square_rank[kf1], slot)))
+                    ra, rb = find(a), find(b)
+                    if ra != rb:
+                        parent[max(ra, rb)] = min(ra, rb)
+            pieces: dict[int, list[int]] = {}
+            for s in crossed:
+                pieces.setdefault(find(s), []).append(s)
+            cube_code = [edge_code(s, face0 + 6) for s in range(12)]  # codes in the cube itself
+            by_key = sorted(pieces.values(), key=lambda vs: min(cube_code[s] for s in vs))
+            self.cube_pieces[case] = len(by_key)
+            if len(by_key) >= 2:  # in root order, as the kernel lists them
+                self.cube_nonball[case] = _joined(tab, positive, sorted(pieces.values(), key=min))
+            for p, vs in enumerate(by_key):
+                self.piece_start[case, p] = len(faces)
+                rows = sorted(key for a, _, key in cube_edges if find(a) == find(vs[0]))
+                for key in rows:
+                    slot, rest = key % 2, key // 2
+                    q, lin = rest % 3, rest // 3
+                    anchor = (lin >> 2 & 1) | (lin >> 1 & 1) << 1 | (lin & 1) << 2
+                    faces.append(anchor << 3 | q << 1 | slot)
+            for p in range(len(by_key), 5):
+                self.piece_start[case, p] = len(faces)
+        self.piece_face = np.array(faces, np.int64)
+
+
+@lru_cache(maxsize=1)
+def cube_cases() -> Cases:
+    return Cases()
+
+
+# ----------------------------------------------------------------------------- the pass
+_BIG = 1.7976931348623157e308  # the largest float64: |v| <= _BIG is False for NaN and inf
+
+
+@nb.njit(**JIT)
+def _grow_rows(a, need):
+    b = np.empty((max(2 * a.shape[0], need), a.shape[1]), a.dtype)
+    b[: a.shape[0]] = a
+    return b
+
+
+@nb.njit(**JIT)
+def _grow(a, need):
+    b = np.zeros(max(2 * a.shape[0], need), a.dtype)
+    b[: a.shape[0]] = a
+    return b
+
+
+@nb.njit(**JIT)
+def _signs(x, sg_layer, rowc_layer):
+    """S(t): 1 where F >= 0 on layer x (d1, d2), each row's class; False if a value is not finite."""
+    d1, d2 = x.shape
+    finite = True
+    for j in range(d1):
+        pos = 0
+        ok = True
+        for l in range(d2):
+            v = x[j, l]
+            ok &= abs(v) <= _BIG
+            s = np.uint8(1) if v >= 0.0 else np.uint8(0)
+            sg_layer[j, l] = s
+            pos += s
+        finite &= ok
+        rowc_layer[j] = 1 if pos == d2 else (0 if pos == 0 else 2)
+    return finite
+
+
+@nb.njit(**JIT)
+def _quiet(rowc, u, j, d0, d1, du, dj):
+    """The rows (u + a, j + b), a <= du, b <= dj, inside the grid, all of one sign."""
+    c = rowc[u % 4, j]
+    if c == 2:
+        return False
+    for a in range(du + 1):
+        for b in range(dj + 1):
+            if u + a < d0 and j + b < d1 and rowc[(u + a) % 4, j + b] != c:
+                return False
+    return True
+
+
+@nb.njit(**JIT)
+def _vertex(values, base, u, j, l, a, lines, vert, row):
+    """The vertex on the edge from (u, j, l) along axis a: `simplex_crosses`' arithmetic for
+    k = 1 (lam from the 1 x 1 solve, then the sum over the simplex's corners).  False
+    where that arithmetic would not find the crossing (an overflow)."""
+    f0 = values[u - base, j, l]
+    if a == 0:
+        f1 = values[u + 1 - base, j, l]
+    elif a == 1:
+        f1 = values[u - base, j + 1, l]
+    else:
+        f1 = values[u - base, j, l + 1]
+    m = f1 - f0
+    scale = abs(m)
+    if not (scale * (1.0 / scale) > 1e-14):  # (the solve's pivot test: fails for an infinite m)
+        return False
+    lam1 = -f0 / m
+    lam0 = 1.0 - (0.0 + lam1)
+    if not (lam0 >= 0.0 and lam1 >= 0.0):
+        return False
+    x = 0.0
+    x += lam0 * lines[0, u]
+    x += lam1 * lines[0, u + (1 if a == 0 else 0)]
+    vert[row, 0] = x
+    x = 0.0
+    x += lam0 * lines[1, j]
+    x += lam1 * lines[1, j + (1 if a == 1 else 0)]
+    vert[row, 1] = x
+    x = 0.0
+    x += lam0 * lines[2, l]
+    x += lam1 * lines[2, l + (1 if a == 2 else 0)]
+    vert[row, 2] = x
+    return True
+
+
+@nb.njit(**JIT)
+def _vstep(values, base, u, d0, lines, sg, rowc, vid, vert, counts):
+    """V(u): the vertices on the edges that start in layer u, in key order (grid vertex, axis)."""
+    if u < 0 or u >= d0:
+        return
+    d1 = sg.shape[1]
+    d2 = sg.shape[2]
+    s0 = sg[u % 4]
+    top = u + 1 < d0
+    s1 = sg[(u + 1) % 4]
+    ids = vid[u % 3]
+    nv = counts[0]
+    for j in range(d1):
+        if _quiet(rowc, u, j, d0, d1, 1, 1):
+            continue
+        for l in range(d2):
+            s = s0[j, l]
+            if top and s1[j, l] != s:
+                if not _vertex(values, base, u, j, l, 0, lines, vert, nv):
+                    counts[6] = 2
+                    return
+                ids[j, l, 0] = nv
+                nv += 1
+            if j + 1 < d1 and s0[j + 1, l] != s:
+                if not _vertex(values, base, u, j, l, 1, lines, vert, nv):
+                    counts[6] = 2
+                    return
+                ids[j, l, 1] = nv
+                nv += 1
+            if l + 1 < d2 and s0[j, l + 1] != s:
+                if not _vertex(values, base, u, j, l, 2, lines, vert, nv):
+                    counts[6] = 2
+                    return
+                ids[j, l, 2] = nv
+                nv += 1
+    counts[0] = nv
+
+
+@nb.njit(**JIT)
+def _estep(u, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count):
+    """E(u): the edges of M_A on the squares anchored in layer u, in key order (anchor,
+    rank of the square's axes, slot)."""
+    if u < 0 or u >= d0:
+        return
+    d1 = sg.shape[1]
+    d2 = sg.shape[2]
+    s0 = sg[u % 4]
+    top = u + 1 < d0
+    s1 = sg[(u + 1) % 4]
+    ids = eid[u % 3]
+    ne = counts[1]
+    for j in range(d1):
+        if _quiet(rowc, u, j, d0, d1, 1, 1):
+            continue
+        for l in range(d2):
+            for q in range(3):
+                # the square's corners: anchor, + first axis, + second axis, + both
+                if q == 0:
+                    if not (top and j + 1 < d1):
+                        continue
+                    case = s0[j, l] | s1[j, l] << 1 | s0[j + 1, l] << 2 | s1[j + 1, l] << 3
+                elif q == 1:
+                    if not (top and l + 1 < d2):
+                        continue
+                    case = s0[j, l] | s1[j, l] << 1 | s0[j, l + 1] << 2 | s1[j, l + 1] << 3
+                else:
+                    if not (j + 1 < d1 and l + 1 < d2):
+                        continue
+                    case = s0[j, l] | s0[j + 1, l] << 1 | s0[j, l + 1] << 2 | s0[j + 1, l + 1] << 3
+                for slot in range(square_count[q, case]):
+                    for end in range(2):
+                        g = square_edges[q, case, slot, end]
+                        c = g >> 2
+                        edges[ne, end] = vid[(u + (c & 1)) % 3, j + (c >> 1 & 1), l + (c >> 2 & 1), g & 3]
+                    ids[j, l, q, slot] = ne
+                    ne += 1
+    counts[1] = ne
+
+
+@nb.njit(**JIT)
+def _cstep(u, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonball, piece_start, piece_face):
+    """C(u): the 2-cells of the cubes in layer u, in key order (cube, smallest code), each
+    with its edges in id order."""
+    if u < 0 or u >= d0 - 1:
+        return
+    d1 = sg.shape[1]
+    d2 = sg.shape[2]
+    s0 = sg[u % 4]
+    s1 = sg[(u + 1) % 4]
+    nc = counts[2]
+    nf = counts[3]
+    candidates = 0
+    nonball = 0
+    for j in range(d1 - 1):
+        if _quiet(rowc, u, j, d0, d1, 1, 1):
+            continue
+        for l in range(d2 - 1):
+            case = (s0[j, l] | s1[j, l] << 1 | s0[j + 1, l] << 2 | s1[j + 1, l] << 3
+                    | s0[j, l + 1] << 4 | s1[j, l + 1] << 5 | s0[j + 1, l + 1] << 6 | s1[j + 1, l + 1] << 7)
+            if case == 0 or case == 255:
+                continue
+            candidates += 1
+            nonball += cube_nonball[case]
+            for p in range(cube_pieces[case]):
+                for r in range(piece_start[case, p], piece_start[case, p + 1]):
+                    code = piece_face[r]
+                    c = code >> 3
+                    faces[nf] = eid[(u + (c & 1)) % 3, j + (c >> 1 & 1), l + (c >> 2 & 1), code >> 1 & 3, code & 1]
+                    nf += 1
+                nc += 1
+                offsets[nc] = nf
+    counts[2] = nc
+    counts[3] = nf
+    counts[4] += candidates
+    counts[5] += nonball
+
+
+@nb.njit(**JIT)
+def _room(vert, edges, offsets, faces, counts, d1, d2):
+    """The output arrays, grown if a layer's worst case would not fit."""
+    per_layer = d1 * d2
+    if counts[0] + 3 * per_layer > vert.shape[0]:
+        vert = _grow_rows(vert, counts[0] + 3 * per_layer)
+    if counts[1] + 6 * per_layer > edges.shape[0]:
+        edges = _grow_rows(edges, counts[1] + 6 * per_layer)
+    if counts[2] + 4 * per_layer + 1 > offsets.shape[0]:
+        offsets = _grow(offsets, counts[2] + 4 * per_layer + 1)
+    if counts[3] + 12 * per_layer > faces.shape[0]:
+        faces = _grow(faces, counts[3] + 12 * per_layer)
+    return vert, edges, offsets, faces
+
+
+@nb.njit(**JIT)
+def march_layers(values, base, t_first, t_last, d0, lines, sg, rowc, vid, eid,
+                 vert, edges, offsets, faces, counts,
+                 square_edges, square_count, cube_pieces, cube_nonball, piece_start, piece_face):
+    """Layers t_first..t_last of the grid through the steps S, V, E, C (module docstring);
+    at t = d0 - 1 the steps left are run too.
+
+    values (L, d1, d2): F at layers base..base+L-1, with base = t_first - 1 (the last call's
+    last layer) or base = t_first = 0.  lines (3, max vertices per axis): the grid lines.
+    Ring buffers kept between calls: sg (4, d1, d2) uint8 signs, rowc (4, d1) uint8 row
+    classes (0: all < 0, 1: all >= 0, 2: mixed), vid (3, d1, d2, 3) vertex ids by edge,
+    eid (3, d1, d2, 3, 2) edge ids by square and slot.  The output arrays (vertices,
+    edges, 2-cell offsets (offsets[0] = 0) and faces) are grown as needed and returned;
+    counts: vertices, edges, 2-cells, faces, candidate cubes, non-ball cells, status
+    (OK, NOT_FINITE or OVERFLOW: then the pass stops).
+    """
+    d1 = values.shape[1]
+    d2 = values.shape[2]
+    for t in range(t_first, t_last + 1):
+        if not _signs(values[t - base], sg[t % 4], rowc[t % 4]):
+            counts[6] = 1
+        if counts[6] != 0:
+            break
+        vert, edges, offsets, faces = _room(vert, edges, offsets, faces, counts, d1, d2)
+        _vstep(values, base, t - 1, d0, lines, sg, rowc, vid, vert, counts)
+        _estep(t - 2, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count)
+        _cstep(t - 3, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonball, piece_start,
+               piece_face)
+        if t == d0 - 1 and counts[6] == 0:  # the last layer: drain (ring slots are reused in this order)
+            vert, edges, offsets, faces = _room(vert, edges, offsets, faces, counts, d1, d2)
+            _vstep(values, base, t, d0, lines, sg, rowc, vid, vert, counts)
+            _estep(t - 1, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count)
+            _cstep(t - 2, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonball, piece_start,
+                   piece_face)
+            vert, edges, offsets, faces = _room(vert, edges, offsets, faces, counts, d1, d2)
+            _estep(t, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count)
+            _cstep(t - 1, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonball, piece_start,
+                   piece_face)
+    return vert, edges, offsets, faces
