@@ -9,6 +9,11 @@
     gcmh-app --example clifford-torus --mapping stereographic --animate tour --mp4 tour.mp4
     gcmh-app --example klein-bottle --animate slice:s --slice-width 0.2 --gif sweep.gif
                                                # no window: an animation as GIF and/or MP4
+    gcmh-app --example hyperboloid --animate param:a=-1:1 --frames 24 --gif a.gif [--mp4 a.mp4]
+                                               # a parameter sweep: one extraction per frame, one camera,
+                                               # each frame captioned with the value and chi
+    gcmh-app --example hyperboloid --param a=-0.3 --screenshot two-sheets.png
+                                               # a parameter's value (repeatable; default: the example's)
 
 Sizes and frame counts are checked first (``gcmh_core.budget.check_image_size`` /
 ``check_frames``): what the renderer cannot draw is refused with its limit (exit 2).
@@ -69,6 +74,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="screenshot size (default 1600x1200)")
     p.add_argument("--div", type=_div, metavar="N", help="override the example's grid divisions (N or N1,N2,...)")
     p.add_argument("--seed", type=int, default=0, help="grid perturbation seed (default 0)")
+    p.add_argument("--param", dest="params", action="append", default=[], metavar="NAME=VALUE",
+                   help="value of a parameter of the example's formulas (repeatable), e.g. --param a=-0.3 "
+                        "or --param 'c=pi/4'; default: the example's")
     p.add_argument("--method", default="gcmh", type=str.lower,
                    help="extraction method: gcmh (whole grid, the default), gcch (continuation from the "
                         "example's start point), or the simplicial baselines cms and ccs")
@@ -91,7 +99,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="front faces gold, back faces blue (a surface's two sides; Klein bottle: where they swap)")
     p.add_argument("--boundary", action="store_true", help="draw the boundary facets in red")
     p.add_argument("--animate", metavar="SPEC",
-                   help="no window: render an animation, SPEC = rotate:I-J | tour | slice:VAR (needs --gif/--mp4)")
+                   help="no window: render an animation, SPEC = rotate:I-J | tour | slice:VAR | param:NAME=FROM:TO "
+                        "(a parameter sweep, e.g. param:a=-1:1; needs --gif/--mp4)")
     p.add_argument("--frames", type=int, default=60, help="animation frames (default 60)")
     p.add_argument("--fps", type=float, default=20.0, help="animation frames per second (default 20)")
     p.add_argument("--gif", metavar="FILE", help="write the animation as a GIF")
@@ -169,8 +178,10 @@ def _main(argv=None) -> int:
         return 0
     if args.screenshot or args.animate:
         return _session_screenshot(args) if args.session else render(Options.from_args(args))
+    if args.params:   # (the window takes a parameter from its slider)
+        return fail("--param goes with --screenshot or --animate; in the window, set it with its slider")
     if args.gif or args.mp4:
-        return fail("--gif/--mp4 need --animate SPEC (rotate:I-J, tour or slice:VAR)")
+        return fail("--gif/--mp4 need --animate SPEC (rotate:I-J, tour, slice:VAR or param:NAME=FROM:TO)")
 
     from qtpy.QtWidgets import QApplication
 

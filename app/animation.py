@@ -12,10 +12,15 @@ Three kinds, all as lists of :class:`Frame` (what to change before drawing a fra
   coordinates; this one never does.)
 * ``slice``: the centre of the slicing window sweeps from one end of the
   complex to the other and back.
+* ``param``: a parameter of the formulas goes from one value to another, evenly,
+  both ends included; every frame is its own extraction (:mod:`app.headless`
+  draws them with one camera, so the surface changes and the framing does not).
 
 Spec text (the ``--animate`` option): ``rotate:I-J`` (variable names, e.g.
-``rotate:s-t``), ``tour``, ``slice:VAR``. :func:`parse_spec` checks it against
-the variable names with a one-line message.
+``rotate:s-t``), ``tour``, ``slice:VAR``, ``param:NAME=FROM:TO`` (e.g.
+``param:a=-1:1``; the ends may be constant text such as ``-pi/2``).
+:func:`parse_spec` checks it against the variable and parameter names with a
+one-line message.
 """
 
 from __future__ import annotations
@@ -25,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 TOUR_AMPLITUDE = 75.0      # degrees: far enough to see everything, slow enough to follow
-KINDS = ("rotate", "tour", "slice")
+KINDS = ("rotate", "tour", "slice", "param")
 # seconds per period of a playing animation at speed 1 (the Animate tab)
 ROTATE_PERIOD = 12.0
 TOUR_PERIOD = 60.0
@@ -34,22 +39,30 @@ SLICE_PERIOD = 10.0
 
 @dataclass
 class Frame:
-    """What to show in one frame: all plane angles (degrees) and/or a slice centre (None: unchanged)."""
+    """What to show in one frame: all plane angles (degrees), a slice centre and/or the swept parameter's
+    value (None: unchanged)."""
 
     angles: np.ndarray | None = None
     slice_center: float | None = None
+    param_value: float | None = None
 
 
 @dataclass(frozen=True)
 class Spec:
-    """A parsed animation: kind, the plane (i, j) and its sense for ``rotate``, the variable for ``slice``."""
+    """A parsed animation: kind, the plane (i, j) and its sense for ``rotate``, the variable for ``slice``,
+    the parameter and its two ends for ``param``."""
 
     kind: str
     plane: tuple[int, int] | None = None
     sign: float = 1.0
     var: int | None = None
+    param: str | None = None
+    lo: float = 0.0
+    hi: float = 0.0
 
     def describe(self, names) -> str:
+        if self.kind == "param":
+            return f"param:{self.param}={self.lo:g}:{self.hi:g}"
         if self.kind == "rotate":
             i, j = self.plane
             a, b = (names[i], names[j]) if self.sign > 0 else (names[j], names[i])
@@ -59,8 +72,9 @@ class Spec:
         return "tour"
 
 
-def parse_spec(text: str, names) -> Spec:
-    """``rotate:I-J`` | ``tour`` | ``slice:VAR`` -> :class:`Spec`; ValueError with a one-line message."""
+def parse_spec(text: str, names, params=()) -> Spec:
+    """``rotate:I-J`` | ``tour`` | ``slice:VAR`` | ``param:NAME=FROM:TO`` -> :class:`Spec`; ValueError with a
+    one-line message. ``params``: the parameter names of the formulas (what ``param`` may sweep)."""
     names = list(names)
     t = (text or "").strip()
     kind, _, arg = t.partition(":")
@@ -86,7 +100,35 @@ def parse_spec(text: str, names) -> Spec:
             raise ValueError(f"slice needs one of the variables {', '.join(names)}, e.g. slice:{names[-1]}; "
                              f"got {text!r}")
         return Spec("slice", var=names.index(arg))
-    raise ValueError(f"unknown animation {text!r}: use rotate:I-J, tour or slice:VAR")
+    if kind == "param":
+        return _parse_param(arg, text, list(params))
+    raise ValueError(f"unknown animation {text!r}: use rotate:I-J, tour, slice:VAR or param:NAME=FROM:TO")
+
+
+def _parse_param(arg: str, text: str, params: list) -> Spec:
+    """``NAME=FROM:TO`` of a ``param`` spec; the ends are numbers or constant text (``-pi/2``)."""
+    from gcmh_core.errors import InputError
+    from gcmh_core.formula import evaluate_constant
+
+    example = f"param:{params[0] if params else 'a'}=-1:1"
+    name, eq, rng = arg.partition("=")
+    name = name.strip()
+    if not eq or not name:
+        raise ValueError(f"param needs NAME=FROM:TO, e.g. {example}; got {text!r}")
+    if not params:
+        raise ValueError(f"these formulas have no parameter to sweep (got {text!r})")
+    if name not in params:
+        raise ValueError(f"unknown parameter {name!r} in {text!r}; the formulas' parameters are {', '.join(params)}")
+    ends = rng.split(":")
+    if len(ends) != 2 or not all(e.strip() for e in ends):
+        raise ValueError(f"param needs a range FROM:TO, e.g. {example}; got {text!r}")
+    try:
+        lo, hi = (evaluate_constant(e) for e in ends)
+    except InputError as err:
+        raise ValueError(f"param {name}: {err}") from None
+    if lo == hi:
+        raise ValueError(f"param {name}: the range {lo:g}:{hi:g} is empty (FROM and TO must differ)")
+    return Spec("param", param=name, lo=float(lo), hi=float(hi))
 
 
 def plane_index(n: int, plane: tuple[int, int]) -> int:
@@ -135,8 +177,33 @@ def slice_frames(lo: float, hi: float, frames: int) -> list[Frame]:
     return [Frame(slice_center=float(x)) for x in c]
 
 
+def param_frames(lo: float, hi: float, frames: int) -> list[Frame]:
+    """``frames`` values from ``lo`` to ``hi``, evenly spaced, both ends included (one frame: ``lo``)."""
+    _check_frames(frames)
+    return [Frame(param_value=float(v)) for v in np.linspace(lo, hi, int(frames))]
+
+
+def param_caption(name: str, value: float, step: float, chi: int, components: int) -> str:
+    """The caption of a parameter sweep's frame: ``a = -0.50   chi = 2   2 components``.
+    ``step``: the sweep's step, which sets the decimals shown (enough to tell two frames apart)."""
+    digits = 2 if not step else min(6, max(2, int(np.ceil(-np.log10(abs(step))))))
+    v = round(float(value), digits) + 0.0   # (+ 0.0: no "-0.00")
+    return (f"{name} = {v:.{digits}f}   chi = {int(chi)}   "
+            f"{int(components)} component{'' if int(components) == 1 else 's'}")
+
+
+def critical_note(name: str, singular: int) -> str:
+    """The notice under a frame at a critical value (``meta["singular_vertices"]`` > 0), else ""."""
+    if not singular:
+        return ""
+    return (f"critical value of {name}: F's Jacobian nearly loses rank at {int(singular):,} "
+            f"vert{'ex' if int(singular) == 1 else 'ices'} (M is singular there)")
+
+
 def frames_for(spec: Spec, angles0, frames: int, slice_range=(0.0, 1.0), seed: int = 0) -> list[Frame]:
     """The frames of ``spec`` starting from the current angles (and the slice range for ``slice``)."""
+    if spec.kind == "param":
+        return param_frames(spec.lo, spec.hi, frames)
     n_planes = len(angles0)
     if spec.kind == "rotate":
         n = int(round((1 + np.sqrt(1 + 8 * n_planes)) / 2))
@@ -182,8 +249,11 @@ class Clock:
         return float(0.5 * (1 - np.cos(2 * np.pi * self.t)))
 
 
-# Colours a GIF's palette keeps exactly: the title's white and the text greys of app.scene (text never recoloured)
-RESERVED_COLOURS = ((255, 255, 255), (0xc8, 0xcf, 0xdc), (0xdf, 0xe4, 0xee), (0, 0, 0))
+# A parameter sweep's notice at a critical value (a colour of its own, kept exactly in a GIF)
+CRITICAL_COLOUR = (0xff, 0x8a, 0x5c)
+# Colours a GIF's palette keeps exactly: the title's white, the text greys of app.scene and the critical
+# notice (text never recoloured)
+RESERVED_COLOURS = ((255, 255, 255), (0xc8, 0xcf, 0xdc), (0xdf, 0xe4, 0xee), (0, 0, 0), CRITICAL_COLOUR)
 PALETTE_PIXELS = 1_500_000  # pixels (from every frame) the GIF's adaptive palette is learnt from
 
 

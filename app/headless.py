@@ -4,10 +4,14 @@ off-screen pyvista plotter.  No Qt is imported.
 
     from app.headless import Options, render
     render(Options(example="klein-bottle", screenshot="klein.png", size=(800, 600)))   # 0 on success
+    render(Options(example="hyperboloid", animate="param:a=-1:1", frames=24, gif="a.gif"))
 
 :class:`Options` has the fields (and defaults) of the command line's options; ``render`` checks them against
 the example's variables with one-line messages on stderr (exit code 2), extracts, draws, and writes the PNG
-or the animation.
+or the animation.  A parameter sweep (``param:NAME=FROM:TO``) extracts once per frame
+(:func:`param_sweep`, budget checked first by :func:`check_param_sweep`) and draws the frames with one
+camera and one colour scale fitted to all of them, each captioned with its value and topology
+(:func:`sweep_images`); :func:`export_param_sweep` does all of it for the window's export too.
 """
 
 from __future__ import annotations
@@ -44,6 +48,7 @@ class Options:
     fps: float = 20.0
     gif: str | None = None
     mp4: str | None = None
+    params: list = field(default_factory=list)   # --param NAME=VALUE texts (the formulas' parameters)
 
     @classmethod
     def from_args(cls, args: argparse.Namespace) -> Options:
@@ -102,10 +107,16 @@ def write_frames(scene, projection, frames, window, paths, fps: float, progress=
     One path: the frames stream to it (``progress(k)``, ``cancel()`` as in :func:`app.animation.write_animation`);
     several: rendered once, then written to each.
     """
-    from .animation import write_animation
     from .scene import animation_images
 
-    images = animation_images(scene, projection, frames, window)
+    return write_images(animation_images(scene, projection, frames, window), paths, fps, progress, cancel)
+
+
+def write_images(images, paths, fps: float, progress=None, cancel=None) -> int:
+    """Write the (h, w, 3) ``images`` (any iterable) to each of ``paths`` (.gif/.mp4), each atomically;
+    returns the frames written.  One path: they stream to it; several: held, then written to each."""
+    from .animation import write_animation
+
     if len(paths) == 1:
         return _written(paths[0], lambda temp: write_animation(temp, images, fps=fps, progress=progress,
                                                                cancel=cancel), cancel)
@@ -155,6 +166,8 @@ def _prepare(opts: Options):
     from gcmh_core.examples import load_example
     from gcmh_core.extract import CONTINUATION_METHODS
 
+    from gcmh_core._validate import parse_params
+
     from .animation import parse_spec
     from .jobs import Job, run_job
     from .projection import ProjectionModel
@@ -170,10 +183,15 @@ def _prepare(opts: Options):
     project = opts.project.split(",") if opts.project else view.get("project", names[:3])
     color = opts.color or view.get("color")
     mapping = opts.mapping or view.get("mapping", "orthographic")
+    try:
+        given = parse_params(opts.params) or {}
+    except InputError as e:
+        return fail(str(e))
+    params = {**ex.param_values(), **given}
     spec = None
     if opts.animate:
         try:
-            spec = parse_spec(opts.animate, names)
+            spec = parse_spec(opts.animate, names, params=list(ex.params))
         except ValueError as e:
             return fail(f"bad --animate: {e}")
         if not (opts.gif or opts.mp4):
@@ -214,8 +232,13 @@ def _prepare(opts: Options):
     job = Job(formulas=list(ex.formulas), variables=list(ex.variables), bounds=[tuple(b) for b in ex.bounds],
               div=opts.div if opts.div is not None else ex.div, seed=opts.seed, method=opts.method,
               start=(list(ex.start) if ex.start else "auto") if opts.method in CONTINUATION_METHODS else None,
-              extra={"params": ex.param_values()} if getattr(ex, "params", None) else {},
-              periodic=list(getattr(ex, "periodic", None) or []) or None)
+              params=params or None, periodic=list(getattr(ex, "periodic", None) or []) or None)
+    if spec is not None and spec.kind == "param":
+        if opts.slice:
+            return fail("--slice goes with screenshots and rotate, tour or slice animations, not with param:")
+        # every frame is its own extraction: param_sweep, after the budget check
+        return dict(ex=ex, names=names, model=model, mapping=mapping, color=color, cx=None, spec=spec,
+                    window=None, job=job)
     try:
         cx = run_job(job)
     except InputError as e:
@@ -229,7 +252,8 @@ def _prepare(opts: Options):
         window.w = opts.slice_width if opts.slice_width is not None else max(0.04 * (hi - lo), 1e-9)
         window.c = slice_c if slice_c is not None else 0.5 * (lo + hi)
         window.range = (lo, hi)
-    return dict(ex=ex, names=names, model=model, mapping=mapping, color=color, cx=cx, spec=spec, window=window)
+    return dict(ex=ex, names=names, model=model, mapping=mapping, color=color, cx=cx, spec=spec, window=window,
+                job=job)
 
 
 def render(opts: Options) -> int:
@@ -245,6 +269,8 @@ def render(opts: Options) -> int:
     prep = _prepare(opts)
     if isinstance(prep, int):
         return prep
+    if prep["spec"] is not None and prep["spec"].kind == "param":
+        return _param_animation(opts, prep)
     ex, names, model, color, cx = prep["ex"], prep["names"], prep["model"], prep["color"], prep["cx"]
     window, spec = prep["window"], prep["spec"]
     with offscreen_scene(opts.size, ANIMATION_AA if spec is not None else SCREENSHOT_AA) as scene:
@@ -292,4 +318,223 @@ def _animation(opts: Options, scene, model, window, spec) -> int:
     n = write_frames(scene, model, frames, window, outs, opts.fps)
     for p in outs:
         print(f"{p}: {n} frames, {opts.size[0]}x{opts.size[1]}, {spec.describe(scene.names)}")
+    return 0
+
+
+# ------------------------------------------------------------------ parameter sweeps
+SWEEP_SAMPLE = 200_000   # vertices of all frames together that fix the common centre and the camera
+
+
+def sweep_values(spec, frames: int) -> list[float]:
+    """The parameter's value in each frame of a ``param`` spec (:func:`app.animation.param_frames`)."""
+    from .animation import param_frames
+
+    return [f.param_value for f in param_frames(spec.lo, spec.hi, frames)]
+
+
+def _at(job, name: str, value: float):
+    """``job`` with parameter ``name`` at ``value``."""
+    from dataclasses import replace
+
+    return replace(job, params={**(job.params or {}), name: float(value)})
+
+
+def check_param_sweep(job, spec, frames: int, size) -> None:
+    """Raise InputError (``TooLargeError``) unless a sweep of ``frames`` extractions fits, before any work:
+    the frames themselves (``budget.check_frames``), the time of all the extractions and the memory of one
+    run plus the results held until they are drawn (the engine's estimate at both ends and the middle,
+    the largest taken).  A parameter the formulas don't have is the engine's InputError."""
+    from gcmh_core import budget
+
+    from .jobs import estimate_job
+
+    budget.check_frames(frames, *size)
+    values = sweep_values(spec, frames)
+    ests = [estimate_job(_at(job, spec.param, v)) for v in {values[0], values[len(values) // 2], values[-1]}]
+    seconds = frames * max(e.seconds for e in ests)
+    held = max(e.peak_bytes for e in ests) + frames * max(e.record_bytes for e in ests)   # (records: at most)
+    limit, avail = ests[0].seconds_limit, ests[0].available_bytes
+    if seconds > limit:
+        raise budget.TooLargeError(f"{frames} extractions would take about {seconds:.0f} s (limit {limit:.0f} s, "
+                                   "$GCMH_TIME_LIMIT): use fewer frames or a smaller div")
+    if held * budget.MEMORY_MARGIN > avail:
+        raise budget.TooLargeError(f"{frames} results held until drawn need up to {budget.format_bytes(held)}; with "
+                                   f"room for the estimate's error that is more than the {budget.format_bytes(avail)}"
+                                   " available: use fewer frames or a smaller div")
+
+
+def param_sweep(job, spec, frames: int, progress=None, cancel=None) -> list:
+    """Extract ``job`` at each value of the sweep (:func:`sweep_values`); returns the complexes.
+
+    Continuation methods (gcch, ccs) start each frame from the previous frame's result (a small step
+    projects its vertices onto the new M at once); when none of them reaches it, the frame starts as
+    :func:`app.jobs.run_job` does (the job's start, else "auto").  The whole-grid methods run every
+    frame afresh.  ``progress(k)`` after frame k; ``cancel()`` true stops (the frames so far come back).
+    """
+    from gcmh_core.errors import InputError
+    from gcmh_core.extract import CONTINUATION_METHODS
+
+    from .jobs import run_job
+
+    out: list = []
+    prev = None
+    for value in sweep_values(spec, frames):
+        if cancel is not None and cancel():
+            break
+        at = _at(job, spec.param, value)
+        cx = None
+        if prev is not None and job.method in CONTINUATION_METHODS and prev.count(0):
+            from dataclasses import replace
+
+            try:
+                cx = run_job(replace(at, extra={**at.extra, "start": prev}))
+            except InputError:   # no vertex of the previous result projects onto this M
+                cx = None
+        if cx is None:
+            cx = run_job(at)
+        out.append(cx)
+        prev = cx
+        if progress is not None:
+            progress(len(out))
+    return out
+
+
+def _vertex_sample(complexes, limit: int = SWEEP_SAMPLE):
+    """Finite vertices of all ``complexes`` together, every m-th of each so at most about ``limit``."""
+    import numpy as np
+
+    total = sum(cx.count(0) for cx in complexes)
+    step = max(1, total // limit)
+    parts = [np.asarray(cx.vertices, dtype=float)[::step] for cx in complexes if cx.count(0)]
+    if not parts:
+        return np.zeros((0, complexes[0].n if complexes else 3))
+    X = np.concatenate(parts)
+    return X[np.all(np.isfinite(X), axis=1)]
+
+
+def sweep_images(scene, names, view, complexes, spec, style, mapping: str = "orthographic",
+                 boundary: bool = False, progress=None):
+    """Draw each frame of a parameter sweep on ``scene`` (an off-screen one) and yield its image.
+
+    One framing for all frames, so the surface changes and the picture doesn't: every frame is centred
+    on the centre of all of them (the projection's scales too), the camera is fitted once to all of
+    them together (from the default direction), and the colour scale spans all of them.  Each frame is
+    captioned with its value and topology (:func:`app.animation.param_caption`) and, at a critical value
+    (``meta["singular_vertices"]``), a notice in its own colour.  ``view``: the (fixed) projection."""
+    import copy
+
+    import numpy as np
+    import pyvista as pv
+
+    from .animation import CRITICAL_COLOUR, critical_note, param_caption
+    from .geometry import Geometry
+    from .projection import Projector, bbox_center
+    from .scene import colour_range, copy_camera, default_camera, draw_overlays, view_subtitle
+
+    pl = scene.plotter
+    sample = _vertex_sample(complexes)
+    center = bbox_center(sample)
+    radii = Projector(sample, center=center).radii()
+    probe = Projector(sample, center=center)
+    probe.set_radii(radii)
+    extent = pl.add_mesh(pv.PolyData(np.asarray(probe.project_view(view), dtype=float)), render=False,
+                         reset_camera=False, name="gcmh-sweep-extent")
+    default_camera(pl)
+    pl.remove_actor(extent, render=False)
+    camera = pv.Camera()
+    copy_camera(pl.camera, camera)
+    clim = None
+    if style.color_by in names and len(sample):
+        clim = colour_range(sample[:, names.index(style.color_by)])
+    values = sweep_values(spec, len(complexes)) if len(complexes) > 1 else [spec.lo]
+    step = (spec.hi - spec.lo) / max(len(complexes) - 1, 1)
+    font = scene._font(22)
+    for k, cx in enumerate(complexes):
+        st = copy.copy(style)
+        st.subtitle = view_subtitle(cx, names, style.color_by, style.two_sided, mapping, style.labels)
+        geo = None
+        if cx.count(0):
+            geo = Geometry.build(cx, lod=False)
+            geo.projector = Projector(cx.vertices, center=center)   # (not each frame's own centre)
+            geo.projector.set_radii(radii)
+        scene.set_complex(cx, names, view, st, geometry=geo)
+        copy_camera(camera, pl.camera)
+        if clim is not None and scene.actor is not None:
+            scene.actor.mapper.scalar_range = clim
+        if boundary and cx.count(0):
+            draw_overlays(scene, cx, boundary=True)
+        value = float(cx.meta.get("params", {}).get(spec.param, values[k]))
+        caption = param_caption(spec.param, value, step, cx.euler_characteristic() if cx.count(0) else 0,
+                                cx.connected_components() if cx.count(0) else 0)
+        pl.add_text(caption, position=(0.03, 0.055), viewport=True, font_size=font, color="white",
+                    name="gcmh-sweep-caption", render=False)
+        note = critical_note(spec.param, int(cx.meta.get("singular_vertices") or 0))
+        if note:
+            pl.add_text(note, position=(0.03, 0.015), viewport=True, font_size=max(6, int(font * 0.6)),
+                        color="#%02x%02x%02x" % CRITICAL_COLOUR, name="gcmh-sweep-note", render=False)
+        else:
+            pl.remove_actor("gcmh-sweep-note", render=False)
+        pl.renderer.ResetCameraClippingRange()
+        pl.render()
+        img = pl.screenshot(None, return_img=True)
+        if progress is not None:
+            progress(k + 1)
+        yield img
+
+
+def export_param_sweep(paths, job, spec, frames: int, names, projection, style, size, fps: float,
+                       mapping: str = "orthographic", boundary: bool = False, transparent: bool = False,
+                       progress=None, cancel=None) -> tuple[int, list]:
+    """A parameter sweep from start to file: budget check, output check, the extractions, the frames,
+    each of ``paths`` (.gif/.mp4) written atomically.  Returns (frames written, the complexes).
+
+    ``projection``: an :class:`app.projection.ProjectionModel` (its angles and mapping; its principal axes
+    are set from all the frames); ``style``: an :class:`app.scene.Style` (title, colour, labels).
+    ``progress(phase, k)``: phase "extract" then "draw", k frames done.  Bad input, or a sweep that
+    won't fit, raises InputError before any work."""
+    from gcmh_core.errors import InputError
+
+    check_param_sweep(job, spec, frames, size)
+    problem = check_outputs(paths)
+    if problem is not None:
+        raise InputError(problem)
+    complexes = param_sweep(job, spec, frames, progress=(lambda k: progress("extract", k)) if progress else None,
+                            cancel=cancel)
+    if len(complexes) < frames:   # cancelled
+        return 0, complexes
+    if all(cx.count(0) == 0 for cx in complexes):
+        raise InputError(f"the result is empty at every value of {spec.param} from {spec.lo:g} to {spec.hi:g} "
+                         "(no sign change of F on this grid): nothing to draw")
+    projection.set_vertices(_vertex_sample(complexes))
+    with offscreen_scene(size, ANIMATION_AA) as scene:
+        if transparent:
+            scene.plotter.renderer.GradientBackgroundOff()
+        images = sweep_images(scene, list(names), projection.view(), complexes, spec, style, mapping=mapping,
+                              boundary=boundary, progress=(lambda k: progress("draw", k)) if progress else None)
+        n = write_images(images, list(paths), fps, cancel=cancel)
+    return n, complexes
+
+
+def _param_animation(opts: Options, prep) -> int:
+    """``--animate param:NAME=FROM:TO``: :func:`export_param_sweep`, then one line per file."""
+    from gcmh_core.errors import InputError
+
+    from .scene import Style, example_labels
+
+    ex, names, spec = prep["ex"], prep["names"], prep["spec"]
+    style = Style(color_by=prep["color"], title=ex.title, two_sided=opts.two_sided, labels=example_labels(ex))
+    outs = [p for p in (opts.gif, opts.mp4) if p]
+    try:
+        n, complexes = export_param_sweep(outs, prep["job"], spec, opts.frames, names, prep["model"], style,
+                                          opts.size, opts.fps, mapping=prep["mapping"], boundary=opts.boundary,
+                                          transparent=opts.transparent)
+    except InputError as e:
+        return fail(str(e))
+    chis = [cx.euler_characteristic() if cx.count(0) else None for cx in complexes]
+    steps = [f"{chis[0]}"] + [f"{b} at {spec.param} = {cx.meta['params'][spec.param]:.3g}"
+                              for a, b, cx in zip(chis, chis[1:], complexes[1:]) if a != b]
+    critical = [f"{cx.meta['params'][spec.param]:.3g}" for cx in complexes if cx.meta.get("singular_vertices")]
+    for p in outs:
+        print(f"{p}: {n} frames, {opts.size[0]}x{opts.size[1]}, {spec.describe(names)}, chi "
+              + " -> ".join(steps) + (f"; critical near {spec.param} = {', '.join(critical)}" if critical else ""))
     return 0
