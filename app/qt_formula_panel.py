@@ -365,6 +365,7 @@ class QtFormulaPanel(QWidget):
         sl.addWidget(self.complex_box)
         self.complex_box.setVisible(False)
         self._split: dict | None = None   # the complex check's answer for the equations on show
+        self._auto_complex_names = ""      # the real names complex mode made (replaced while not edited)
 
         row = QHBoxLayout()
         self.n_spin = QSpinBox()
@@ -555,7 +556,8 @@ class QtFormulaPanel(QWidget):
                 self.creal_edit.setText("")
             finally:
                 self._building = False
-            self._auto_names = True
+        if on:
+            self._auto_complex_names = self.vars_edit.text()   # (the real mode's names give way)
         self._show_mode()
         if on:
             self._sync_complex_shape()
@@ -588,17 +590,21 @@ class QtFormulaPanel(QWidget):
             return
         n = 2 * len(cv)
         k = max(1, 2 * len(self.complex_equations()) + len(self.real_equations()))
+        auto = self.vars_edit.text() in (self._auto_complex_names, "")
         self._building = True
         try:
-            if self._auto_names:
-                names = ", ".join(default_real_names(cv, self.complex_equations()))
-                if names != self.vars_edit.text():
-                    self.vars_edit.setText(names)
             if (n, k) != (self.n, self.k) and n <= N_MAX and k <= N_MAX:
                 self.n_spin.setValue(n)
                 self.k_spin.setValue(k)
                 self._building = False
-                self._rebuild(n, k)
+                self._rebuild(n, k)   # (which may rename the variables: named again below)
+                self._building = True
+            # (textChanged comes before textEdited: whether the names are the user's is read off the text)
+            if auto:
+                names = ", ".join(default_real_names(cv, self.complex_equations()))
+                if names != self.vars_edit.text():
+                    self.vars_edit.setText(names)
+                self._auto_complex_names = names
         finally:
             self._building = False
 
@@ -1080,7 +1086,8 @@ class QtFormulaPanel(QWidget):
         self._show_mode()
         defaults = default_real_names(cvars, self.complex_equations()) if on else inputs.default_variables(n)
         variables = d.get("variables") or defaults
-        self._auto_names = list(variables) == defaults
+        self._auto_names = not on and list(variables) == defaults
+        self._auto_complex_names = ", ".join(defaults) if on else ""
         self._building = True   # (no check, no history entry, for the half-filled panel)
         try:
             self.vars_edit.setText(", ".join(variables))
