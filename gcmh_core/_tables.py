@@ -21,14 +21,17 @@ The fields' names follow the paper (Sections 3-4); the glossary at the top of
 
 from __future__ import annotations
 
+import threading
+from collections import OrderedDict
+from collections.abc import Callable
 from functools import lru_cache
-from itertools import combinations, permutations
+from itertools import combinations
 from math import comb, factorial
 from typing import NamedTuple
 
 import numpy as np
 
-from .errors import InputError
+from .errors import Cancelled, InputError
 
 # Largest walk template we agree to build (entries of the (k+1)-simplex facet table).
 _MAX_TEMPLATE_ENTRIES = 40_000_000
@@ -92,136 +95,257 @@ def _faces(n: int, r: int):
     return out
 
 
-def _kuhn_chain(fixed: int, order) -> list[int]:
-    chain = [fixed]
-    for axis in order:
-        chain.append(chain[-1] | (1 << axis))
-    return chain
+_CACHE_SIZE = 32
+_cache: OrderedDict[tuple[int, int], CubeTables] = OrderedDict()
+_cache_lock = threading.Lock()
 
 
-@lru_cache(maxsize=32)
-def cube_tables(n: int, k: int) -> CubeTables:
+def cube_tables(
+    n: int,
+    k: int,
+    progress: Callable[[str, float], None] | None = None,
+    cancel: Callable[[], bool] | None = None,
+) -> CubeTables:
+    """The cube tables for (n, k), built once per process (the last 32 are kept).
+
+    progress(phase, fraction) is called between the steps of a build (none when the tables
+    are cached); cancel() is polled there too, and True raises `Cancelled`: at k = 8 a build
+    takes about a second, at k = 9 several."""
+    key = (int(n), int(k))
+    with _cache_lock:
+        if key in _cache:
+            _cache.move_to_end(key)
+            return _cache[key]
     if not (1 <= k < n):
         raise InputError(f"need 1 <= k < n, got n={n}, k={k}")
     if factorial(k + 1) * (k + 2) > _MAX_TEMPLATE_ENTRIES:
         raise InputError(f"k={k} is too large: a (k+1)-face has {factorial(k + 1):,} simplices")
 
+    def step(phase: str, fraction: float) -> None:
+        if cancel is not None and cancel():
+            raise Cancelled("extraction cancelled")
+        if progress is not None:
+            progress(f"cube tables: {phase}", fraction)
+
+    step("faces", 0.0)
+    tables = _build_cube_tables(*key, step)
+    with _cache_lock:
+        _cache[key] = tables
+        while len(_cache) > _CACHE_SIZE:
+            _cache.popitem(last=False)
+    return tables
+
+
+cube_tables.cache_clear = _cache.clear  # (as lru_cache's: tests and benchmarks rebuild)
+
+
+# ----------------------------------------------------------------------------- the builder
+# The tables are built with whole-array numpy operations: a permutation's simplex is found by
+# arithmetic (the face's index * k! + the permutation's lexicographic rank), never by a lookup
+# of its corner set, so k = 8 (40,320 simplices per k-face, 9! in the walk) builds in about a second.
+
+
+def _permutations(m: int) -> np.ndarray:
+    """(m!, m) uint8: the permutations of 0..m-1 in lexicographic (`itertools.permutations`)
+    order, built from those of m - 1: first element f, then the rest shifted past f."""
+    p = np.zeros((1, 0), np.uint8)
+    for size in range(1, m + 1):
+        out = np.empty((size * len(p), size), np.uint8)
+        for f in range(size):
+            block = out[f * len(p) : (f + 1) * len(p)]
+            block[:, 0] = f
+            block[:, 1:] = p + (p >= f)
+        p = out
+    return p
+
+
+def _chains(perms: np.ndarray, axes: np.ndarray, dtype=np.int64) -> np.ndarray:
+    """(len(perms), r + 1) Kuhn chains from corner 0: step j switches on axis axes[perms[:, j]]."""
+    out = np.zeros((len(perms), perms.shape[1] + 1), dtype)
+    np.cumsum(np.left_shift(1, axes[perms].astype(dtype)), axis=1, out=out[:, 1:])  # distinct bits: sum = OR
+    return out
+
+
+def _face_arrays(n: int, r: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(free, fixed, subsets) of the r-faces of the n-cube in `_faces` order: free (C(n,r),)
+    masks, fixed (C(n,r), 2^(n-r)) anchors, subsets (C(n,r), r) the free axes ascending."""
+    subsets = np.array(list(combinations(range(n), r)), np.int64).reshape(-1, r)
+    inside = np.zeros((len(subsets), n), bool)
+    inside[np.arange(len(subsets))[:, None], subsets] = True
+    others = np.nonzero(~inside)[1].reshape(len(subsets), n - r)  # ascending in each row
+    bits = np.arange(1 << (n - r), dtype=np.int64)
+    fixed = (((bits[None, :, None] >> np.arange(n - r)) & 1) << others[:, None, :]).sum(axis=2)
+    free = (np.int64(1) << subsets).sum(axis=1)
+    return free, fixed.reshape(len(subsets), 1 << (n - r)), subsets
+
+
+def _face_index(n: int, r: int, free: np.ndarray, fixed: np.ndarray) -> np.ndarray:
+    """Row among the r-faces (`_faces(n, r)` order) of the faces (free, fixed): the rank of
+    the free subset * 2^(n-r) + the anchor's bits on the other axes, packed."""
+    rank_of = np.zeros(1 << n, np.int64)
+    rank_of[_face_arrays(n, r)[0]] = np.arange(comb(n, r))
+    bits = np.zeros(np.shape(free), np.int64)
+    pos = np.zeros(np.shape(free), np.int64)
+    for a in range(n):
+        other = (free >> a & 1) == 0
+        bits |= np.where(other, (fixed >> a & 1) << pos, 0)
+        pos += other
+    return rank_of[free] * (1 << (n - r)) + bits
+
+
+def _corner_masks_of_faces(n: int, free: np.ndarray, fixed: np.ndarray) -> np.ndarray:
+    """Each face's corners as bits of a uint64 viewed as int64 (n <= MASKED_N), else empty."""
+    if n > MASKED_N:
+        return np.zeros(0, np.int64)
+    corners = np.arange(1 << n, dtype=np.uint64)
+    member = (corners[None, :] & ~free[:, None].astype(np.uint64)) == fixed[:, None].astype(np.uint64)
+    return np.bitwise_or.reduce(np.where(member, np.uint64(1) << corners, np.uint64(0)), axis=1).view(np.int64)
+
+
+def _walk_template(k: int):
+    """The walk on the local (k+1)-cube: (simplex corners, simplex nodes, interior corners,
+    boundary nodes), as the loops of `cube_tables`' docstring order them.
+
+    Simplex t is the t-th permutation P of the local axes (lexicographic).  Its facet j = 0
+    lies in the k-face with axis P[0] fixed at 1 (row (m-1-P[0]) * 2 + 1 of the local
+    k-faces), as the permutation P[1:], of rank t mod k!; facet j = m in the face with
+    P[m-1] fixed at 0, as P[:m-1].  An interior facet j (chain minus corner j) is shared with
+    the simplex that swaps P[j-1] and P[j]; it is numbered where it first appears, at the
+    one of the two with P[j-1] < P[j] (the smaller rank), in (t, j) order."""
+    m = k + 1
+    kfact = factorial(k)
+    perms = _permutations(m)
+    nt = len(perms)
+    small = np.int16 if m < 15 else np.int64  # local corners < 2^m
+    corners = _chains(perms, np.arange(m), small)
+    nb = 2 * m * kfact
+    nodes = np.zeros((nt, m + 1), np.int64)
+    t = np.arange(nt, dtype=np.int64)
+    nodes[:, 0] = ((m - 1 - perms[:, 0].astype(np.int64)) * 2 + 1) * kfact + t % kfact
+    # Lehmer digits of rank t: digit i of t in the factorial base (weights (m-1-i)!)
+    weight = [factorial(m - 1 - i) for i in range(m)]
+    digits = np.stack([(t // weight[i]) % (m - i) for i in range(m)], axis=1)
+    last = perms[:, m - 1]
+    head_rank = np.zeros(nt, np.int64)  # rank of P[:m-1] among the permutations of its elements
+    for i in range(m - 1):
+        head_rank += (digits[:, i] - (last < perms[:, i])) * factorial(m - 2 - i)
+    nodes[:, m] = (m - 1 - last.astype(np.int64)) * 2 * kfact + head_rank
+    if k >= 1:
+        ascent = perms[:, :-1] < perms[:, 1:]  # (nt, k): column j-1 for facet j
+        inner = np.zeros((nt, k), np.int64)
+        n_interior = int(ascent.sum())
+        inner[ascent] = nb + np.arange(n_interior)
+        interior = np.zeros((n_interior, k + 1), np.int64)
+        for j in range(1, k + 1):
+            up = ascent[:, j - 1]
+            down = ~up
+            # the swap of P[j-1] > P[j]: Lehmer digits (d, e) at (j-1, j) become (e, d - 1)
+            d, e = digits[down, j - 1], digits[down, j]
+            partner = t[down] + (e - d) * weight[j - 1] + (d - 1 - e) * weight[j]
+            inner[down, j - 1] = inner[partner, j - 1]
+            interior[inner[up, j - 1] - nb] = np.delete(corners[up], j, axis=1)
+        nodes[:, 1:m] = inner
+    else:
+        interior = np.zeros((0, k + 1), np.int64)
+    return corners.astype(np.int64), nodes, interior, nb
+
+
+def _build_cube_tables(n: int, k: int, step) -> CubeTables:
+    kfact = factorial(k)
+    m = k + 1
     face_start = np.zeros(n + 2, np.int64)
     free_l, fixed_l, rank_l = [], [], []
+    count = 0
     for r in range(n + 1):
-        face_start[r] = len(free_l)
+        face_start[r] = count
         if r >= k:
-            for free, fixed, rank in _faces(n, r):
-                free_l.append(free)
-                fixed_l.append(fixed)
-                rank_l.append(rank)
-    face_start[n + 1] = len(free_l)
+            free, fixed, _ = _face_arrays(n, r)
+            free_l.append(np.repeat(free, fixed.shape[1]))
+            fixed_l.append(fixed.reshape(-1))
+            rank_l.append(np.repeat(np.arange(len(free), dtype=np.int64), fixed.shape[1]))
+            count += fixed.size
+    face_start[n + 1] = count
+    step("faces", 0.05)
 
-    # Kuhn k-simplices of the k-faces
-    kfaces = _faces(n, k)
-    ks_corners, ks_face, ks_perm = [], [], []
-    simplex_of_cornerset: dict[frozenset, int] = {}
-    for fi, (free, fixed, _) in enumerate(kfaces):
-        axes = [a for a in range(n) if free >> a & 1]
-        for pr, order in enumerate(permutations(axes)):
-            chain = _kuhn_chain(fixed, order)
-            simplex_of_cornerset[frozenset(chain)] = len(ks_corners)
-            ks_corners.append(chain)
-            ks_face.append(fi)
-            ks_perm.append(pr)
+    # Kuhn k-simplices of the k-faces: face after face (subset-major, then anchor), k! each
+    kfree, kfixed, ksubsets = _face_arrays(n, k)
+    n_kfaces = kfixed.size
+    perms = _permutations(k)
+    ks_corners = np.empty((n_kfaces * kfact, k + 1), np.int64)
+    by_face = ks_corners.reshape(len(kfree), kfixed.shape[1], kfact, k + 1)
+    for s in range(len(kfree)):
+        np.bitwise_or(kfixed[s][:, None, None], _chains(perms, ksubsets[s])[None], out=by_face[s])
+        step("k-simplices", 0.05 + 0.45 * (s + 1) / len(kfree))
+    del perms
 
-    # Walk template on the local (k+1)-cube; nodes: boundary k-simplices first, then interior ones.
-    m = k + 1
-    boundary_node: dict[frozenset, int] = {}
-    boundary_chains = []
-    for free, fixed, _ in _faces(m, k):
-        axes = [a for a in range(m) if free >> a & 1]
-        for order in permutations(axes):
-            chain = _kuhn_chain(fixed, order)
-            boundary_node[frozenset(chain)] = len(boundary_chains)
-            boundary_chains.append(chain)
-    nb = len(boundary_chains)
-    interior_node: dict[tuple, int] = {}
-    interior = []
-    t_corners, t_facets = [], []
-    for order in permutations(range(m)):
-        chain = _kuhn_chain(0, order)
-        t_corners.append(chain)
-        row = []
-        for j in range(m + 1):
-            facet = chain[:j] + chain[j + 1:]
-            key = frozenset(facet)
-            if j == 0 or j == m:
-                row.append(boundary_node[key])
-            else:
-                # both simplices sharing this facet list it in the same (chain) order
-                t = tuple(facet)
-                if t not in interior_node:
-                    interior_node[t] = nb + len(interior)
-                    interior.append(facet)
-                row.append(interior_node[t])
-        t_facets.append(row)
+    t_corners, t_nodes, interior, nb = _walk_template(k)
+    step("walk template", 0.8)
 
-    # Map the template onto every (k+1)-face of the cube.
-    k1faces = _faces(n, m)
-    cmap = np.zeros((len(k1faces), 1 << m), np.int64)
-    bsimp = np.zeros((len(k1faces), nb), np.int64)
-    for fi, (free, fixed, _) in enumerate(k1faces):
-        axes = [a for a in range(n) if free >> a & 1]
-        for local in range(1 << m):
-            cmap[fi, local] = fixed | sum(((local >> i) & 1) << a for i, a in enumerate(axes))
-        for node, chain in enumerate(boundary_chains):
-            bsimp[fi, node] = simplex_of_cornerset[frozenset(int(cmap[fi, c]) for c in chain)]
-
-    def as_i64(x, shape=None):
-        a = np.array(x, np.int64)
-        return np.ascontiguousarray(a.reshape(shape) if shape else a)
+    # the template on every (k+1)-face: local corner -> cube corner; boundary node (local
+    # k-face lf, permutation p) -> the cube k-face that lf maps to, same p (the map keeps
+    # the axes' order, so the permutation's rank)
+    k1free, k1fixed, k1subsets = _face_arrays(n, m)
+    k1free_f = np.repeat(k1free, k1fixed.shape[1])
+    k1fixed_f = k1fixed.reshape(-1)
+    k1axes = np.repeat(k1subsets, k1fixed.shape[1], axis=0)  # (NK1, m)
+    local = np.arange(1 << m, dtype=np.int64)
+    cmap = k1fixed_f[:, None] | (((local[None, :, None] >> np.arange(m)) & 1) << k1axes[:, None, :]).sum(axis=2)
+    lf = np.arange(2 * m)
+    dropped = m - 1 - lf // 2  # local k-face lf: local axis `dropped` fixed at lf % 2
+    drop_axis = k1axes[:, dropped]  # (NK1, 2m)
+    kface = _face_index(n, k, k1free_f[:, None] & ~(np.int64(1) << drop_axis),
+                        k1fixed_f[:, None] | ((lf % 2) << drop_axis))
+    bsimp = (kface[:, :, None] * kfact + np.arange(kfact)).reshape(len(k1free_f), nb)
+    step("walk map", 0.9)
 
     if n <= 7:
         kuhn = simplex_tables(n, k)
-        row_of = {tuple(int(c) for c in kuhn.corners[i, : k + 1]): i for i in range(kuhn.start[k], kuhn.start[k + 1])}
-        ksimplex_kuhn = as_i64([row_of[tuple(int(c) for c in cs)] for cs in np.reshape(ks_corners, (-1, k + 1))])
+        rows = kuhn.corners[kuhn.start[k] : kuhn.start[k + 1], : k + 1]
+        # a chain's corners packed into one integer (n (k+1) <= 56 bits): sorted as the rows are
+        shift = n * np.arange(k, -1, -1, dtype=np.int64)
+        ksimplex_kuhn = kuhn.start[k] + np.searchsorted((rows << shift).sum(axis=1), (ks_corners << shift).sum(axis=1))
     else:  # (the check is skipped: n! simplices per cube are too many to tabulate)
         z = np.zeros((0, n + 1), np.int64)
         e = np.zeros(0, np.int64)
         kuhn = SimplexTables(n, k, np.zeros(n + 2, np.int64), z, e, e, z, e, 1, e)
         ksimplex_kuhn = np.zeros(0, np.int64)
+    step("tables", 1.0)
 
-    return CubeTables(
+    masked = n <= MASKED_N
+    tables = CubeTables(
         n=n,
         k=k,
         face_start=face_start,
-        face_free=as_i64(free_l),
-        face_fixed=as_i64(fixed_l),
-        face_rank=as_i64(rank_l),
-        n_subsets=as_i64([comb(n, r) for r in range(n + 1)]),
-        binom=as_i64([[comb(a, b) for b in range(n + 1)] for a in range(n + 1)], (n + 1, n + 1)),
-        n_codes=as_i64([comb(d, k) * 2 ** max(d - k, 0) * factorial(k) for d in range(n + 1)]),
-        simplices_per_kface=factorial(k),
-        ksimplex_corners=as_i64(ks_corners, (-1, k + 1)),
-        ksimplex_face=as_i64(ks_face),
-        ksimplex_perm=as_i64(ks_perm),
-        walk_simplex_corners=as_i64(t_corners, (-1, m + 1)),
-        walk_simplex_nodes=as_i64(t_facets, (-1, m + 1)),
-        walk_interior_corners=as_i64(interior, (-1, k + 1)) if interior else np.zeros((0, k + 1), np.int64),
+        face_free=np.concatenate(free_l),
+        face_fixed=np.concatenate(fixed_l),
+        face_rank=np.concatenate(rank_l),
+        n_subsets=np.array([comb(n, r) for r in range(n + 1)], np.int64),
+        binom=np.array([[comb(a, b) for b in range(n + 1)] for a in range(n + 1)], np.int64),
+        n_codes=np.array([comb(d, k) * 2 ** max(d - k, 0) * kfact for d in range(n + 1)], np.int64),
+        simplices_per_kface=kfact,
+        ksimplex_corners=ks_corners,
+        ksimplex_face=np.repeat(np.arange(n_kfaces, dtype=np.int64), kfact),
+        ksimplex_perm=np.tile(np.arange(kfact, dtype=np.int64), n_kfaces),
+        walk_simplex_corners=t_corners,
+        walk_simplex_nodes=t_nodes,
+        walk_interior_corners=interior,
         walk_boundary_nodes=nb,
         walk_corner_map=cmap,
         walk_boundary_simplex=bsimp,
-        ksimplex_corner_mask=_corner_masks(n, ks_corners),
-        kface_corner_mask=_corner_masks(n, [_face_corners(free, fixed) for free, fixed, _ in kfaces]),
-        k1face_corner_mask=_corner_masks(n, [_face_corners(free, fixed) for free, fixed, _ in k1faces]),
+        ksimplex_corner_mask=(
+            np.bitwise_or.reduce(np.uint64(1) << ks_corners.astype(np.uint64), axis=1).view(np.int64)
+            if masked else np.zeros(0, np.int64)
+        ),
+        kface_corner_mask=_corner_masks_of_faces(n, np.repeat(kfree, kfixed.shape[1]), kfixed.reshape(-1)),
+        k1face_corner_mask=_corner_masks_of_faces(n, k1free_f, k1fixed_f),
         kuhn=kuhn,
         ksimplex_kuhn=ksimplex_kuhn,
     )
+    # C order throughout: numba compiles the kernel once per array layout
+    return tables._replace(**{f: np.ascontiguousarray(a) for f, a in tables._asdict().items() if isinstance(a, np.ndarray)})
 
 
 MASKED_N = 6  # up to this n a cube's corners fit the bits of an int64
-
-
-def _face_corners(free: int, fixed: int) -> list[int]:
-    """The cube corners of a face: `fixed` plus every subset of the `free` axes."""
-    axes = [a for a in range(free.bit_length()) if free >> a & 1]
-    return [fixed | sum(((sub >> i) & 1) << a for i, a in enumerate(axes)) for sub in range(1 << len(axes))]
 
 
 def _corner_masks(n: int, corner_sets) -> np.ndarray:
