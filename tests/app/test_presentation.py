@@ -1,0 +1,198 @@
+"""Presentation mode (app.qt_presentation): full screen with the typeset formula, axes, walking the gallery."""
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pytestqt")
+
+from app_helpers import small_div  # noqa: E402
+
+
+@pytest.fixture
+def presenting(qtbot, window):
+    """The window with its presentation controller, active (keys reach it), showing the hyperboloid."""
+    from app.qt_presentation import QtPresentation
+
+    window.activateWindow()
+    qtbot.waitActive(window)
+    p = QtPresentation(window)
+    _open(qtbot, window, "hyperboloid")
+    return window, p
+
+
+def _open(qtbot, window, name):
+    from gcmh_core.examples import load_example
+
+    with qtbot.waitSignal(window.runFinished, timeout=180_000) as b:
+        assert window.load_example(name, div=small_div(load_example(name)))
+    assert b.args[0] == "done", window.last_status
+
+
+def _layout(window):
+    split = window.centralWidget()
+    return dict(state=int(window.windowState()), size=(window.width(), window.height()), sizes=split.sizes(),
+                side=split.widget(0).isVisible(), run=window.run_button.isVisible(),
+                menu=window.menuBar().isVisible(), status=window.statusBar().isVisible(),
+                actions=list(window.actions()))
+
+
+def _key(qtbot, window, key):
+    from qtpy.QtWidgets import QApplication
+
+    target = QApplication.focusWidget() or window
+    qtbot.keyClick(target, key)
+    qtbot.wait(50)
+
+
+def test_f11_presents_the_view_alone_with_the_typeset_formula(qtbot, presenting):
+    from qtpy.QtCore import Qt
+
+    from app.qt_presentation import FORMULA_ACTOR
+
+    window, p = presenting
+    before = _layout(window)
+    assert before["side"] and before["menu"] and not before["state"] & Qt.WindowFullScreen
+    title = window.plotter.actors["gcmh-title"].GetTextProperty()
+    window.screenshot_array()
+    size_before = title.GetFontSize()
+    _key(qtbot, window, Qt.Key_F11)
+    qtbot.waitUntil(lambda: p.presenting and window.isFullScreen(), timeout=5000)
+    assert not window.tabs.isVisible() and not window.run_button.isVisible()
+    assert not window.menuBar().isVisible() and not window.statusBar().isVisible()
+    assert window.viewer.widget.isVisible()
+    # the formula, typeset, is an actor of the view itself
+    assert FORMULA_ACTOR in window.plotter.actors and p.formula_actor() is not None
+    w, h = p.formula_actor().image_size
+    assert w > 100 and h > 40
+    with_card = window.screenshot_array()
+    assert title.GetFontSize() > size_before        # larger type for the room
+    x, y = (int(v) for v in p.formula_actor().GetPosition())     # from the bottom left
+    # the screenshot of the view carries the card: in its bottom right corner, and nowhere else
+    p.set_formula_shown(False)
+    assert FORMULA_ACTOR not in window.plotter.actors
+    without = window.screenshot_array()
+    H, W = without.shape[:2]
+    x0, y0 = x, H - (y + h)
+    assert x0 > W // 2 and y0 > H // 2
+    corner = np.any(with_card[y0:, x0:] != without[y0:, x0:], axis=-1)
+    rest = np.any(with_card[: H // 2, : W // 2] != without[: H // 2, : W // 2], axis=-1)
+    assert corner.mean() > 0.3 and rest.mean() == 0.0
+    p.set_formula_shown(True)
+    assert FORMULA_ACTOR in window.plotter.actors
+    # Esc: the layout as it was, the card and the larger type gone
+    _key(qtbot, window, Qt.Key_Escape)
+    qtbot.waitUntil(lambda: not p.presenting, timeout=5000)
+    qtbot.waitUntil(lambda: not window.isFullScreen(), timeout=5000)
+    qtbot.wait(100)
+    assert _layout(window) == before
+    assert FORMULA_ACTOR not in window.plotter.actors
+    window.screenshot_array()
+    assert title.GetFontSize() == size_before
+
+
+def test_f11_toggles_back_and_the_menus_shortcuts_work_meanwhile(qtbot, presenting):
+    from qtpy.QtCore import Qt
+
+    window, p = presenting
+    before = _layout(window)
+    _key(qtbot, window, Qt.Key_F11)
+    qtbot.waitUntil(lambda: p.presenting, timeout=5000)
+    # the menu bar is hidden: its actions with shortcuts are on the window meanwhile (Space plays)
+    assert window.menu_actions.play in window.actions()
+    _key(qtbot, window, Qt.Key_Space)
+    assert window.animation_panel.is_playing()
+    _key(qtbot, window, Qt.Key_Space)
+    assert not window.animation_panel.is_playing()
+    _key(qtbot, window, Qt.Key_F11)
+    qtbot.waitUntil(lambda: not p.presenting and not window.isFullScreen(), timeout=5000)
+    qtbot.wait(100)
+    assert _layout(window) == before
+    assert window.menu_actions.play not in window.actions()
+
+
+def test_the_card_follows_the_parameters_and_the_system(qtbot, presenting):
+    window, p = presenting
+    p.enter()
+    key = p.formula_key()
+    formulas, variables, params, cplx, _ = key
+    assert formulas == ("x^2 + y^2 - z^2 - a",) and dict(params) == {"a": 0.5} and cplx is None
+    first = p.formula_actor()
+    _open(qtbot, window, "complex-cosine")
+    assert p.formula_key()[3] == ("z = cos(w)",)          # the example over C shows its complex equation
+    assert p.formula_actor() is not first
+    p.leave()
+
+
+def test_axes_with_ticks_are_titled_with_the_projection(qtbot, presenting):
+    from qtpy.QtCore import Qt
+
+    window, p = presenting
+    _open(qtbot, window, "complex-cosine")
+    p.enter()
+    assert not p.axes_shown()
+    _key(qtbot, window, Qt.Key_A)
+    assert p.axes_shown() and p.axes_action.isChecked()
+    window.screenshot_array()          # a render: the axes take the object's bounds and titles
+    axes = window.plotter.renderer.cube_axes_actor
+    assert [axes.GetXTitle(), axes.GetYTitle(), axes.GetZTitle()] == ["u = Re w", "v = Im w", "x = Re z"]
+    lo, hi = np.array(axes.GetBounds()).reshape(3, 2).T
+    mesh = np.array(window.scene.mesh.bounds).reshape(3, 2)
+    assert np.allclose(lo, mesh[:, 0]) and np.allclose(hi, mesh[:, 1])
+    _key(qtbot, window, Qt.Key_A)
+    assert not p.axes_shown()
+    p.leave()
+    # outside the presentation the key is the user's (typing in a field), the menu entry still works
+    assert p.axes_action.shortcut().isEmpty()
+    p.axes_action.trigger()
+    assert p.axes_shown()
+    p.set_axes(False)
+
+
+def test_page_down_and_up_walk_the_gallery(qtbot, presenting):
+    from qtpy.QtCore import Qt
+
+    from app.qt_presentation import example_names
+    from gcmh_core.examples import load_example
+
+    window, p = presenting
+    names = example_names()
+    opened = []
+    real = window.load_example
+
+    def opening(name, **kw):   # each example as the gallery opens it, at a test's small div
+        opened.append(name)
+        return real(name, div=small_div(load_example(name)))
+
+    window.load_example = opening
+    p.enter()
+    start = names.index("hyperboloid")
+    with qtbot.waitSignal(window.runFinished, timeout=180_000):
+        _key(qtbot, window, Qt.Key_PageDown)
+    assert opened == [names[start + 1]]
+    assert window.model.title == load_example(names[start + 1]).title
+    assert p.formula_key()[0] == tuple(window.model.job.formulas)
+    with qtbot.waitSignal(window.runFinished, timeout=180_000):
+        _key(qtbot, window, Qt.Key_PageUp)
+    with qtbot.waitSignal(window.runFinished, timeout=180_000):
+        _key(qtbot, window, Qt.Key_PageUp)
+    assert opened == [names[start + 1], names[start], names[start - 1]]
+    assert p.caption() == ""           # the "computing..." line is gone once the run is done
+    p.leave()
+    # outside the presentation Page Down scrolls the panels again
+    assert p.next_action.shortcut().isEmpty()
+
+
+def test_installing_twice_leaves_one_set_of_actions(qtbot, window):
+    from qtpy.QtGui import QKeySequence
+
+    from app.qt_presentation import QtPresentation
+
+    QtPresentation(window)
+    p = QtPresentation(window)
+    f11 = [a for a in window.actions() if a.shortcut() == QKeySequence("F11")]
+    assert f11 == [p.present_action]
+    view = next(a.menu() for a in window.menuBar().actions() if a.text().replace("&", "") == "View")
+    assert [a.text() for a in view.actions()].count("&Presentation mode") == 1
+    p.enter()
+    assert p.presenting
+    p.leave()
