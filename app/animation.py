@@ -196,8 +196,8 @@ def critical_note(name: str, singular: int) -> str:
     """The notice under a frame at a critical value (``meta["singular_vertices"]`` > 0), else ""."""
     if not singular:
         return ""
-    return (f"critical value of {name}: F's Jacobian nearly loses rank at {int(singular):,} "
-            f"vert{'ex' if int(singular) == 1 else 'ices'} (M is singular there)")
+    return (f"critical value of {name}: M is singular (F's Jacobian nearly loses rank) at {int(singular):,} "
+            f"vert{'ex' if int(singular) == 1 else 'ices'}")
 
 
 def frames_for(spec: Spec, angles0, frames: int, slice_range=(0.0, 1.0), seed: int = 0) -> list[Frame]:

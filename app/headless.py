@@ -448,7 +448,11 @@ def sweep_images(scene, names, view, complexes, spec, style, mapping: str = "ort
         clim = colour_range(sample[:, names.index(style.color_by)])
     values = sweep_values(spec, len(complexes)) if len(complexes) > 1 else [spec.lo]
     step = (spec.hi - spec.lo) / max(len(complexes) - 1, 1)
-    font = scene._font(22)
+    # the caption's font: the title's, smaller where the longest caption would not fit in 60 % of the width
+    # (a character is about 0.95 font units wide)
+    w = int(pl.window_size[0])
+    longest = param_caption(spec.param, -max(abs(spec.lo), abs(spec.hi)), step, -10, 10)
+    font = max(6, min(scene._font(18), int(0.6 * w / (0.95 * len(longest)))))
     for k, cx in enumerate(complexes):
         st = copy.copy(style)
         st.subtitle = view_subtitle(cx, names, style.color_by, style.two_sided, mapping, style.labels)
@@ -470,7 +474,8 @@ def sweep_images(scene, names, view, complexes, spec, style, mapping: str = "ort
                     name="gcmh-sweep-caption", render=False)
         note = critical_note(spec.param, int(cx.meta.get("singular_vertices") or 0))
         if note:
-            pl.add_text(note, position=(0.03, 0.015), viewport=True, font_size=max(6, int(font * 0.6)),
+            small = max(6, min(int(font * 0.6), int(0.9 * w / (0.95 * len(note)))))
+            pl.add_text(note, position=(0.03, 0.015), viewport=True, font_size=small,
                         color="#%02x%02x%02x" % CRITICAL_COLOUR, name="gcmh-sweep-note", render=False)
         else:
             pl.remove_actor("gcmh-sweep-note", render=False)
