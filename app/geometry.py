@@ -376,7 +376,9 @@ class Geometry:
 
 LOD_VERTICES = 150_000    # above this a result also gets a coarse level of detail ...
 LOD_TARGET = 30_000       # ... of about this many vertices
-LOD_SKELETON_CELLS = 8_000   # a 2-skeleton (dim >= 3) with more 2-cells gets one of an eighth of its vertices
+LOD_SKELETON_CELLS = 60_000  # a 2-skeleton (dim >= 3) with more 2-cells gets one of an eighth of its vertices
+# (below it, the full see-through mesh under one headlight moves as fast and keeps its cells' edges, which the
+# coarse copy blurs: the three-torus at its div, 27,648 cells)
 
 
 def coarse_geometry(geo: Geometry, V: np.ndarray, target: int = LOD_TARGET) -> Geometry:

@@ -9,8 +9,10 @@ go to the model's status line.
 
 Never frozen: a new result is drawn with one render (pyvista would render after
 every actor it adds), the window anti-aliases with FXAA (super-sampling only for
-screenshots), and very large results are drawn at a coarse level of detail while
-a slider or a drag moves them, in full once they rest (``SETTLE_MS``).
+screenshots), and while a slider or a drag moves the view it is drawn in a cheaper
+moving look (:meth:`app.scene.Scene.set_moving`: a very large result at a coarse
+level of detail, a see-through one under one headlight), the still look coming
+back, the same picture as before, once it rests (``SETTLE_MS``).
 
 Always framed: the camera refits, keeping its direction, when a result arrives and
 when the base, the mapping or a slice changes the object's extent, and whenever a
@@ -107,7 +109,7 @@ class QtViewer:
         self._resized.timeout.connect(self._on_resized)
         self._drag = _DragFilter(self)
         self.widget.installEventFilter(self._drag)
-        try:   # turning the camera with the mouse draws the coarse level too, the full one when let go
+        try:   # turning the camera with the mouse draws the moving look too, the still one when let go
             style = self.plotter.iren.interactor.GetInteractorStyle()
             style.AddObserver("StartInteractionEvent", lambda *a: self._camera_moving(True))
             style.AddObserver("EndInteractionEvent", lambda *a: self._camera_moving(False))
@@ -160,9 +162,9 @@ class QtViewer:
             return
         pp = self.panel
         view = pp.model.view()
-        moving = self.scene.lod_available()
+        moving = self.scene.moving_look_available()
         with self.scene.held_render(render=False):
-            self.scene.set_projection(view, render=False, coarse=moving)
+            self.scene.set_projection(view, render=False, moving=moving)
             sw = pp.slice_window()
             if sw is not None and sw.hidden:    # the hidden directions turn with the view
                 self.apply_slice(render=False)
@@ -179,20 +181,20 @@ class QtViewer:
             self._settle.start()
 
     def _camera_moving(self, on: bool) -> None:
-        if not self.scene.lod_available():
+        if not self.scene.moving_look_available():
             return
         if on:
             self._settle.stop()
-            self.scene.set_projection(self.panel.model.view(), render=False, coarse=True)
+            self.scene.set_moving(True)
         else:
             self._settle.start()
 
     def _at_rest(self) -> None:
-        """The view stopped moving: the full mesh again."""
-        if self.scene.complex is None or not self.scene.coarse_shown():
+        """The view stopped moving: the still look again (the full mesh, the scene's own lights)."""
+        if self.scene.complex is None or not self.scene.moving_shown():
             return
         with self.scene.held_render(render=False):
-            self.scene.set_projection(self.panel.model.view(), render=False, coarse=False)
+            self.scene.set_moving(False)
             self.plotter.renderer.ResetCameraClippingRange()
         self.render()
 

@@ -230,13 +230,104 @@ def test_large_results_move_at_a_coarse_level_of_detail(qtbot):
         m = ProjectionModel(n=4)
         sc.set_complex(cx, cx.point_names(), m.view(), Style(color_by="x4"), geometry=geo)
         m.angles[2] = 30.0
-        sc.set_projection(m.view(), render=False, coarse=True)
+        sc.set_projection(m.view(), render=False, moving=True)
         assert sc.coarse_shown() and not sc.actor.GetVisibility()
         sc.set_projection(m.view(), render=False)
         assert not sc.coarse_shown() and sc.actor.GetVisibility()
         assert np.allclose(sc.mesh.points, sc.projector.project_view(m.view()), atol=1e-5)
     finally:
         pl.close()
+
+
+def _lights(plotter):
+    c = plotter.renderer.GetLights()
+    return [c.GetItemAsObject(i) for i in range(c.GetNumberOfItems())]
+
+
+def test_a_see_through_view_moves_under_one_headlight_and_rests_as_the_same_picture():
+    """The moving look of a see-through surface: one headlight instead of the light kit (a cheaper frame
+    that still shows the colours and the edges); at rest the same light objects come back and the picture
+    is the still one, pixel for pixel."""
+    import pyvista as pv
+
+    from app.projection import ProjectionModel
+    from app.scene import Scene, Style
+
+    cx = torus_complex(40, 4)
+    pl = pv.Plotter(off_screen=True, window_size=[320, 240])
+    try:
+        sc = Scene(pl)
+        m = ProjectionModel(n=4)
+        m.angles[2] = 25.0
+        sc.set_complex(cx, cx.point_names(), m.view(), Style(color_by="x4", opacity=0.4, show_edges=True))
+        pl.screenshot(return_img=True)   # (an off-screen plotter's first picture differs from every later one)
+        sc.set_projection(m.view(), render=True)
+        kit = _lights(pl)
+        assert len(kit) > 1 and sc.moving_look_available() and sc.see_through()
+        still = pl.screenshot(return_img=True)
+        m.angles[2] = 40.0
+        sc.set_projection(m.view(), render=True, moving=True)
+        assert sc.moving_shown() and len(_lights(pl)) == 1
+        m.angles[2] = 25.0
+        sc.set_projection(m.view(), render=True, moving=True)
+        moving = pl.screenshot(return_img=True)
+        _shot(moving, "see_through_moving.png")
+        sc.set_moving(False)
+        pl.render()
+        assert not sc.moving_shown() and _lights(pl) == kit
+        again = pl.screenshot(return_img=True)
+        _shot(again, "see_through_still.png")
+        assert np.array_equal(again, still), "the still picture changed after moving"
+        # the moving frame is the same object in the same place, only lit differently
+        assert np.any(moving != still)
+        assert np.abs(moving.astype(int) - still.astype(int)).mean() < 12
+    finally:
+        pl.close()
+
+
+def test_an_opaque_surface_has_no_moving_look():
+    import pyvista as pv
+
+    from app.projection import ProjectionModel
+    from app.scene import Scene, Style
+
+    cx = torus_complex(30, 4)
+    pl = pv.Plotter(off_screen=True, window_size=[200, 150])
+    try:
+        sc = Scene(pl)
+        m = ProjectionModel(n=4)
+        sc.set_complex(cx, cx.point_names(), m.view(), Style(color_by="x4"))
+        kit = _lights(pl)
+        assert not sc.moving_look_available()
+        sc.set_projection(m.view(), render=False, moving=True)
+        assert not sc.moving_shown() and _lights(pl) == kit
+    finally:
+        pl.close()
+
+
+def test_the_three_torus_rests_as_the_picture_it_opened_with(qtbot, window):
+    """In the window: a slider step draws the moving look, and once the view rests (the settle timer) the
+    slider set back gives the very picture the result opened with (the camera held, so that nothing
+    refits it)."""
+    from app.qt_viewer import SETTLE_MS
+
+    _run_example(qtbot, window, "three-torus")
+    v = window.viewer
+    window.projection_panel.keep_camera_check.setChecked(True)
+    assert v.scene.see_through() and v.scene.geometry.coarse is None
+    qtbot.wait(SETTLE_MS + 100)
+    first = v.screenshot_array()
+    _shot(first, "three_torus_still.png")
+    pp = window.projection_panel
+    row = next(r for r, (i, j) in enumerate(pp.model.planes) if j >= 3)
+    value = pp.sliders[row].value()
+    pp.sliders[row].setValue(value + 20)
+    assert v.scene.moving_shown()
+    qtbot.wait(50)
+    _shot(v.plotter.screenshot(return_img=True), "three_torus_moving.png")
+    pp.sliders[row].setValue(value)
+    qtbot.waitUntil(lambda: not v.scene.moving_shown(), timeout=5000)
+    assert np.array_equal(v.screenshot_array(), first), "the still picture changed after moving"
 
 
 # --------------------------------------------------------------------------- pictures for a slide

@@ -9,8 +9,9 @@
    the share of the ticks it could have made that it kept, and its longest gap, during the run and
    after the result (complex cosine div 80, three-torus at its default div). Renders counted too.
 2. One slider step end to end: from moving a rotation slider to the end of the render that shows it
-   (a VTK EndEvent on the render window), median of 10 steps; "at rest" is the full mesh's render a
-   still view gets (for results with a coarse level of detail, moving steps draw the coarse one).
+   (a VTK EndEvent on the render window), median of 10 steps; "at rest" is the still look's render a
+   view gets once it rests (for results with a moving look -- a coarse copy of a very large result, one
+   headlight for a see-through one -- the moving steps draw that).
    Complex cosine div 80, three-torus, and a 1M-vertex torus in R^4.
 3. First open of every example at its default div and view: the share of its vertices inside the
    picture and below the title (app.scene.inside_share).
@@ -125,7 +126,7 @@ def slider_steps(app, w, steps: int = 10) -> dict:
         pp.sliders[row].setValue(pp.sliders[row].value() + 3)
         _spin(app, 30, until=lambda n0=n0: box["n"] > n0)
         moving.append(time.perf_counter() - t0)
-        if w.viewer.scene.coarse_shown():   # the full mesh follows when the view rests
+        if w.viewer.scene.moving_shown():   # the still look follows when the view rests
             n1 = box["n"]
             _spin(app, 30, until=lambda n1=n1: box["n"] > n1)
             rest.append(time.perf_counter() - t0)
