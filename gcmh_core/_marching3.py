@@ -34,8 +34,9 @@ from functools import lru_cache
 
 import numba as nb
 import numpy as np
+from numba.cpython.unsafe.numbers import trailing_zeros
 
-from ._config import JIT
+from ._config import INLINE_JIT, JIT
 from ._tables import cube_tables
 
 __all__ = ["cube_cases", "march_layers", "OK", "NOT_FINITE", "OVERFLOW"]
@@ -271,183 +272,285 @@ def _grow(a, need):
 
 
 @nb.njit(**JIT)
-def _signs(x, sg_layer, rowc_layer):
-    """S(t): 1 where F >= 0 on layer x (d1, d2), each row's class; False if a value is not finite."""
+def _signs(x, bits, rowc):
+    """S(t): F's signs on layer x (d1, d2) as bit rows, bits (d1, W) uint64 (bit l of row j:
+    F >= 0 at (j, l); bits past d2 are 0), and each row's class; False if a value is not finite."""
     d1, d2 = x.shape
+    words = bits.shape[1]
+    full = d2 // 64
+    tail = d2 - 64 * full
+    tail_mask = (np.uint64(1) << np.uint64(tail)) - np.uint64(1)
     finite = True
     for j in range(d1):
-        pos = 0
         ok = True
-        for l in range(d2):
-            v = x[j, l]
-            ok &= abs(v) <= _BIG
-            s = np.uint8(1) if v >= 0.0 else np.uint8(0)
-            sg_layer[j, l] = s
-            pos += s
+        any_pos = np.uint64(0)
+        all_pos = ~np.uint64(0)
+        for w in range(full):
+            word = np.uint64(0)
+            for b in range(64):
+                v = x[j, 64 * w + b]
+                ok &= abs(v) <= _BIG
+                word |= np.uint64(1 if v >= 0.0 else 0) << np.uint64(b)
+            bits[j, w] = word
+            any_pos |= word
+            all_pos &= word
+        if tail:
+            word = np.uint64(0)
+            for b in range(tail):
+                v = x[j, 64 * full + b]
+                ok &= abs(v) <= _BIG
+                word |= np.uint64(1 if v >= 0.0 else 0) << np.uint64(b)
+            bits[j, full] = word
+            any_pos |= word
+            all_pos &= word | ~tail_mask
+        for w in range(full + (1 if tail else 0), words):
+            bits[j, w] = 0
         finite &= ok
-        rowc_layer[j] = 1 if pos == d2 else (0 if pos == 0 else 2)
+        rowc[j] = 1 if all_pos == ~np.uint64(0) else (0 if any_pos == 0 else 2)
     return finite
 
 
-@nb.njit(**JIT)
-def _quiet(rowc, u, j, d0, d1, du, dj):
-    """The rows (u + a, j + b), a <= du, b <= dj, inside the grid, all of one sign."""
-    c = rowc[u % 4, j]
-    if c == 2:
-        return False
-    for a in range(du + 1):
-        for b in range(dj + 1):
-            if u + a < d0 and j + b < d1 and rowc[(u + a) % 4, j + b] != c:
-                return False
-    return True
+@nb.njit(**INLINE_JIT)
+def _quiet(c00, c01, c10, c11):
+    """Four row classes (rows outside the grid given as a copy of c00): all of one sign."""
+    return c00 != 2 and c01 == c00 and c10 == c00 and c11 == c00
 
 
-@nb.njit(**JIT)
-def _vertex(values, base, u, j, l, a, lines, vert, row):
-    """The vertex on the edge from (u, j, l) along axis a: `simplex_crosses`' arithmetic for
-    k = 1 (lam from the 1 x 1 solve, then the sum over the simplex's corners).  False
-    where that arithmetic would not find the crossing (an overflow)."""
-    f0 = values[u - base, j, l]
-    if a == 0:
-        f1 = values[u + 1 - base, j, l]
-    elif a == 1:
-        f1 = values[u - base, j + 1, l]
-    else:
-        f1 = values[u - base, j, l + 1]
+@nb.njit(**INLINE_JIT)
+def _up(x, x_next):
+    """A word of a bit row shifted down by one (bit l: the row's bit l + 1), from the word
+    and the next one (the helpers take words, not rows: see `_config`)."""
+    return (x >> np.uint64(1)) | (x_next << np.uint64(63))
+
+
+@nb.njit(**INLINE_JIT)
+def _at(x, x_next, b):
+    """Bit b + 1 (b <= 63) of a row whose words at b are x, x_next, and bit b, as (bit b, bit b + 1)."""
+    lo = (x >> np.uint64(b)) & np.uint64(1)
+    hi = ((x >> np.uint64(b + 1)) & np.uint64(1)) if b < 63 else (x_next & np.uint64(1))
+    return lo, hi
+
+
+@nb.njit(**INLINE_JIT)
+def _lam(f0, f1):
+    """`simplex_crosses`' arithmetic for k = 1 on an edge with values f0, f1 of opposite
+    signs: (lam0, lam1) from the 1 x 1 solve, or (-1, -1) where that arithmetic would
+    not find the crossing (an overflow)."""
     m = f1 - f0
     scale = abs(m)
     if not (scale * (1.0 / scale) > 1e-14):  # (the solve's pivot test: fails for an infinite m)
-        return False
+        return -1.0, -1.0
     lam1 = -f0 / m
     lam0 = 1.0 - (0.0 + lam1)
     if not (lam0 >= 0.0 and lam1 >= 0.0):
-        return False
+        return -1.0, -1.0
+    return lam0, lam1
+
+
+@nb.njit(**INLINE_JIT)
+def _mix(lam0, lam1, g0, g1):
+    """A coordinate of the vertex: the sum over the simplex's corners, as the kernel adds it."""
     x = 0.0
-    x += lam0 * lines[0, u]
-    x += lam1 * lines[0, u + (1 if a == 0 else 0)]
-    vert[row, 0] = x
-    x = 0.0
-    x += lam0 * lines[1, j]
-    x += lam1 * lines[1, j + (1 if a == 1 else 0)]
-    vert[row, 1] = x
-    x = 0.0
-    x += lam0 * lines[2, l]
-    x += lam1 * lines[2, l + (1 if a == 2 else 0)]
-    vert[row, 2] = x
-    return True
+    x += lam0 * g0
+    x += lam1 * g1
+    return x
 
 
 @nb.njit(**JIT)
-def _vstep(values, base, u, d0, lines, sg, rowc, vid, vert, counts):
-    """V(u): the vertices on the edges that start in layer u, in key order (grid vertex, axis)."""
+def _vstep(values, base, u, d0, lines, sg, rowc, vid, vert, counts, valid, valid2):
+    """V(u): the vertices on the edges that start in layer u, in key order (grid vertex, axis).
+    valid, valid2: per word, the bits l < d2 and l < d2 - 1."""
     if u < 0 or u >= d0:
         return
     d1 = sg.shape[1]
-    d2 = sg.shape[2]
-    s0 = sg[u % 4]
+    words = sg.shape[2]
     top = u + 1 < d0
-    s1 = sg[(u + 1) % 4]
-    ids = vid[u % 3]
+    s0 = u % 4
+    s1 = (u + 1) % 4 if top else s0
+    ids = u % 3
     nv = counts[0]
+    zero = np.uint64(0)
     for j in range(d1):
-        if _quiet(rowc, u, j, d0, d1, 1, 1):
+        jb = j + 1 if j + 1 < d1 else j
+        if _quiet(rowc[s0, j], rowc[s0, jb], rowc[s1, j], rowc[s1, jb]):
             continue
-        for l in range(d2):
-            s = s0[j, l]
-            if top and s1[j, l] != s:
-                if not _vertex(values, base, u, j, l, 0, lines, vert, nv):
-                    counts[6] = 2
-                    return
-                ids[j, l, 0] = nv
-                nv += 1
-            if j + 1 < d1 and s0[j + 1, l] != s:
-                if not _vertex(values, base, u, j, l, 1, lines, vert, nv):
-                    counts[6] = 2
-                    return
-                ids[j, l, 1] = nv
-                nv += 1
-            if l + 1 < d2 and s0[j, l + 1] != s:
-                if not _vertex(values, base, u, j, l, 2, lines, vert, nv):
-                    counts[6] = 2
-                    return
-                ids[j, l, 2] = nv
-                nv += 1
+        for w in range(words):
+            a = sg[s0, j, w]
+            a_next = sg[s0, j, w + 1] if w + 1 < words else zero
+            m0 = (a ^ sg[s1, j, w]) & valid[w]
+            m1 = (a ^ sg[s0, jb, w]) & valid[w]
+            m2 = (a ^ _up(a, a_next)) & valid2[w]
+            m = m0 | m1 | m2
+            while m != zero:
+                b = trailing_zeros(m)
+                m &= m - np.uint64(1)
+                l = 64 * w + b
+                f0 = values[u - base, j, l]
+                x0 = lines[0, u]
+                y0 = lines[1, j]
+                z0 = lines[2, l]
+                for axis in range(3):
+                    ma = m0 if axis == 0 else (m1 if axis == 1 else m2)
+                    if not ((ma >> np.uint64(b)) & np.uint64(1)):
+                        continue
+                    if axis == 0:
+                        f1 = values[u + 1 - base, j, l]
+                    elif axis == 1:
+                        f1 = values[u - base, j + 1, l]
+                    else:
+                        f1 = values[u - base, j, l + 1]
+                    lam0, lam1 = _lam(f0, f1)
+                    if lam0 < 0.0:
+                        counts[6] = 2
+                        return
+                    vert[nv, 0] = _mix(lam0, lam1, x0, lines[0, u + 1] if axis == 0 else x0)
+                    vert[nv, 1] = _mix(lam0, lam1, y0, lines[1, j + 1] if axis == 1 else y0)
+                    vert[nv, 2] = _mix(lam0, lam1, z0, lines[2, l + 1] if axis == 2 else z0)
+                    vid[ids, j, l, axis] = nv
+                    nv += 1
     counts[0] = nv
 
 
 @nb.njit(**JIT)
-def _estep(u, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count):
+def _estep(u, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count, valid, valid2):
     """E(u): the edges of M_A on the squares anchored in layer u, in key order (anchor,
     rank of the square's axes, slot)."""
     if u < 0 or u >= d0:
         return
     d1 = sg.shape[1]
-    d2 = sg.shape[2]
-    s0 = sg[u % 4]
+    words = sg.shape[2]
     top = u + 1 < d0
-    s1 = sg[(u + 1) % 4]
-    ids = eid[u % 3]
+    s0 = u % 4
+    s1 = (u + 1) % 4 if top else s0
+    ids = u % 3
     ne = counts[1]
+    zero = np.uint64(0)
     for j in range(d1):
-        if _quiet(rowc, u, j, d0, d1, 1, 1):
+        side = j + 1 < d1
+        jb = j + 1 if side else j
+        if _quiet(rowc[s0, j], rowc[s0, jb], rowc[s1, j], rowc[s1, jb]):
             continue
-        for l in range(d2):
-            for q in range(3):
-                # the square's corners: anchor, + first axis, + second axis, + both
-                if q == 0:
-                    if not (top and j + 1 < d1):
-                        continue
-                    case = s0[j, l] | s1[j, l] << 1 | s0[j + 1, l] << 2 | s1[j + 1, l] << 3
-                elif q == 1:
-                    if not (top and l + 1 < d2):
-                        continue
-                    case = s0[j, l] | s1[j, l] << 1 | s0[j, l + 1] << 2 | s1[j, l + 1] << 3
-                else:
-                    if not (j + 1 < d1 and l + 1 < d2):
-                        continue
-                    case = s0[j, l] | s0[j + 1, l] << 1 | s0[j, l + 1] << 2 | s0[j + 1, l + 1] << 3
-                for slot in range(square_count[q, case]):
-                    for end in range(2):
-                        g = square_edges[q, case, slot, end]
-                        c = g >> 2
-                        edges[ne, end] = vid[(u + (c & 1)) % 3, j + (c >> 1 & 1), l + (c >> 2 & 1), g & 3]
-                    ids[j, l, q, slot] = ne
-                    ne += 1
+        for w in range(words):
+            # the rows A (u, j), B (u, j+1), C (u+1, j), D (u+1, j+1): words w and w + 1
+            a = sg[s0, j, w]
+            bb = sg[s0, jb, w]
+            c = sg[s1, j, w]
+            d = sg[s1, jb, w]
+            if w + 1 < words:
+                an = sg[s0, j, w + 1]
+                bn = sg[s0, jb, w + 1]
+                cn = sg[s1, j, w + 1]
+            else:
+                an = bn = cn = zero
+            # a square is crossed where its corners have both signs
+            m0 = ((a | bb | c | d) & ~(a & bb & c & d)) & valid[w] if top and side else zero
+            a1 = _up(a, an)
+            m1 = zero
+            if top:
+                c1 = _up(c, cn)
+                m1 = ((a | c | a1 | c1) & ~(a & c & a1 & c1)) & valid2[w]
+            m2 = zero
+            if side:
+                b1 = _up(bb, bn)
+                m2 = ((a | bb | a1 | b1) & ~(a & bb & a1 & b1)) & valid2[w]
+            m = m0 | m1 | m2
+            while m != zero:
+                b = trailing_zeros(m)
+                m &= m - np.uint64(1)
+                l = 64 * w + b
+                pa, pa1 = _at(a, an, b)
+                pb, pb1 = _at(bb, bn, b)
+                pc, pc1 = _at(c, cn, b)
+                pd = (d >> np.uint64(b)) & np.uint64(1)
+                for q in range(3):
+                    if q == 0:
+                        if not ((m0 >> np.uint64(b)) & np.uint64(1)):
+                            continue
+                        case = pa | pc << np.uint64(1) | pb << np.uint64(2) | pd << np.uint64(3)
+                    elif q == 1:
+                        if not ((m1 >> np.uint64(b)) & np.uint64(1)):
+                            continue
+                        case = pa | pc << np.uint64(1) | pa1 << np.uint64(2) | pc1 << np.uint64(3)
+                    else:
+                        if not ((m2 >> np.uint64(b)) & np.uint64(1)):
+                            continue
+                        case = pa | pb << np.uint64(1) | pa1 << np.uint64(2) | pb1 << np.uint64(3)
+                    ci = np.int64(case)
+                    for slot in range(square_count[q, ci]):
+                        for end in range(2):
+                            g = square_edges[q, ci, slot, end]
+                            corner = g >> 2
+                            edges[ne, end] = vid[(u + (corner & 1)) % 3, j + (corner >> 1 & 1), l + (corner >> 2 & 1),
+                                                 g & 3]
+                        eid[ids, j, l, q, slot] = ne
+                        ne += 1
     counts[1] = ne
 
 
 @nb.njit(**JIT)
-def _cstep(u, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonball, piece_start, piece_face):
+def _cstep(u, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonball, piece_start, piece_face,
+           valid2):
     """C(u): the 2-cells of the cubes in layer u, in key order (cube, smallest code), each
     with its edges in id order."""
     if u < 0 or u >= d0 - 1:
         return
     d1 = sg.shape[1]
-    d2 = sg.shape[2]
-    s0 = sg[u % 4]
-    s1 = sg[(u + 1) % 4]
+    words = sg.shape[2]
+    s0 = u % 4
+    s1 = (u + 1) % 4
+    d2 = eid.shape[2]
     nc = counts[2]
     nf = counts[3]
     candidates = 0
     nonball = 0
+    zero = np.uint64(0)
+    flat = eid.reshape(-1)
+    # each face row's place in flat relative to the cube's anchor (no modulo per face)
+    face_at = np.empty(piece_face.shape[0], np.int64)
+    layer = d1 * d2 * 6
+    for r in range(piece_face.shape[0]):
+        code = piece_face[r]
+        corner = code >> 3
+        slot = (u + (corner & 1)) % 3
+        face_at[r] = slot * layer + ((corner >> 1 & 1) * d2 + (corner >> 2 & 1)) * 6 + (code & 7)
     for j in range(d1 - 1):
-        if _quiet(rowc, u, j, d0, d1, 1, 1):
+        if _quiet(rowc[s0, j], rowc[s0, j + 1], rowc[s1, j], rowc[s1, j + 1]):
             continue
-        for l in range(d2 - 1):
-            case = (s0[j, l] | s1[j, l] << 1 | s0[j + 1, l] << 2 | s1[j + 1, l] << 3
-                    | s0[j, l + 1] << 4 | s1[j, l + 1] << 5 | s0[j + 1, l + 1] << 6 | s1[j + 1, l + 1] << 7)
-            if case == 0 or case == 255:
-                continue
-            candidates += 1
-            nonball += cube_nonball[case]
-            for p in range(cube_pieces[case]):
-                for r in range(piece_start[case, p], piece_start[case, p + 1]):
-                    code = piece_face[r]
-                    c = code >> 3
-                    faces[nf] = eid[(u + (c & 1)) % 3, j + (c >> 1 & 1), l + (c >> 2 & 1), code >> 1 & 3, code & 1]
-                    nf += 1
-                nc += 1
-                offsets[nc] = nf
+        for w in range(words):
+            a = sg[s0, j, w]
+            bb = sg[s0, j + 1, w]
+            c = sg[s1, j, w]
+            d = sg[s1, j + 1, w]
+            if w + 1 < words:
+                an = sg[s0, j, w + 1]
+                bn = sg[s0, j + 1, w + 1]
+                cn = sg[s1, j, w + 1]
+                dn = sg[s1, j + 1, w + 1]
+            else:
+                an = bn = cn = dn = zero
+            x = a | bb | c | d
+            y = a & bb & c & d
+            m = (x | _up(x, an | bn | cn | dn)) & ~(y & _up(y, an & bn & cn & dn)) & valid2[w]
+            while m != zero:
+                b = trailing_zeros(m)
+                m &= m - np.uint64(1)
+                l = 64 * w + b
+                pa, pa1 = _at(a, an, b)
+                pb, pb1 = _at(bb, bn, b)
+                pc, pc1 = _at(c, cn, b)
+                pd, pd1 = _at(d, dn, b)
+                case = np.int64(pa | pc << np.uint64(1) | pb << np.uint64(2) | pd << np.uint64(3)
+                                | pa1 << np.uint64(4) | pc1 << np.uint64(5) | pb1 << np.uint64(6)
+                                | pd1 << np.uint64(7))
+                candidates += 1
+                nonball += cube_nonball[case]
+                at = (j * d2 + l) * 6
+                for p in range(cube_pieces[case]):
+                    for r in range(piece_start[case, p], piece_start[case, p + 1]):
+                        faces[nf] = flat[at + face_at[r]]
+                        nf += 1
+                    nc += 1
+                    offsets[nc] = nf
     counts[2] = nc
     counts[3] = nf
     counts[4] += candidates
@@ -478,33 +581,40 @@ def march_layers(values, base, t_first, t_last, d0, lines, sg, rowc, vid, eid,
 
     values (L, d1, d2): F at layers base..base+L-1, with base = t_first - 1 (the last call's
     last layer) or base = t_first = 0.  lines (3, max vertices per axis): the grid lines.
-    Ring buffers kept between calls: sg (4, d1, d2) uint8 signs, rowc (4, d1) uint8 row
-    classes (0: all < 0, 1: all >= 0, 2: mixed), vid (3, d1, d2, 3) vertex ids by edge,
-    eid (3, d1, d2, 3, 2) edge ids by square and slot.  The output arrays (vertices,
-    edges, 2-cell offsets (offsets[0] = 0) and faces) are grown as needed and returned;
-    counts: vertices, edges, 2-cells, faces, candidate cubes, non-ball cells, status
-    (OK, NOT_FINITE or OVERFLOW: then the pass stops).
+    Ring buffers kept between calls: sg (4, d1, W) uint64 sign bits of rows (W = words of
+    d2 bits), rowc (4, d1) uint8 row classes (0: all < 0, 1: all >= 0, 2: mixed),
+    vid (3, d1, d2, 3) vertex ids by edge, eid (3, d1, d2, 3, 2) edge ids by square and
+    slot.  The output arrays (vertices, edges, 2-cell offsets (offsets[0] = 0) and faces)
+    are grown as needed and returned; counts: vertices, edges, 2-cells, faces, candidate
+    cubes, non-ball cells, status (OK, NOT_FINITE or OVERFLOW: then the pass stops).
     """
     d1 = values.shape[1]
     d2 = values.shape[2]
+    words = sg.shape[2]
+    valid = np.zeros(words, np.uint64)  # per word, the bits l < d2 and l < d2 - 1
+    valid2 = np.zeros(words, np.uint64)
+    for l in range(d2):
+        valid[l >> 6] |= np.uint64(1) << np.uint64(l & 63)
+        if l < d2 - 1:
+            valid2[l >> 6] |= np.uint64(1) << np.uint64(l & 63)
     for t in range(t_first, t_last + 1):
         if not _signs(values[t - base], sg[t % 4], rowc[t % 4]):
             counts[6] = 1
         if counts[6] != 0:
             break
         vert, edges, offsets, faces = _room(vert, edges, offsets, faces, counts, d1, d2)
-        _vstep(values, base, t - 1, d0, lines, sg, rowc, vid, vert, counts)
-        _estep(t - 2, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count)
+        _vstep(values, base, t - 1, d0, lines, sg, rowc, vid, vert, counts, valid, valid2)
+        _estep(t - 2, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count, valid, valid2)
         _cstep(t - 3, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonball, piece_start,
-               piece_face)
+               piece_face, valid2)
         if t == d0 - 1 and counts[6] == 0:  # the last layer: drain (ring slots are reused in this order)
             vert, edges, offsets, faces = _room(vert, edges, offsets, faces, counts, d1, d2)
-            _vstep(values, base, t, d0, lines, sg, rowc, vid, vert, counts)
-            _estep(t - 1, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count)
+            _vstep(values, base, t, d0, lines, sg, rowc, vid, vert, counts, valid, valid2)
+            _estep(t - 1, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count, valid, valid2)
             _cstep(t - 2, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonball, piece_start,
-                   piece_face)
+                   piece_face, valid2)
             vert, edges, offsets, faces = _room(vert, edges, offsets, faces, counts, d1, d2)
-            _estep(t, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count)
+            _estep(t, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count, valid, valid2)
             _cstep(t - 1, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonball, piece_start,
-                   piece_face)
+                   piece_face, valid2)
     return vert, edges, offsets, faces

@@ -57,6 +57,10 @@ _MAX_BLOCKS = 1 << 20
 # Blocks bounded in one vectorised call (memory: a few (m,) arrays per node of F).
 _BOUND_CHUNK = 1 << 16
 
+# Vertices per slab of the marching pass: F's values and the pass's reading of them stay
+# in the cache (the axis-0 slabs leave each row's values unchanged: same values as the
+# plain sweep's).
+MARCH_SLAB_VERTICES = 1 << 18
 # None: GCMH for n = 3, k = 1 takes the marching pass (`_marching3`) unless PRUNE is True;
 # False: never (tests compare it with the general path).  Periodic axes never take it.
 MARCHING3: bool | None = None
@@ -146,11 +150,11 @@ def _marching_sweep(grid, axes, system, sampled, progress, cancel) -> CellComple
 
     cases = _marching3.cube_cases()
     d0, d1, d2 = (int(d) for d in grid.dims)
-    thickness = int(max(1, min(d0 - 1, SLAB_VERTICES // (d1 * d2))))
+    thickness = int(max(1, min(d0 - 1, MARCH_SLAB_VERTICES // (d1 * d2))))
     buffer = None if sampled is not None else np.empty((thickness + 1, d1, d2, 1))
     # ring buffers of the pass (see march_layers), and outputs sized for a surface
     # crossing the grid a few times (they grow when needed)
-    sg = np.empty((4, d1, d2), np.uint8)
+    sg = np.empty((4, d1, -(-d2 // 64)), np.uint64)
     rowc = np.empty((4, d1), np.uint8)
     vid = np.empty((3, d1, d2, 3), np.int64)
     eid = np.empty((3, d1, d2, 3, 2), np.int64)

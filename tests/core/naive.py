@@ -664,3 +664,28 @@ def structure_problems(cx, bounds=None, div=None) -> list[str]:
                     problems.append(f"boundary facet {f} inside the box")
                     break
     return problems
+
+
+# --------------------------------------------------------------------------
+# n = 3, k = 1: the 256 sign cases of a cube (twin of _marching3.cube_cases)
+# --------------------------------------------------------------------------
+
+def naive_marching_cases():
+    """For each sign case of a cube in R^3 (bit c of the case: F >= 0 at corner c, bit a
+    of c: +1 along axis a), GCMH on that one cube the slow way, with F = +1 / -1 at
+    its corners: {case: (number of 2-cells, sorted list of their numbers of edges,
+    number of edges of M_A on each of the cube's squares by (free axes, fixed side),
+    non-ball cells)}."""
+    axes = [np.array([0.0, 1.0])] * 3
+    out = {}
+    for case in range(256):
+        values = np.empty((2, 2, 2, 1))
+        for c in range(8):
+            values[c & 1, c >> 1 & 1, c >> 2 & 1, 0] = 1.0 if case >> c & 1 else -1.0
+        res = naive_extract(values, axes)
+        two = res["cells"].get(2, [])
+        per_square = defaultdict(int)
+        for anchor, S in res["cell_faces"].get(1, []):
+            per_square[(S, anchor)] += 1
+        out[case] = (len(two), sorted(len(faces) for _, faces in two), dict(per_square), res["non_ball_cells"])
+    return out
