@@ -36,7 +36,10 @@ FORMULA_ACTOR = "gcmh-formula"       # the typeset system, bottom right
 CAPTION_ACTOR = "gcmh-caption"       # what is happening (loading the next example), top right
 TEXT_ACTORS = ("gcmh-title", "gcmh-subtitle", "gcmh-legend")   # the scene's texts, enlarged while presenting
 FONT_SCALE = 1.5                     # larger type for a room
-AXES_FONT = 12                       # the bounds axes' labels (points; times FONT_SCALE while presenting)
+AXES_FONT = 13                       # the bounds axes' labels (points; times FONT_SCALE while presenting)
+# where the axes' box may lie (-1..1 across the picture, as app.scene.screen_coordinates): clear of the
+# colour bar (right), the title (top) and the card (bottom right), with room for the tick labels outside it
+AXES_X, AXES_TOP, AXES_BOTTOM = 0.70, 0.66, 0.56
 FORMULA_LINES_PER_HEIGHT = 27        # the formula's font: the view's height / this, in pixels
 FORMULA_MAX = (0.62, 0.3)            # the card's largest share of the view (width, height)
 BELOW_BAR = 0.165                    # with a colour bar (from 0.2 of the height up): the card stays under it
@@ -106,6 +109,15 @@ def axis_titles(scene) -> list[str]:
     return titles
 
 
+def axis_offsets(scene) -> np.ndarray:
+    """(3,): what each screen axis adds back to the drawn coordinates, which are centred on the
+    object's middle (``P (x - c)``, :mod:`app.projection`): the ticks show ``P x``."""
+    try:
+        return np.asarray(scene.view.P, dtype=float) @ np.asarray(scene.projector.center, dtype=float)
+    except Exception:  # noqa: BLE001 - no projection yet
+        return np.zeros(3)
+
+
 class _Keys(QObject):
     """Esc while presenting leaves (the Run menu's Cancel also has Esc: a second shortcut would make
     both ambiguous, so the key is caught before the shortcut map sees it)."""
@@ -122,7 +134,7 @@ class _Keys(QObject):
             if ev.type() == QEvent.KeyPress:
                 QTimer.singleShot(0, p.leave)
             return True
-        if ev.type() == QEvent.Resize and obj is p.window.viewer.widget and p.presenting:
+        if ev.type() == QEvent.Resize and obj is p.window.viewer.widget:
             p._relayout.start()
         return False
 
@@ -144,11 +156,12 @@ class QtPresentation(QObject):
         self._formula = None                 # (actor, key it was typeset for)
         self._caption = None
         self._base_fonts: dict[int, tuple] = {}
+        self._reframe: str | None = None     # "fit" or "out": frame the axes' box at the next render
         self._keys = _Keys(self)
         self._relayout = QTimer(self)
         self._relayout.setSingleShot(True)
         self._relayout.setInterval(80)
-        self._relayout.timeout.connect(self.update_formula)
+        self._relayout.timeout.connect(self._on_resized)
 
         self.present_action = self._action("&Presentation mode", "F11", self.toggle,
                                            "full screen: the view alone, larger type and the formula (F11; Esc leaves)")
@@ -168,8 +181,12 @@ class QtPresentation(QObject):
         self._add_to_menu("View", [self.present_action, self.formula_action, self.axes_action])
         self._add_to_menu("Examples", [self.next_action, self.previous_action])
 
-        window.resultChanged.connect(self._on_result)
-        window.runFinished.connect(self._on_run_finished)
+        pp = window.projection_panel
+        self._connections = [(window.resultChanged, self._on_result), (window.runFinished, self._on_run_finished),
+                             (pp.projectionChanged, self._on_turned), (pp.sliceChanged, self._on_turned),
+                             (pp.baseChanged, self._on_new_base)]
+        for signal, slot in self._connections:   # after the viewer's own slots: it has framed the object
+            signal.connect(slot)
         window.viewer.widget.installEventFilter(self._keys)
         self._observer = window.plotter.ren_win.AddObserver("StartEvent", self._before_render)
 
@@ -211,8 +228,7 @@ class QtPresentation(QObject):
         for a in self.actions():
             self.window.removeAction(a)
             a.setEnabled(False)
-        for signal, slot in ((self.window.resultChanged, self._on_result),
-                             (self.window.runFinished, self._on_run_finished)):
+        for signal, slot in self._connections:
             try:
                 signal.disconnect(slot)
             except (TypeError, RuntimeError):
@@ -433,6 +449,9 @@ class QtPresentation(QObject):
                         self._relayout.start()
             if self.axes_action.isChecked():
                 self._update_axes()
+                how, self._reframe = self._reframe, None
+                if how:
+                    self._frame_axes(how)
         except Exception:  # noqa: BLE001 - a render must never fail because of the presentation
             pass
 
@@ -470,6 +489,7 @@ class QtPresentation(QObject):
                 pl.remove_bounds_axes()
             self.window.viewer.render()
             return
+        self._reframe = "fit"
         self._update_axes()
         self.window.viewer.render()
 
@@ -482,23 +502,83 @@ class QtPresentation(QObject):
         if mesh is None:
             return
         bounds = tuple(float(b) for b in mesh.bounds)
-        titles = axis_titles(scene)
+        titles = tuple(axis_titles(scene))
+        shown = np.reshape(bounds, (3, 2)) + axis_offsets(scene)[:, None]
+        # an end a hair from 0 (a thousandth of the side) is 0: no "-0.0" label
+        shown[np.abs(shown) < 1e-3 * np.ptp(shown, axis=1, keepdims=True)] = 0.0
+        ranges = tuple(float(r) for r in shown.ravel())
         font = int(round(AXES_FONT * (FONT_SCALE if self.presenting else 1.0)))
-        want = (bounds, tuple(titles), font)
+        # a short side gets three labels (five would overlap there)
+        sides = np.diff(np.reshape(bounds, (3, 2)), axis=1).ravel()
+        counts = tuple(5 if r >= 0.5 * sides.max() else 3 for r in sides)
         actor = getattr(pl.renderer, "cube_axes_actor", None)
-        if actor is not None and getattr(actor, "_gcmh_key", None) == want:
+        key = getattr(actor, "_gcmh_key", None)
+        if key is not None and key[3:] == (font, counts):
+            if key[:3] != (bounds, titles, ranges):
+                actor.bounds = bounds
+                actor.x_axis_range, actor.y_axis_range, actor.z_axis_range = ranges[0:2], ranges[2:4], ranges[4:6]
+                actor.SetXTitle(titles[0])
+                actor.SetYTitle(titles[1])
+                actor.SetZTitle(titles[2])
+                actor._gcmh_key = (bounds, titles, ranges, font, counts)
             return
-        if actor is not None and getattr(actor, "_gcmh_key", (None, None, None))[2] == font:
-            actor.SetBounds(bounds)
-            actor.SetXTitle(titles[0])
-            actor.SetYTitle(titles[1])
-            actor.SetZTitle(titles[2])
-            actor._gcmh_key = want
+        actor = pl.show_bounds(bounds=bounds, axes_ranges=ranges, xtitle=titles[0], ytitle=titles[1],
+                               ztitle=titles[2], location="outer", ticks="outside", font_size=font, color="#e6e9f0",
+                               bold=False, n_xlabels=counts[0], n_ylabels=counts[1], n_zlabels=counts[2],
+                               fmt="{0:.2g}", use_3d_text=False, render=False)
+        actor._gcmh_key = (bounds, titles, ranges, font, counts)
+
+    def _frame_axes(self, how: str) -> None:
+        """Frame the axes' box, not only the object (the camera frames the object's points; the box's
+        corners reach further): ``"fit"`` centres the box and zooms it to the picture's free part (a new
+        result, base, size, or the axes just turned on); ``"out"`` only zooms out when the box has left
+        it (a turn of the projection), so the camera does not breathe while a projection turns. Nothing
+        with the View tab's "keep camera", and never on the user's own zoom or turn of the camera."""
+        from .scene import screen_coordinates
+
+        pl = self.window.plotter
+        actor = getattr(pl.renderer, "cube_axes_actor", None)
+        if actor is None or self.window.viewer.keep_camera():
             return
-        actor = pl.show_bounds(bounds=bounds, xtitle=titles[0], ytitle=titles[1], ztitle=titles[2],
-                               location="outer", ticks="outside", font_size=font, color="#e6e9f0", bold=False,
-                               n_xlabels=5, n_ylabels=5, n_zlabels=5, fmt="{0:.2g}", render=False)
-        actor._gcmh_key = want
+        b = actor.GetBounds()
+        corners = np.array([[x, y, z] for x in b[0:2] for y in b[2:4] for z in b[4:6]], dtype=float)
+        if how == "fit":
+            pl.renderer.ResetCamera(b)          # centred on the box, the direction kept
+        for _ in range(3 if how == "fit" else 1):   # pan and zoom (under perspective, again to settle)
+            S = screen_coordinates(pl, corners)
+            if not np.all(np.isfinite(S)):
+                break
+            lo, hi = S.min(axis=0), S.max(axis=0)
+            if how == "fit":
+                f = max((hi[0] - lo[0]) / (2 * AXES_X), (hi[1] - lo[1]) / (AXES_TOP + AXES_BOTTOM))
+                self._pan(0.5 * (lo + hi) - np.array([0.0, 0.5 * (AXES_TOP - AXES_BOTTOM)]))
+            else:
+                f = max(np.abs(S[:, 0]).max() / AXES_X, hi[1] / AXES_TOP, -lo[1] / AXES_BOTTOM)
+                if f <= 1.001:
+                    break
+            if f > 1e-9:
+                pl.camera.zoom(1.0 / f)
+        pl.renderer.ResetCameraClippingRange()
+
+    def _pan(self, d) -> None:
+        """Move the camera across the picture by ``d`` (x, y) in -1..1 picture units (the view shifts by -d)."""
+        pl = self.window.plotter
+        cam = pl.camera
+        fp, pos = np.array(cam.focal_point, float), np.array(cam.position, float)
+        ahead = fp - pos
+        dist = float(np.linalg.norm(ahead))
+        if dist <= 0:
+            return
+        ahead /= dist
+        up = np.array(cam.up, float)
+        up -= np.dot(up, ahead) * ahead
+        up /= max(float(np.linalg.norm(up)), 1e-12)
+        right = np.cross(ahead, up)
+        half = cam.parallel_scale if cam.parallel_projection else dist * np.tan(np.radians(cam.view_angle) / 2)
+        w, h = self._view_size()
+        shift = right * d[0] * half * (w / h) + up * d[1] * half
+        cam.focal_point = tuple(fp + shift)
+        cam.position = tuple(pos + shift)
 
     # ------------------------------------------------------------------ walking the gallery
     def next_example(self) -> str | None:
@@ -553,5 +633,18 @@ class QtPresentation(QObject):
             self._set_caption(self.window.last_status or f"run {how}", error=True)
 
     def _on_result(self, _cx) -> None:
+        self._reframe = "fit"
         if self.presenting:
             self.update_formula()
+
+    def _on_turned(self) -> None:
+        self._reframe = self._reframe or "out"
+
+    def _on_new_base(self) -> None:
+        self._reframe = "fit"
+
+    def _on_resized(self) -> None:
+        """The view has its new size (after the viewer's own refit): the card and the axes follow."""
+        self._reframe = "fit"
+        self.update_formula()
+        self.window.viewer.render()

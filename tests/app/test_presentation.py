@@ -138,6 +138,11 @@ def test_axes_with_ticks_are_titled_with_the_projection(qtbot, presenting):
     lo, hi = np.array(axes.GetBounds()).reshape(3, 2).T
     mesh = np.array(window.scene.mesh.bounds).reshape(3, 2)
     assert np.allclose(lo, mesh[:, 0]) and np.allclose(hi, mesh[:, 1])
+    # the ticks count in the variables (the drawing is centred on the object): x = cos(u) cosh(v) >= 0 here
+    V = np.asarray(window.result.vertices)
+    shown = np.array([axes.x_axis_range, axes.y_axis_range, axes.z_axis_range])
+    assert np.allclose(shown, np.stack([V[:, :3].min(0), V[:, :3].max(0)], 1), atol=1e-3)
+    assert shown[2, 0] == 0.0
     _key(qtbot, window, Qt.Key_A)
     assert not p.axes_shown()
     p.leave()
