@@ -311,28 +311,71 @@ def _lloyd(colours: np.ndarray, weights: np.ndarray, centres: np.ndarray, steps:
     return C
 
 
-def _gif_frame(img, palette):
-    """One frame mapped to the nearest palette colour, exactly and without dithering (dithering sprinkles
-    noise over flat areas and the edges of the text; PIL's own mapping rounds colours to a coarse cube)."""
-    from PIL import Image
+# Ordered dithering of a GIF's frames: the strength (in units of the palette's local spacing) and the
+# lookup table's bits per channel.  Measured on 24-frame 800x600 rotations (Klein bottle, complex cosine):
+# the error of 5x5-blurred frames (what the eye sees) fell from 1.19 / 1.09 to 0.86 / 0.76 grey levels,
+# the contour bands on the shaded surfaces and on the background gradient went, the text stayed exact;
+# the files grew from 0.84 / 0.75 MB to 1.39 / 1.27 MB, the mapping took a third of the time.
+DITHER = 0.75
+_LUT_BITS = 6
 
-    f = np.ascontiguousarray(np.asarray(img)[..., :3])
-    h, w = f.shape[:2]
-    P = np.asarray(palette.getpalette()[:768], dtype=np.float64).reshape(-1, 3)
-    packed = (f[..., 0].astype(np.int64) << 16) | (f[..., 1].astype(np.int64) << 8) | f[..., 2]
-    keys, inv = np.unique(packed.ravel(), return_inverse=True)
-    X = np.stack([(keys >> 16) & 255, (keys >> 8) & 255, keys & 255], 1).astype(np.float64)
-    near = np.empty(len(X), np.uint8)
-    for a in range(0, len(X), 8192):
-        d = ((X[a:a + 8192, None, :] - P[None]) ** 2).sum(-1)
-        near[a:a + 8192] = np.argmin(d, axis=1)   # (the first of equal entries: the twin stays unused)
-    out = Image.fromarray(near[inv.ravel()].reshape(h, w), mode="P")
-    out.putpalette(palette.getpalette()[:768])
-    return out
+
+def _bayer(size: int = 8) -> np.ndarray:
+    """The ordered-dither threshold matrix (size x size, size a power of 2), values in (-1/2, 1/2)."""
+    m = np.zeros((1, 1), np.int64)
+    while m.shape[0] < size:
+        m = np.block([[4 * m, 4 * m + 2], [4 * m + 3, 4 * m + 1]])
+    return (m + 0.5) / m.size - 0.5
+
+
+class _PaletteMap:
+    """Maps frames onto one GIF palette (a PIL "P" image): colours the palette holds exactly (the text's,
+    the background's) map to themselves, undithered, so text stays crisp; every other pixel is dithered
+    (an 8x8 Bayer matrix, mirrored differently for R, G and B so hues mix too, the same in every frame so
+    nothing flickers) by about the palette's spacing near its colour, so a shaded surface's gradient
+    comes out smooth, not in bands of one colour each.
+    Nearest colours come from a lookup table of 2^(3 * _LUT_BITS) cells, built once per animation."""
+
+    def __init__(self, palette, strength: float = DITHER):
+        self.entries = palette.getpalette()[:768]
+        P = np.asarray(self.entries, dtype=np.float64).reshape(-1, 3)
+        step = 256 >> _LUT_BITS
+        g = np.arange(0, 256, step) + (step - 1) / 2.0
+        X = np.stack(np.meshgrid(g, g, g, indexing="ij"), -1).reshape(-1, 3)
+        PP = (P * P).sum(1)
+        lut = np.empty(len(X), np.uint8)
+        for a in range(0, len(X), 32768):   # (the first of equal entries: the twin stays unused)
+            lut[a:a + 32768] = np.argmin(PP[None] - 2 * X[a:a + 32768] @ P.T, axis=1)
+        self.lut = lut.reshape(len(g), len(g), len(g))
+        d = ((P[:, None] - P[None]) ** 2).sum(-1)
+        np.fill_diagonal(d, np.inf)
+        self.amplitude = strength * np.sqrt(d.min(1))   # (0 at a twin entry: white's twin, padding)
+        keys = (P[:, 0].astype(np.int64) << 16) | (P[:, 1].astype(np.int64) << 8) | P[:, 2].astype(np.int64)
+        self.order = np.argsort(keys, kind="stable")
+        self.keys = keys[self.order]
+
+    def frame(self, img):
+        from PIL import Image
+
+        f = np.ascontiguousarray(np.asarray(img)[..., :3])
+        h, w = f.shape[:2]
+        shift = 8 - _LUT_BITS
+        packed = (f[..., 0].astype(np.int64) << 16) | (f[..., 1].astype(np.int64) << 8) | f[..., 2]
+        pos = np.minimum(np.searchsorted(self.keys, packed), len(self.keys) - 1)
+        exact = self.keys[pos] == packed
+        near = self.lut[f[..., 0] >> shift, f[..., 1] >> shift, f[..., 2] >> shift]
+        b = _bayer(8)
+        t = np.stack([np.tile(m, (h // 8 + 1, w // 8 + 1))[:h, :w] for m in (b, b[::-1], b[:, ::-1])], -1)
+        g = np.clip(f + t * self.amplitude[near][..., None], 0, 255).astype(np.int64) >> shift
+        idx = np.where(exact, self.order[pos], self.lut[g[..., 0], g[..., 1], g[..., 2]]).astype(np.uint8)
+        out = Image.fromarray(idx, mode="P")
+        out.putpalette(self.entries)
+        return out
 
 
 def write_gif(path, images, fps: float = 20.0, progress=None, cancel=None) -> int:
-    """Write the images to a looping GIF with one adaptive palette (:func:`gif_palette`); returns the count.
+    """Write the images to a looping GIF with one adaptive palette (:func:`gif_palette`), ordered-dithered
+    where it lacks a colour (:class:`_PaletteMap`); returns the count.
 
     The palette needs a look at the frames, so they are all held (a 60-frame 800x600 animation is 86 MB).
     ``cancel()`` true: nothing is written, the frames made so far are counted."""
@@ -347,7 +390,8 @@ def write_gif(path, images, fps: float = 20.0, progress=None, cancel=None) -> in
         raise ValueError("no frames to write")
     # the last entry repeats white while the frames are mapped (so no pixel takes it) ...
     pal = gif_palette(frames, RESERVED_COLOURS + (RESERVED_COLOURS[0],))
-    pics = [_gif_frame(f, pal) for f in frames]
+    mapper = _PaletteMap(pal)
+    pics = [mapper.frame(f) for f in frames]
     dup = [k for k in range(1, len(pics)) if pics[k].tobytes() == pics[k - 1].tobytes()]
     if dup:
         # ... then becomes a twin of the corner pixel's colour: PIL merges a frame equal to the one

@@ -162,11 +162,10 @@ def check_outputs(paths) -> str | None:
 
 def _prepare(opts: Options):
     """Load the example, check every option against its variables, extract. Returns a dict or an exit code."""
+    from gcmh_core._validate import parse_params
     from gcmh_core.errors import InputError
     from gcmh_core.examples import load_example
     from gcmh_core.extract import CONTINUATION_METHODS
-
-    from gcmh_core._validate import parse_params
 
     from .animation import parse_spec
     from .jobs import Job, run_job
@@ -476,7 +475,7 @@ def sweep_images(scene, names, view, complexes, spec, style, mapping: str = "ort
         if note:
             small = max(6, min(int(font * 0.6), int(0.9 * w / (0.95 * len(note)))))
             pl.add_text(note, position=(0.03, 0.015), viewport=True, font_size=small,
-                        color="#%02x%02x%02x" % CRITICAL_COLOUR, name="gcmh-sweep-note", render=False)
+                        color=CRITICAL_COLOUR, name="gcmh-sweep-note", render=False)
         else:
             pl.remove_actor("gcmh-sweep-note", render=False)
         pl.renderer.ResetCameraClippingRange()

@@ -60,9 +60,8 @@ def test_caption_shows_value_topology_and_the_critical_value():
 
 
 def _hyperboloid_job(method="gcmh", div=20):
-    from gcmh_core.examples import load_example
-
     from app.jobs import Job
+    from gcmh_core.examples import load_example
 
     ex = load_example("hyperboloid")
     return Job(formulas=list(ex.formulas), variables=list(ex.variables), bounds=[tuple(b) for b in ex.bounds],
@@ -87,9 +86,8 @@ def test_chi_goes_from_2_to_0_across_the_critical_value(method):
 
 
 def test_budget_of_all_frames_is_checked_first(monkeypatch):
-    from gcmh_core.budget import TooLargeError
-
     from app.headless import check_param_sweep
+    from gcmh_core.budget import TooLargeError
 
     spec = parse_spec("param:a=-1:1", NAMES, params=["a"])
     job = _hyperboloid_job(div=64)

@@ -163,3 +163,36 @@ def test_headless_screenshot_with_slice_mapping_and_two_sides(tmp_path):
     assert bad.returncode == 2 and "n >= 4" in bad.stderr
     bad = _run_app("--example", "klein-bottle", "--slice", "q=1", "--screenshot", str(tmp_path / "x.png"))
     assert bad.returncode == 2 and "--slice" in bad.stderr
+
+
+def test_gif_dithers_gradients_and_keeps_text_exact(tmp_path):
+    """Issue 16: one 256-colour palette bands a shaded surface.  The GIF's frames are dithered where the
+    palette lacks a colour: blurred (as the eye sees it) the picture is closer to the original than the
+    nearest palette colour alone would make it; pixels in the text's colours stay exactly as they were."""
+    from PIL import Image, ImageSequence
+
+    from app.animation import RESERVED_COLOURS
+
+    y, x = np.mgrid[0:240, 0:320] / np.array([239.0, 319.0])[:, None, None]
+    frames = []
+    for k in range(3):   # a smooth two-way gradient (far more colours than a palette holds), and text
+        img = np.stack([40 + 150 * x, 60 + 120 * y + 10 * k, 90 + 60 * (1 - x) * y], -1).round().astype(np.uint8)
+        img[10:20, 10:120] = RESERVED_COLOURS[0]
+        img[25:30, 10:90] = RESERVED_COLOURS[1]
+        frames.append(img)
+    path = tmp_path / "g.gif"
+    assert write_animation(path, frames) == 3
+    gif = Image.open(path)
+    pal = np.asarray(gif.getpalette()[:768], float).reshape(-1, 3)   # (one palette for every frame)
+    got = [np.asarray(f.convert("RGB")) for f in ImageSequence.Iterator(gif)]
+
+    def blurred(a, s=8):
+        h, w = a.shape[0] // s * s, a.shape[1] // s * s
+        return a[:h, :w].astype(float).reshape(h // s, s, w // s, s, 3).mean((1, 3))
+
+    for src, out in zip(frames, got):
+        nearest = pal[np.argmin(((src.reshape(-1, 1, 3).astype(float) - pal[None]) ** 2).sum(-1), 1)]
+        nearest = nearest.reshape(src.shape)
+        assert np.abs(blurred(out) - blurred(src)).mean() < 0.8 * np.abs(blurred(nearest) - blurred(src)).mean()
+        assert np.array_equal(out[10:20, 10:120], src[10:20, 10:120])
+        assert np.array_equal(out[25:30, 10:90], src[25:30, 10:90])
