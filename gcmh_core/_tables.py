@@ -302,8 +302,7 @@ def _build_cube_tables(n: int, k: int, step) -> CubeTables:
         kuhn = simplex_tables(n, k)
         rows = kuhn.corners[kuhn.start[k] : kuhn.start[k + 1], : k + 1]
         # a chain's corners packed into one integer (n (k+1) <= 56 bits): sorted as the rows are
-        shift = n * np.arange(k, -1, -1, dtype=np.int64)
-        ksimplex_kuhn = kuhn.start[k] + np.searchsorted((rows << shift).sum(axis=1), (ks_corners << shift).sum(axis=1))
+        ksimplex_kuhn = kuhn.start[k] + np.searchsorted(_packed(n, rows), _packed(n, ks_corners))
     else:  # (the check is skipped: n! simplices per cube are too many to tabulate)
         z = np.zeros((0, n + 1), np.int64)
         e = np.zeros(0, np.int64)
@@ -311,7 +310,6 @@ def _build_cube_tables(n: int, k: int, step) -> CubeTables:
         ksimplex_kuhn = np.zeros(0, np.int64)
     step("tables", 1.0)
 
-    masked = n <= MASKED_N
     tables = CubeTables(
         n=n,
         k=k,
@@ -332,17 +330,15 @@ def _build_cube_tables(n: int, k: int, step) -> CubeTables:
         walk_boundary_nodes=nb,
         walk_corner_map=cmap,
         walk_boundary_simplex=bsimp,
-        ksimplex_corner_mask=(
-            np.bitwise_or.reduce(np.uint64(1) << ks_corners.astype(np.uint64), axis=1).view(np.int64)
-            if masked else np.zeros(0, np.int64)
-        ),
+        ksimplex_corner_mask=_corner_masks(n, ks_corners),
         kface_corner_mask=_corner_masks_of_faces(n, np.repeat(kfree, kfixed.shape[1]), kfixed.reshape(-1)),
         k1face_corner_mask=_corner_masks_of_faces(n, k1free_f, k1fixed_f),
         kuhn=kuhn,
         ksimplex_kuhn=ksimplex_kuhn,
     )
     # C order throughout: numba compiles the kernel once per array layout
-    return tables._replace(**{f: np.ascontiguousarray(a) for f, a in tables._asdict().items() if isinstance(a, np.ndarray)})
+    arrays = {f: np.ascontiguousarray(a) for f, a in tables._asdict().items() if isinstance(a, np.ndarray)}
+    return tables._replace(**arrays)
 
 
 MASKED_N = 6  # up to this n a cube's corners fit the bits of an int64
@@ -351,8 +347,9 @@ MASKED_N = 6  # up to this n a cube's corners fit the bits of an int64
 def _corner_masks(n: int, corner_sets) -> np.ndarray:
     if n > MASKED_N:
         return np.zeros(0, np.int64)
-    masks = [sum(1 << int(c) for c in set(cs)) for cs in corner_sets]
-    return np.array(masks, np.uint64).view(np.int64)  # (bit 63, corner 63 of a 6-cube: the sign bit)
+    corners = np.asarray(corner_sets, np.int64)
+    bits = np.where(corners >= 0, np.uint64(1) << np.maximum(corners, 0).astype(np.uint64), np.uint64(0))  # -1: padding
+    return np.bitwise_or.reduce(bits, axis=1).view(np.int64)  # (bit 63, corner 63 of a 6-cube: the sign bit)
 
 
 # ----------------------------------------------------------------------------- simplicial baselines (CMS, CCS)
@@ -385,46 +382,54 @@ def simplex_tables(n: int, k: int) -> SimplexTables:
         raise InputError(f"need 1 <= k < n, got n={n}, k={k}")
     if n > 7:
         raise InputError(f"the simplicial baselines split an n-cube into n! simplices: n = {n} is too many (at most 7)")
-    by_dim: dict[int, list[tuple[int, ...]]] = {d: [] for d in range(k, n + 1)}
-
-    def chains(prefix):
-        d = len(prefix) - 1
-        if d >= k:
-            by_dim[d].append(tuple(prefix))
-        top = prefix[-1]
-        rest = [a for a in range(n) if not top >> a & 1]
-        for size in range(1, len(rest) + 1):
-            for add in combinations(rest, size):
-                chains(prefix + [top | sum(1 << a for a in add)])
-
-    for c0 in range(1 << n):
-        chains([c0])
     start = np.zeros(n + 2, np.int64)
-    rows: list[tuple[int, ...]] = []
+    by_dim = {}
+    count = 0
     for d in range(n + 1):
-        start[d] = len(rows)
+        start[d] = count
         if d >= k:
-            rows.extend(sorted(by_dim[d]))
-    start[n + 1] = len(rows)
-    row_of = {c: i for i, c in enumerate(rows)}
-    ns = len(rows)
-    corners = -np.ones((ns, n + 1), np.int64)
-    facets = -np.ones((ns, n + 1), np.int64)
-    c0 = np.zeros(ns, np.int64)
-    code = np.zeros(ns, np.int64)
-    cube_facets = np.zeros(ns, np.int64)
-    for i, chain in enumerate(rows):
-        d = len(chain) - 1
-        corners[i, : d + 1] = chain
-        c0[i] = chain[0]
-        for j in range(1, d + 1):
-            for a in range(n):
-                if (chain[j] ^ chain[j - 1]) >> a & 1:
-                    code[i] += j * (n + 1) ** a
+            by_dim[d] = _strict_chains(n, d)
+            count += len(by_dim[d][0])
+    start[n + 1] = count
+    corners = -np.ones((count, n + 1), np.int64)
+    facets = -np.ones((count, n + 1), np.int64)
+    c0 = np.zeros(count, np.int64)
+    code = np.zeros(count, np.int64)
+    cube_facets = np.zeros(count, np.int64)
+    for d, (chains, labels, _) in by_dim.items():
+        rows = slice(start[d], start[d + 1])
+        corners[rows, : d + 1] = chains
+        c0[rows] = chains[:, 0]
         for a in range(n):
-            if not (chain[0] ^ chain[-1]) >> a & 1:
-                cube_facets[i] |= 1 << (2 * a + (chain[0] >> a & 1))
+            label = labels[:, a].astype(np.int64)
+            code[rows] += np.where(label <= d, label, 0) * (n + 1) ** a  # (label 0: in c0, d + 1: never)
+            cube_facets[rows] |= np.where(label == 0, 1 << (2 * a + 1), np.where(label == d + 1, 1 << (2 * a), 0))
         if d > k:
+            below = by_dim[d - 1][2]
             for j in range(d + 1):
-                facets[i, j] = row_of[chain[:j] + chain[j + 1 :]]
-    return SimplexTables(n, k, start, corners, c0, code, facets, cube_facets, (n + 1) ** n, _corner_masks(n, rows))
+                facets[rows, j] = start[d - 1] + np.searchsorted(below, _packed(n, np.delete(chains, j, axis=1)))
+    return SimplexTables(n, k, start, corners, c0, code, facets, cube_facets, (n + 1) ** n, _corner_masks(n, corners))
+
+
+def _packed(n: int, chains: np.ndarray) -> np.ndarray:
+    """Each chain's corners as the digits of one integer (base 2^n, first corner highest): for
+    chains of one length, sorted as the tuples (n (n + 1) <= 56 bits for n <= 7)."""
+    shift = n * np.arange(chains.shape[1] - 1, -1, -1, dtype=np.int64)
+    return (chains << shift).sum(axis=1)
+
+
+def _strict_chains(n: int, d: int):
+    """The strict chains c0 < c1 < ... < cd of the n-cube's corners, sorted as tuples:
+    (chains (rows, d + 1), labels (rows, n), packed keys).  Axis a has label 0 (in c0),
+    j in 1..d (switched on at link j; each j labels some axis) or d + 1 (never)."""
+    base = d + 2
+    index = np.arange(base**n, dtype=np.int64)
+    labels = np.stack([(index // base**a) % base for a in range(n)], axis=1).astype(np.uint8)
+    for j in range(1, d + 1):
+        labels = labels[(labels == j).any(axis=1)]
+    chains = np.zeros((len(labels), d + 1), np.int64)
+    for a in range(n):
+        chains += (labels[:, a, None] <= np.arange(d + 1)) * np.int64(1 << a)
+    keys = _packed(n, chains)
+    order = np.argsort(keys, kind="stable")
+    return chains[order], labels[order], keys[order]

@@ -8,7 +8,8 @@ and a few larger; the largest twins take a minute and run with GCMH_TABLES_PROFI
 """
 
 import os
-from itertools import permutations
+from functools import cache
+from itertools import combinations, permutations
 from math import comb, factorial
 
 import numpy as np
@@ -39,6 +40,54 @@ def _corner_masks(n, corner_sets):
         return np.zeros(0, np.int64)
     masks = [sum(1 << int(c) for c in set(cs)) for cs in corner_sets]
     return np.array(masks, np.uint64).view(np.int64)
+
+
+@cache
+def loop_simplex_tables(n: int, k: int) -> SimplexTables:
+    """The simplicial baselines' tables as `_tables.simplex_tables` built them up to issue 14."""
+    by_dim: dict[int, list[tuple[int, ...]]] = {d: [] for d in range(k, n + 1)}
+
+    def chains(prefix):
+        d = len(prefix) - 1
+        if d >= k:
+            by_dim[d].append(tuple(prefix))
+        top = prefix[-1]
+        rest = [a for a in range(n) if not top >> a & 1]
+        for size in range(1, len(rest) + 1):
+            for add in combinations(rest, size):
+                chains(prefix + [top | sum(1 << a for a in add)])
+
+    for c0 in range(1 << n):
+        chains([c0])
+    start = np.zeros(n + 2, np.int64)
+    rows: list[tuple[int, ...]] = []
+    for d in range(n + 1):
+        start[d] = len(rows)
+        if d >= k:
+            rows.extend(sorted(by_dim[d]))
+    start[n + 1] = len(rows)
+    row_of = {c: i for i, c in enumerate(rows)}
+    ns = len(rows)
+    corners = -np.ones((ns, n + 1), np.int64)
+    facets = -np.ones((ns, n + 1), np.int64)
+    c0 = np.zeros(ns, np.int64)
+    code = np.zeros(ns, np.int64)
+    cube_facets = np.zeros(ns, np.int64)
+    for i, chain in enumerate(rows):
+        d = len(chain) - 1
+        corners[i, : d + 1] = chain
+        c0[i] = chain[0]
+        for j in range(1, d + 1):
+            for a in range(n):
+                if (chain[j] ^ chain[j - 1]) >> a & 1:
+                    code[i] += j * (n + 1) ** a
+        for a in range(n):
+            if not (chain[0] ^ chain[-1]) >> a & 1:
+                cube_facets[i] |= 1 << (2 * a + (chain[0] >> a & 1))
+        if d > k:
+            for j in range(d + 1):
+                facets[i, j] = row_of[chain[:j] + chain[j + 1 :]]
+    return SimplexTables(n, k, start, corners, c0, code, facets, cube_facets, (n + 1) ** n, _corner_masks(n, rows))
 
 
 def loop_cube_tables(n: int, k: int) -> CubeTables:
@@ -110,7 +159,7 @@ def loop_cube_tables(n: int, k: int) -> CubeTables:
         return np.ascontiguousarray(a.reshape(shape) if shape else a)
 
     if n <= 7:
-        kuhn = simplex_tables(n, k)
+        kuhn = loop_simplex_tables(n, k)
         row_of = {tuple(int(c) for c in kuhn.corners[i, : k + 1]): i for i in range(kuhn.start[k], kuhn.start[k + 1])}
         ksimplex_kuhn = as_i64([row_of[tuple(int(c) for c in cs)] for cs in np.reshape(ks_corners, (-1, k + 1))])
     else:
@@ -193,6 +242,40 @@ def test_walk_template_links_each_simplex_to_its_facets(k):
     assert np.all(uses[:nb] == 1) and np.all(uses[nb:] == 2)
 
 
+@pytest.mark.parametrize("n, k", SMALL)
+def test_simplex_tables_equal_the_loop_builder(n, k):
+    simplex_tables.cache_clear()
+    assert_same_tables(simplex_tables(n, k), loop_simplex_tables(n, k))
+
+
 def test_permutations_are_lexicographic():
     for m in range(1, 8):
         np.testing.assert_array_equal(_tables._permutations(m), np.array(list(permutations(range(m))), np.uint8))
+
+
+def test_progress_rises_to_one_and_cancel_stops_the_build():
+    cube_tables.cache_clear()
+    seen = []
+    cube_tables(8, 5, progress=lambda phase, f: seen.append((phase, f)))
+    fractions = [f for _, f in seen]
+    assert fractions == sorted(fractions) and fractions[-1] == 1.0 and len(seen) > 3
+    assert all(phase.startswith("cube tables") for phase, _ in seen)
+    seen.clear()
+    cube_tables(8, 5, progress=lambda phase, f: seen.append(f))
+    assert seen == []  # cached: nothing to report
+    polls = []
+
+    def cancel():
+        polls.append(1)
+        return len(polls) > 2
+
+    with pytest.raises(Cancelled):
+        cube_tables(8, 6, cancel=cancel)
+    assert_same_tables(cube_tables(8, 6), cube_tables(8, 6))  # (not cached half-built: builds whole)
+    assert cube_tables(8, 6).ksimplex_corners.shape == (comb(8, 6) * 4 * factorial(6), 7)
+
+
+@pytest.mark.parametrize("n, k, words", [(3, 0, "1 <= k < n"), (3, 3, "1 <= k < n"), (12, 10, "too large")])
+def test_bad_sizes_are_refused(n, k, words):
+    with pytest.raises(InputError, match=words):
+        cube_tables(n, k)
