@@ -504,8 +504,9 @@ class QtPresentation(QObject):
         bounds = tuple(float(b) for b in mesh.bounds)
         titles = tuple(axis_titles(scene))
         shown = np.reshape(bounds, (3, 2)) + axis_offsets(scene)[:, None]
-        # an end a hair from 0 (a thousandth of the side) is 0: no "-0.0" label
-        shown[np.abs(shown) < 1e-3 * np.ptp(shown, axis=1, keepdims=True)] = 0.0
+        # the ends to a thousandth of the side: float32 noise makes no "-8.2e-06" tick where 0 is meant
+        q = 10.0 ** (np.floor(np.log10(np.maximum(np.ptp(shown, axis=1, keepdims=True), 1e-300))) - 3)
+        shown = np.round(shown / q) * q + 0.0
         ranges = tuple(float(r) for r in shown.ravel())
         font = int(round(AXES_FONT * (FONT_SCALE if self.presenting else 1.0)))
         # a short side gets three labels (five would overlap there)
@@ -645,6 +646,8 @@ class QtPresentation(QObject):
 
     def _on_resized(self) -> None:
         """The view has its new size (after the viewer's own refit): the card and the axes follow."""
+        if not (self.presenting or self.axes_shown()):
+            return
         self._reframe = "fit"
         self.update_formula()
         self.window.viewer.render()
