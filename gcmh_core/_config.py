@@ -16,3 +16,7 @@ PARALLEL_JIT = dict(JIT, parallel=True)
 # inside one kernel function per chunk (`_kernels.cubes_chunk`), with scratch
 # buffers it owns.
 INLINE_JIT = dict(JIT, inline="always")
+# A kernel that calls another compiles the callee for the argument types type inference
+# sees first: a counter started as `= 0` is Literal[int](0) there and int64 later, so
+# the callee compiled twice (seconds each on a first run).  Counters and indices passed
+# to another kernel start as np.int64(0).

@@ -285,11 +285,14 @@ def _new_records(rows, n):
     )
 
 
+# Copies are loops: a slice assignment (b[:used] = a[:used]) brings numba's shape-mismatch
+# error path, whose message formatting compiled for seconds on a first run.
 @nb.njit(**JIT)
 def _grown_keys(a, used):
     """a's first `used` entries in an array twice as long."""
     b = np.empty(2 * a.shape[0] + 1, a.dtype)
-    b[:used] = a[:used]
+    for i in range(used):
+        b[i] = a[i]
     return b
 
 
@@ -297,7 +300,9 @@ def _grown_keys(a, used):
 def _grown_rows(a, used):
     """a's first `used` rows in an array with twice the rows."""
     b = np.empty((2 * a.shape[0] + 1, a.shape[1]), a.dtype)
-    b[:used] = a[:used]
+    for i in range(used):
+        for j in range(a.shape[1]):
+            b[i, j] = a[i, j]
     return b
 
 
@@ -369,7 +374,7 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
     cells_buf_a = np.empty((4 * n_ksimplices, 3), np.int64)
     cells_buf_b = np.empty((4 * n_ksimplices, 3), np.int64)
     vk_out, vp_out, e_out, c_out, i_out = _new_records(8 * (hi - lo) + 16, n)
-    used_v = used_e = used_c = used_i = 0  # rows written
+    used_v = used_e = used_c = used_i = np.int64(0)  # rows written (int64 from the start: see _config)
     crossed_facets = np.zeros(hi - lo, np.int64)
     n_corners = 1 << n
     all_signs = (np.int64(1) << k) - 1
@@ -528,7 +533,7 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
                                 values, o, corner_row, interior_simplex, 0, k, corner_signs, all_signs, mat, rhs, lam
                             )
                             if hit == 2:
-                                hit = _zero_side(values, o, corner_row, interior_simplex, 0, k, lam)
+                                hit = _zero_side(values, o, corner_row, interior_simplex, np.int64(0), k, lam)
                             interior_crossed[ii] = hit
                         crossed = interior_crossed[ii] == 1
                     if crossed:
@@ -616,7 +621,7 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
             dim = r + k
             face0 = face_start[dim]
             n_faces = face_start[dim + 1] - face0
-            n_here = 0
+            n_here = np.int64(0)
             for fi in range(n_faces):
                 f = face0 + fi
                 n_in = 0
@@ -646,10 +651,8 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
                 for e in range(ne):
                     if _face_in_face(face_free[edge_face[e]], face_fixed[edge_face[e]], face_free[f], face_fixed[f]):
                         cell_of_root[_find(parent, edge_a[e])] = -2
-                if cells.shape[0] < n_here + n_in:  # rare: grow the buffer
-                    grown = np.empty((2 * (n_here + n_in), 3), np.int64)
-                    grown[:n_here] = cells[:n_here]
-                    cells = grown
+                if cells.shape[0] < n_here + n_in:  # rare: grow the buffer (n_in <= its first size)
+                    cells = _grown_rows(cells, n_here)
                 first = n_here
                 ff = face_free[f]
                 for v in range(nv):  # a root is its piece's smallest vertex index: it comes first
@@ -753,7 +756,7 @@ def simplices_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lin
     rhs = np.empty(k, np.float64)
     lam = np.empty(k + 1, np.float64)
     vk_out, vp_out, e_out, c_out, i_out = _new_records(16 * (hi - lo) + 16, n)
-    used_v = used_e = used_c = used_i = 0  # rows written
+    used_v = used_e = used_c = used_i = np.int64(0)  # rows written (int64 from the start: see _config)
     crossed_facets = np.zeros(hi - lo, np.int64)
     all_signs = (np.int64(1) << k) - 1
     masked = simplex_corner_mask.shape[0] > 0  # corner sets as bit masks (n <= 6)
