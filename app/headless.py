@@ -412,14 +412,15 @@ def _vertex_sample(complexes, limit: int = SWEEP_SAMPLE):
 
 
 def sweep_images(scene, names, view, complexes, spec, style, mapping: str = "orthographic",
-                 boundary: bool = False, progress=None):
+                 boundary: bool = False, camera=None, progress=None):
     """Draw each frame of a parameter sweep on ``scene`` (an off-screen one) and yield its image.
 
     One framing for all frames, so the surface changes and the picture doesn't: every frame is centred
     on the centre of all of them (the projection's scales too), the camera is fitted once to all of
-    them together (from the default direction), and the colour scale spans all of them.  Each frame is
-    captioned with its value and topology (:func:`app.animation.param_caption`) and, at a critical value
-    (``meta["singular_vertices"]``), a notice in its own colour.  ``view``: the (fixed) projection."""
+    them together (from ``camera``'s direction, a pyvista Camera such as the window's, else the default
+    one), and the colour scale spans all of them.  Each frame is captioned with its value and topology
+    (:func:`app.animation.param_caption`) and, at a critical value (``meta["singular_vertices"]``), a
+    notice in its own colour.  ``view``: the (fixed) projection."""
     import copy
 
     import numpy as np
@@ -428,7 +429,7 @@ def sweep_images(scene, names, view, complexes, spec, style, mapping: str = "ort
     from .animation import CRITICAL_COLOUR, critical_note, param_caption
     from .geometry import Geometry
     from .projection import Projector, bbox_center
-    from .scene import colour_range, copy_camera, default_camera, draw_overlays, view_subtitle
+    from .scene import colour_range, copy_camera, default_camera, draw_overlays, refit_camera, view_subtitle
 
     pl = scene.plotter
     sample = _vertex_sample(complexes)
@@ -438,7 +439,11 @@ def sweep_images(scene, names, view, complexes, spec, style, mapping: str = "ort
     probe.set_radii(radii)
     extent = pl.add_mesh(pv.PolyData(np.asarray(probe.project_view(view), dtype=float)), render=False,
                          reset_camera=False, name="gcmh-sweep-extent")
-    default_camera(pl)
+    if camera is not None:
+        copy_camera(camera, pl.camera)
+        refit_camera(pl)
+    else:
+        default_camera(pl)
     pl.remove_actor(extent, render=False)
     camera = pv.Camera()
     copy_camera(pl.camera, camera)
@@ -488,12 +493,13 @@ def sweep_images(scene, names, view, complexes, spec, style, mapping: str = "ort
 
 def export_param_sweep(paths, job, spec, frames: int, names, projection, style, size, fps: float,
                        mapping: str = "orthographic", boundary: bool = False, transparent: bool = False,
-                       progress=None, cancel=None) -> tuple[int, list]:
+                       camera=None, progress=None, cancel=None) -> tuple[int, list]:
     """A parameter sweep from start to file: budget check, output check, the extractions, the frames,
     each of ``paths`` (.gif/.mp4) written atomically.  Returns (frames written, the complexes).
 
     ``projection``: an :class:`app.projection.ProjectionModel` (its angles and mapping; its principal axes
-    are set from all the frames); ``style``: an :class:`app.scene.Style` (title, colour, labels).
+    are set from all the frames); ``style``: an :class:`app.scene.Style` (title, colour, labels);
+    ``camera``: a pyvista Camera whose direction the picture keeps (the window's), else the default view.
     ``progress(phase, k)``: phase "extract" then "draw", k frames done.  Bad input, or a sweep that
     won't fit, raises InputError before any work."""
     from gcmh_core.errors import InputError
@@ -514,7 +520,8 @@ def export_param_sweep(paths, job, spec, frames: int, names, projection, style, 
         if transparent:
             scene.plotter.renderer.GradientBackgroundOff()
         images = sweep_images(scene, list(names), projection.view(), complexes, spec, style, mapping=mapping,
-                              boundary=boundary, progress=(lambda k: progress("draw", k)) if progress else None)
+                              boundary=boundary, camera=camera,
+                              progress=(lambda k: progress("draw", k)) if progress else None)
         n = write_images(images, list(paths), fps, cancel=cancel)
     return n, complexes
 

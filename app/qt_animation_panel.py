@@ -10,6 +10,11 @@ Modes (:data:`MODES`; the periods are in :mod:`app.animation`): ``rotate`` (the 
 :func:`app.animation.tour_angles`, one period per ``TOUR_PERIOD`` seconds) and
 ``slice`` (the slice window's centre sweeps across and back per
 ``SLICE_PERIOD`` seconds; needs the slice turned on in the View tab).
+
+``param`` (:data:`PARAM_MODE`): a parameter of the formulas sweeps from one value to another, one
+extraction per frame; it is exported (``spec_text()`` gives ``param:a=-1:1`` for
+:func:`app.headless.export_param_sweep`), not played.  The mode is offered only once the window has
+given the formulas' parameters with :meth:`QtAnimationPanel.set_parameters`.
 """
 
 from __future__ import annotations
@@ -17,12 +22,22 @@ from __future__ import annotations
 import time
 
 from qtpy.QtCore import QTimer, Signal
-from qtpy.QtWidgets import QComboBox, QFormLayout, QHBoxLayout, QLabel, QPushButton, QSpinBox, QWidget
+from qtpy.QtWidgets import (
+    QComboBox,
+    QDoubleSpinBox,
+    QFormLayout,
+    QHBoxLayout,
+    QLabel,
+    QPushButton,
+    QSpinBox,
+    QWidget,
+)
 
 from .qt_widgets import error_label, group, labelled_row, panel_layout, slider_row
 
 MODES = {"rotate": "Rotate in a plane", "tour": "Grand tour (smooth path through projections)",
          "slice": "Sweep the slice window"}
+PARAM_MODE = ("param", "Sweep a parameter (export: one extraction per frame)")
 TICK_MS = 33
 
 
@@ -46,6 +61,19 @@ class QtAnimationPanel(QWidget):
         self.plane_combo = QComboBox()
         self.plane_combo.setToolTip("the plane of the rotation")
         self.plane_label = labelled_row(pf, "plane", self.plane_combo)
+        self.param_combo = QComboBox()
+        self.param_combo.setToolTip("the parameter of the formulas that the exported animation sweeps")
+        self.param_label = labelled_row(pf, "parameter", self.param_combo)
+        self.from_spin, self.to_spin = QDoubleSpinBox(), QDoubleSpinBox()
+        for sp, tip in ((self.from_spin, "its value in the first frame"),
+                        (self.to_spin, "its value in the last frame")):
+            sp.setDecimals(3)
+            sp.setRange(-1e6, 1e6)
+            sp.setSingleStep(0.1)
+            sp.setToolTip(tip)
+        self.from_label = labelled_row(pf, "from", self.from_spin)
+        self.to_label = labelled_row(pf, "to", self.to_spin)
+        self.params: dict[str, dict] = {}
         self.speed_slider, self.speed_label = slider_row(pf, "speed 1\u00d7", 1, 100, 20,
                                                          "speed: 1 = a twentieth of the normal speed, 100 = five times")
         self.play_button = QPushButton("Play")
@@ -84,6 +112,7 @@ class QtAnimationPanel(QWidget):
         self.timer.timeout.connect(self._on_timer)
         self._last = None
         self.mode_combo.currentIndexChanged.connect(self._on_mode)
+        self.param_combo.currentIndexChanged.connect(self._on_param)
         self.speed_slider.valueChanged.connect(self._on_speed)
         self.play_button.toggled.connect(self.set_playing)
         self.gif_button.clicked.connect(lambda: self.exportRequested.emit("gif"))
@@ -105,6 +134,50 @@ class QtAnimationPanel(QWidget):
         self.plane_combo.setCurrentIndex(i if i >= 0 else max(0, len(self.planes) - 1))
         self.plane_combo.blockSignals(False)
 
+    def set_parameters(self, params: dict) -> None:
+        """The formulas' parameters, {name: {"value", "min", "max"}} (an example's ``params``, or the sliders'
+        ranges): the ``param`` mode is offered while there is one, sweeping from each one's min to its max
+        unless the user set other ends (kept while the name stays)."""
+        old = dict(self.params)
+        self.params = {str(k): dict(v) for k, v in (params or {}).items()}
+        prev = self.param_combo.currentText()
+        self.param_combo.blockSignals(True)
+        self.param_combo.clear()
+        for name in self.params:
+            self.param_combo.addItem(name)
+        i = self.param_combo.findText(prev) if prev else -1
+        self.param_combo.setCurrentIndex(i if i >= 0 else 0)
+        self.param_combo.blockSignals(False)
+        name = self.param_combo.currentText()
+        if name and (name not in old or old[name] != self.params[name]):
+            self._on_param()
+        has = self.mode_combo.findData(PARAM_MODE[0]) >= 0
+        if self.params and not has:
+            self.mode_combo.addItem(PARAM_MODE[1], PARAM_MODE[0])
+        elif not self.params and has:
+            if self.mode() == PARAM_MODE[0]:
+                self.set_mode("rotate")
+            self.mode_combo.removeItem(self.mode_combo.findData(PARAM_MODE[0]))
+        self._on_mode()
+
+    def param_sweep(self) -> tuple[str, float, float] | None:
+        """(name, from, to) of the parameter sweep, or None when no parameter is offered."""
+        name = self.param_combo.currentText()
+        if not name:
+            return None
+        return name, self.from_spin.value(), self.to_spin.value()
+
+    def set_param_sweep(self, name: str, lo: float, hi: float) -> None:
+        self.param_combo.setCurrentIndex(self.param_combo.findText(name))
+        self.from_spin.setValue(float(lo))
+        self.to_spin.setValue(float(hi))
+
+    def _on_param(self, *_) -> None:
+        spec = self.params.get(self.param_combo.currentText())
+        if spec is not None:
+            self.from_spin.setValue(float(spec.get("min", -1.0)))
+            self.to_spin.setValue(float(spec.get("max", 1.0)))
+
     def mode(self) -> str:
         return self.mode_combo.currentData()
 
@@ -125,6 +198,9 @@ class QtAnimationPanel(QWidget):
     def spec_text(self) -> str:
         """The animation in ``--animate`` syntax (for messages and file names)."""
         m = self.mode()
+        if m == PARAM_MODE[0] and self.param_sweep() is not None:
+            name, lo, hi = self.param_sweep()
+            return f"param:{name}={lo:g}:{hi:g}"
         if m == "rotate" and self.plane() is not None:
             i, j = self.plane()
             return f"rotate:{self.names[i]}-{self.names[j]}"
@@ -140,6 +216,10 @@ class QtAnimationPanel(QWidget):
 
     def set_playing(self, on: bool) -> None:
         on = bool(on)
+        if on and self.mode() == PARAM_MODE[0]:   # (Space too): every frame is an extraction
+            on = False
+            self.show_message("A parameter sweep is exported, not played: use Export below "
+                              "(or the parameter's slider in the Manifold tab).")
         if self.play_button.isChecked() != on:
             self.play_button.blockSignals(True)
             self.play_button.setChecked(on)
@@ -162,6 +242,10 @@ class QtAnimationPanel(QWidget):
         rot = self.mode() == "rotate"
         self.plane_combo.setVisible(rot)
         self.plane_label.setVisible(rot)
+        par = self.mode() == PARAM_MODE[0]
+        for w in (self.param_combo, self.param_label, self.from_spin, self.from_label, self.to_spin, self.to_label):
+            w.setVisible(par)
+        self.play_button.setEnabled(not par)
         self.show_message("")
         self.modeChanged.emit(self.mode())
 

@@ -161,3 +161,45 @@ def test_bad_sweeps_are_one_line_and_exit_2(tmp_path, args, message):
     assert r.returncode == 2 and len(lines) == 1 and "Traceback" not in r.stderr, r.stderr
     assert message in lines[0]
     assert not gif.exists()
+
+
+# ---------------------------------------------------------------- the Animate tab
+
+
+def test_the_animate_tab_offers_a_parameter_sweep_and_exports_it(qtbot, tmp_path):
+    """The panel's "param" mode (offered once the formulas' parameters are given) says the sweep in
+    --animate syntax, is exported rather than played, and its spec drives the headless export."""
+    from app.animation import parse_spec
+    from app.headless import export_param_sweep
+    from app.projection import ProjectionModel
+    from app.qt_animation_panel import PARAM_MODE, QtAnimationPanel
+    from app.scene import Style
+    from gcmh_core.examples import load_example
+
+    panel = QtAnimationPanel()
+    qtbot.addWidget(panel)
+    panel.set_variables(NAMES)
+    assert panel.mode_combo.findData(PARAM_MODE[0]) < 0          # no parameters: no such mode
+    ex = load_example("hyperboloid")
+    panel.set_parameters(ex.params)
+    panel.set_mode(PARAM_MODE[0])
+    assert panel.spec_text() == "param:a=-1:1"                     # the example's range by default
+    assert not panel.play_button.isEnabled()
+    panel.set_playing(True)                                       # (Space)
+    assert not panel.is_playing() and "exported, not played" in panel.message.text()
+    panel.set_param_sweep("a", 0.5, -0.5)
+    assert panel.spec_text() == "param:a=0.5:-0.5"
+    panel.set_parameters(ex.params)                               # the same parameters again: the ends stay
+    assert panel.spec_text() == "param:a=0.5:-0.5"
+
+    spec = parse_spec(panel.spec_text(), NAMES, params=list(ex.params))
+    seen = []
+    n, cxs = export_param_sweep([tmp_path / "p.gif"], _hyperboloid_job(), spec, 3, NAMES, ProjectionModel(n=3),
+                                Style(color_by="z", title=ex.title), (240, 180), 10,
+                                progress=lambda phase, k: seen.append((phase, k)))
+    assert n == 3 and cxs[0].euler_characteristic() == 0 and cxs[2].euler_characteristic() == 2
+    assert seen == [("extract", 1), ("extract", 2), ("extract", 3), ("draw", 1), ("draw", 2), ("draw", 3)]
+    assert len(list(ImageSequence.Iterator(Image.open(tmp_path / "p.gif")))) == 3
+
+    panel.set_parameters({})                                      # a system without parameters
+    assert panel.mode_combo.findData(PARAM_MODE[0]) < 0 and panel.mode() == "rotate"
