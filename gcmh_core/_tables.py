@@ -174,9 +174,11 @@ def _face_arrays(n: int, r: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     inside[np.arange(len(subsets))[:, None], subsets] = True
     others = np.nonzero(~inside)[1].reshape(len(subsets), n - r)  # ascending in each row
     bits = np.arange(1 << (n - r), dtype=np.int64)
-    fixed = (((bits[None, :, None] >> np.arange(n - r)) & 1) << others[:, None, :]).sum(axis=2)
+    fixed = np.zeros((len(subsets), 1 << (n - r)), np.int64)
+    for i in range(n - r):  # bit i of the anchor's number -> its i-th fixed axis
+        fixed |= ((bits >> i) & 1)[None, :] << others[:, i, None]
     free = (np.int64(1) << subsets).sum(axis=1)
-    return free, fixed.reshape(len(subsets), 1 << (n - r)), subsets
+    return free, fixed, subsets
 
 
 def _face_index(n: int, r: int, free: np.ndarray, fixed: np.ndarray) -> np.ndarray:
@@ -422,11 +424,11 @@ def _strict_chains(n: int, d: int):
     """The strict chains c0 < c1 < ... < cd of the n-cube's corners, sorted as tuples:
     (chains (rows, d + 1), labels (rows, n), packed keys).  Axis a has label 0 (in c0),
     j in 1..d (switched on at link j; each j labels some axis) or d + 1 (never)."""
-    base = d + 2
-    index = np.arange(base**n, dtype=np.int64)
-    labels = np.stack([(index // base**a) % base for a in range(n)], axis=1).astype(np.uint8)
+    every = np.indices((d + 2,) * n, dtype=np.uint8).reshape(n, -1)[::-1]  # (n, (d+2)^n): row a, axis a
+    onto = np.ones(every.shape[1], bool)
     for j in range(1, d + 1):
-        labels = labels[(labels == j).any(axis=1)]
+        onto &= (every == j).any(axis=0)
+    labels = np.ascontiguousarray(every[:, onto].T)
     chains = np.zeros((len(labels), d + 1), np.int64)
     for a in range(n):
         chains += (labels[:, a, None] <= np.arange(d + 1)) * np.int64(1 << a)

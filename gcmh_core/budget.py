@@ -3,9 +3,12 @@
 `estimate_run` adds up what an extraction holds at its peak, from (n, k, div, method)
 and a probe of F on a coarse grid (a few thousand vertices, milliseconds):
 
-* the cube tables for (n, k) (`_tables`): built in Python, so their peak is the
-  Python objects of the build (faces of dimension k..n, k! Kuhn simplices per
-  k-face, the walk map of every (k+1)-face), not the final int64 arrays;
+* the cube tables for (n, k) (`_tables`): int64 arrays counted exactly (faces of
+  dimension k..n, k! Kuhn simplices per k-face, the walk template of (k+1)! simplices
+  and its map onto every (k+1)-face; the Kuhn triangulation for n <= 7), plus the
+  numpy temporaries of their build;
+* the kernel's scratch: per thread, arrays of one entry per k-simplex and walk node
+  of the cube, written for every cube (hundreds of MB at k = 8);
 * the grid lines (n arrays of div + 1), and for the full sweep the slab buffer
   (`sweep.SLAB_VERTICES`, at least two layers), F's temporaries on it and the sign codes;
 * the records of the candidate cubes and their assembly.  The probe counts, per
@@ -51,12 +54,15 @@ __all__ = [
 
 # Vertices of the probe grid (per run: milliseconds of F, a few passes over booleans).
 _PROBE_VERTICES = 600_000  # (9^6: div 8 probed exactly in R^6)
-# Bytes at the peak per Python face / Kuhn simplex / walk entry of the table build.
-_TABLE_FACE = 140
-_TABLE_SIMPLEX = 400
-_TABLE_SIMPLEX_CORNER = 120
-_TABLE_WALK = 8
-_TABLE_TEMPLATE = 360  # per entry of the walk template on the (k+1)-cube: (k+1)! (k+2)
+# Seconds per byte of the cube tables' arrays (numpy writes them; on a fresh VM page the first
+# touch dominates: 1 ns/B warm, 5 ns/B measured for R^10, k = 8), and per entry of the label
+# enumeration behind the Kuhn triangulation (n <= 7: n (n+2)^n entries).
+_TABLE_SECONDS_PER_BYTE = 5e-9
+_KUHN_SECONDS_PER_ENTRY = 5e-9
+# Seconds per table entry the kernel reads for one candidate cube: every k-simplex's corners,
+# every (k+1)-face's boundary nodes and, where the walk runs, its (k+1)! simplices (R^10,
+# k = 8: 0.27 s per cube on 2 threads).
+_KERNEL_SECONDS_PER_ENTRY = 2e-9
 # Peak bytes per record the kernel emits for a crossed face, through the assembly
 # (records are grown by doubling, then concatenated and sorted).
 _RECORD_OVERHEAD = 3.2
@@ -64,11 +70,12 @@ _RECORD_OVERHEAD = 3.2
 # faces where every component changes sign undercount the cells of k >= 2 in a cube)
 _K_FACTOR = {1: 1.0, 2: 1.2}
 _K_FACTOR_MORE = 1.6
+# GCMH's marching pass for n = 3, k = 1 (`_marching3`) writes the complex in its final form,
+# no records to sort: its peak is this fraction of the records' (measured 0.27-0.33, div 100-300)
+_MARCHING_RECORDS = 0.3
 # CMS/CCS: the cells of the n! simplices of a cube instead of one cell: n!/2 times the records
 # (measured: 3 in R^3, 12 in R^4)
-# Seconds: per Python entry of the table build, per vertex and component of F
-# (evaluation and candidate pass), per byte of records.
-_TABLE_SECONDS = 3e-6
+# Seconds: per vertex and component of F (evaluation and candidate pass), per byte of records.
 _VERTEX_SECONDS = 4e-9
 _RECORD_SECONDS_PER_N = 1.5e-9  # per byte of records and dimension n (the walks grow with n)
 WORK_LIMIT_SECONDS = 300.0
@@ -134,6 +141,14 @@ class Estimate:
         )
 
 
+def _threads() -> int:
+    """Kernel threads a run uses (numba's default: NUMBA_NUM_THREADS, else every core)."""
+    try:
+        return max(1, int(os.environ.get("NUMBA_NUM_THREADS", "")))
+    except ValueError:
+        return os.cpu_count() or 1
+
+
 def _format_seconds(s: float) -> str:
     if s < 60:
         return f"{s:.2g} s"
@@ -158,20 +173,56 @@ def _time_limit() -> float:
 
 
 # ----------------------------------------------------------------------------- the parts
-def table_cost(n: int, k: int) -> tuple[int, int]:
-    """(peak bytes, Python entries) of building `_tables.cube_tables(n, k)`."""
+def table_cost(n: int, k: int) -> tuple[int, int, float]:
+    """(peak bytes of the build, bytes held after it, seconds) of `_tables.cube_tables(n, k)`.
+
+    The held bytes are its arrays to the byte (tests/core/test_budget.py compares); the
+    build's temporaries add the largest of: the walk's Lehmer digits and ranks ((k+1)! rows of
+    k+1 int64, about three such), an anchor table of the faces, the Kuhn triangulation's
+    label enumeration (n <= 7: two n (n+2)^n byte arrays)."""
+    m = k + 1
+    w = 8  # int64
     faces = sum(comb(n, r) << (n - r) for r in range(k, n + 1))
-    simplices = comb(n, k) * (1 << (n - k)) * factorial(k)
-    k1faces = comb(n, k + 1) * (1 << max(n - k - 1, 0)) if k < n else 0
-    walk = k1faces * (2 * (k + 1) * factorial(k) + (1 << (k + 1)))
-    template = factorial(k + 1) * (k + 2)
-    peak = (
-        _TABLE_FACE * faces
-        + (_TABLE_SIMPLEX + _TABLE_SIMPLEX_CORNER * (k + 1)) * simplices
-        + _TABLE_WALK * walk
-        + _TABLE_TEMPLATE * template
-    )
-    return int(peak), int(faces + simplices + walk + template)
+    kfaces = comb(n, k) << (n - k)
+    simplices = kfaces * factorial(k)
+    k1faces = comb(n, m) << (n - m)
+    walk = factorial(m)
+    boundary = 2 * m * factorial(k)
+    held = w * (3 * faces + (n + 2) + 2 * (n + 1) + (n + 1) ** 2)
+    held += w * simplices * (k + 3)  # corners, face, permutation
+    held += w * (2 * walk * (m + 1) + walk * k // 2 * (k + 1))  # simplex corners and nodes, interior nodes
+    held += w * k1faces * ((1 << m) + boundary)  # corner map, boundary simplices
+    if n <= 6:  # corner masks
+        held += w * (simplices + kfaces + k1faces)
+    temporary = max(3 * w * walk * m, 3 * w * faces)
+    seconds = 1e-3
+    if n <= 7:  # the Kuhn triangulation and each k-simplex's row in it
+        rows = simplicial_rows(n, k)
+        held += w * simplices + w * (rows * (2 * (n + 1) + 3 + (1 if n <= 6 else 0)) + n + 2)
+        temporary = max(temporary, 2 * n * (n + 2) ** n)
+        seconds += n * (n + 2) ** n * _KUHN_SECONDS_PER_ENTRY
+    else:  # (an empty triangulation)
+        held += w * (n + 2)
+    seconds += held * _TABLE_SECONDS_PER_BYTE
+    return int(held + temporary), int(held), float(seconds)
+
+
+def kernel_entries(n: int, k: int) -> int:
+    """Table entries `_kernels.cubes_chunk` reads for one candidate cube (at most): the corners of
+    every k-simplex, the boundary nodes of every (k+1)-face and its walk's simplices."""
+    m = k + 1
+    simplices = (comb(n, k) << (n - k)) * factorial(k)
+    k1faces = comb(n, m) << (n - m)
+    return simplices * (k + 2) + k1faces * (2 * m * factorial(k) + factorial(m) * (m + 2))
+
+
+def kernel_scratch(n: int, k: int) -> int:
+    """Bytes one kernel thread writes whatever the cube: an entry per k-simplex (which vertex it
+    holds) and per walk node (two links, a flag)."""
+    m = k + 1
+    simplices = (comb(n, k) << (n - k)) * factorial(k)
+    nodes = 2 * m * factorial(k) + factorial(m) * k // 2
+    return 8 * simplices + 17 * nodes
 
 
 def simplicial_rows(n: int, k: int) -> int:
@@ -210,8 +261,21 @@ def _bytes_per_cube(n: int, k: int, faces: np.ndarray) -> float:
     return _RECORD_OVERHEAD * raw * _K_FACTOR.get(k, _K_FACTOR_MORE)
 
 
+def _probe_side(div, budget: int) -> int:
+    """The largest side s with prod(min(div_a, s) + 1) <= budget vertices (at least 1): axes of
+    few cubes (div 1 across a flat direction) leave the budget to the others."""
+    lo, hi = 1, max(1, int(max(div)))
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        if math.prod(min(int(d), mid) + 1 for d in div) <= budget:
+            lo = mid
+        else:
+            hi = mid - 1
+    return lo
+
+
 def _probe_grid(n, div, bounds, system, sampled, budget):
-    side = max(1, int(budget ** (1.0 / n) + 1e-9) - 1)
+    side = _probe_side(div, budget)
     pdiv = np.minimum(div, side)
     exact = bool(np.all(pdiv == div))
     if sampled is not None:
@@ -347,6 +411,14 @@ def _pruned_vertices(n: int, k: int, expected: float, vertices: int):
     return leaves, block_vertices
 
 
+def _marching() -> bool:
+    """Whether a full sweep with n = 3, k = 1 takes the marching pass (`sweep.MARCHING3`)."""
+    from . import sweep  # noqa: PLC0415
+
+    marching = getattr(sweep, "MARCHING3", False)
+    return bool(sweep.PRUNE is not True if marching is None else marching)
+
+
 def _prunable(system, sampled, cubes: int) -> bool:
     """Whether the full sweep will drop blocks by F's interval bounds (`sweep`)."""
     from . import sweep  # noqa: PLC0415
@@ -362,12 +434,11 @@ def _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, exp
 
     dims = [d + 1 for d in div_t]
     vertices = math.prod(dims)
-    table_peak, table_entries = table_cost(n, k)
-    if simplicial:
-        rows = simplicial_rows(n, k)
-        table_peak += rows * (600 + 16 * (n + 1))
-        table_entries += rows
+    # (the simplicial methods' tables are the cube tables' Kuhn triangulation, n <= 7)
+    table_peak, tables_held, table_seconds = table_cost(n, k)
     records = expected * _bytes_per_cube(n, k, faces) * (factorial(n) / 2 if simplicial else 1.0)
+    if (n, k) == (3, 1) and not simplicial and not continuation and scheduler is None and _marching():
+        records *= _MARCHING_RECORDS
     grid = sum(dims) * 8 * 4  # lines, their offsets, the stacked copy in Grid
     layer = math.prod(dims[1:])
     if continuation:  # F at the corners of each wave, and the visited cubes
@@ -388,12 +459,14 @@ def _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, exp
         work_vertices = float(vertices)
     else:  # the workers evaluate; this process gathers the records
         work_vertices = 0.0
-    tables_held = table_peak // 4  # the arrays outlive the build; its Python objects do not
+    if not simplicial and expected:  # each kernel thread's scratch, written for every cube
+        grid += int(min(_threads(), max(expected, 1.0)) * kernel_scratch(n, k))
     peak = max(table_peak, tables_held + grid + records) + _RUN_OVERHEAD
     seconds = (
-        table_entries * _TABLE_SECONDS
+        table_seconds
         + work_vertices * k * _VERTEX_SECONDS
         + records * _RECORD_SECONDS_PER_N * n
+        + (0.0 if simplicial else expected * kernel_entries(n, k) * _KERNEL_SECONDS_PER_ENTRY)
     )
     return Estimate(
         n=n,
