@@ -178,6 +178,11 @@ def simplex_crosses(vals, o, value_off, table, s, k, pos_mask, full, mat, rhs, l
     return 2 if near else 1
 
 
+# The same solve as a plain call, for the rare callers (a walk's interior nodes, `_joined_pieces`):
+# each inlined copy costs the first run's compile more than a call costs these callers.
+_simplex_crosses_call = nb.njit(**JIT)(simplex_crosses.py_func)
+
+
 @nb.njit(**INLINE_JIT)
 def _find(parent, v):
     while parent[v] != v:
@@ -244,7 +249,7 @@ def _joined_pieces(values, o, corner_row, corner_signs, all_signs, kuhn, ksimple
             if (corners[s, 0] & ~f_free) != f_fixed or (corners[s, d] & ~f_free) != f_fixed:
                 continue
             if d == k:
-                hit = simplex_crosses(values, o, corner_row, corners, s, k, corner_signs, all_signs, mat, rhs, lam)
+                hit = _simplex_crosses_call(values, o, corner_row, corners, s, k, corner_signs, all_signs, mat, rhs, lam)
                 if hit == 2:
                     hit = _zero_side(values, o, corner_row, corners, s, k, lam)
                 if hit:
@@ -529,8 +534,9 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
                         if interior_crossed[ii] < 0:
                             for q in range(k + 1):
                                 interior_simplex[0, q] = walk_corner_map[kf1, walk_interior_corners[ii, q]]
-                            hit = simplex_crosses(
-                                values, o, corner_row, interior_simplex, 0, k, corner_signs, all_signs, mat, rhs, lam
+                            hit = _simplex_crosses_call(
+                                values, o, corner_row, interior_simplex, np.int64(0), k, corner_signs, all_signs, mat,
+                                rhs, lam,
                             )
                             if hit == 2:
                                 hit = _zero_side(values, o, corner_row, interior_simplex, np.int64(0), k, lam)
