@@ -97,6 +97,22 @@ def image_actor(rgba: np.ndarray):
     return actor
 
 
+def _text_card(lines, font_size: int):
+    """The card as plain text (when no image can be made): a VTK text actor, right-justified."""
+    import vtk
+
+    actor = vtk.vtkTextActor()
+    actor.SetInput("\n".join(lines))
+    prop = actor.GetTextProperty()
+    prop.SetFontSize(font_size)
+    prop.SetJustificationToRight()
+    prop.SetVerticalJustificationToBottom()
+    prop.SetColor(0.96, 0.97, 0.99)
+    prop.SetBackgroundColor(0.05, 0.06, 0.09)
+    prop.SetBackgroundOpacity(0.72)
+    return actor
+
+
 def axis_titles(scene) -> list[str]:
     """The screen axes' titles: the projection's label of each ("s", "0.71 x + 0.71 w") with what a
     plain variable means ("y = Im z"), and the mapping when it is not orthographic."""
@@ -107,6 +123,18 @@ def axis_titles(scene) -> list[str]:
     if mapping != "orthographic":
         titles = [f"{t} ({mapping})" if t else t for t in titles]
     return titles
+
+
+def add_axes(plotter, key: tuple):
+    """pyvista's bounds axes on ``plotter`` for ``key`` = (bounds, titles, shown ranges, font size, label
+    counts), remembered on the actor as ``_gcmh_key``."""
+    bounds, titles, ranges, font, counts = key
+    actor = plotter.show_bounds(bounds=bounds, axes_ranges=ranges, xtitle=titles[0], ytitle=titles[1],
+                                ztitle=titles[2], location="outer", ticks="outside", font_size=font,
+                                color="#e6e9f0", bold=False, n_xlabels=counts[0], n_ylabels=counts[1],
+                                n_zlabels=counts[2], fmt="{0:.2g}", use_3d_text=False, render=False)
+    actor._gcmh_key = key
+    return actor
 
 
 def axis_offsets(scene) -> np.ndarray:
@@ -368,20 +396,45 @@ class QtPresentation(QObject):
         full = key + ((vw, vh),)
         if self._formula is not None and self._formula[1] == full:
             return
-        formulas, variables, params, cplx, cvars = key
-        share = BELOW_BAR if getattr(self.window.plotter, "scalar_bars", None) else FORMULA_MAX[1]
-        image, _lines = typeset_system(list(formulas), list(variables), dict(params), cplx, cvars,
-                                       font_px=max(14.0, vh / FORMULA_LINES_PER_HEIGHT),
-                                       max_size=(int(FORMULA_MAX[0] * vw), int(share * vh) - MARGIN))
         self._remove_actor(FORMULA_ACTOR)
         self._formula = None
-        if image is None:
+        actor = self.card_actor(key, (vw, vh), bool(getattr(self.window.plotter, "scalar_bars", None)))
+        if actor is None:
             return
-        actor = image_actor(image)
-        self._place(actor, vw)
         self.window.plotter.add_actor(actor, name=FORMULA_ACTOR, reset_camera=False, pickable=False, render=False)
         self._formula = (actor, full)
         self.window.viewer.render()
+
+    def card_actor(self, key: tuple, size: tuple[int, int], colour_bar: bool = True):
+        """The card of ``key`` (:meth:`formula_key`) as a 2D actor placed for a picture of ``size`` (w, h):
+        the typeset image, or plain text when the image cannot be made; None for an empty key."""
+        formulas, variables, params, cplx, cvars = key
+        vw, vh = size
+        share = BELOW_BAR if colour_bar else FORMULA_MAX[1]
+        try:
+            image, _lines = typeset_system(list(formulas), list(variables), dict(params), cplx, cvars,
+                                           font_px=max(14.0, vh / FORMULA_LINES_PER_HEIGHT),
+                                           max_size=(int(FORMULA_MAX[0] * vw), int(share * vh) - MARGIN))
+            actor = image_actor(image) if image is not None else None
+        except Exception:  # noqa: BLE001 - no matplotlib, or no image: the formulas as text
+            actor = _text_card([f"{f} = 0" for f in formulas] + [f"{p} = {v:g}" for p, v in params],
+                               max(12, int(vh / (1.3 * FORMULA_LINES_PER_HEIGHT))))
+        if actor is not None:
+            self._place(actor, vw)
+        return actor
+
+    def decorate(self, plotter) -> None:
+        """Draw on another plotter (an off-screen copy of the view, for a screenshot or an animation) what
+        this mode adds to the view: the card while presenting, the axes when shown."""
+        w, h = (int(s) for s in plotter.window_size)
+        key = self.formula_key() if self.presenting and self.formula_action.isChecked() else None
+        if key is not None:
+            actor = self.card_actor(key, (w, h), bool(getattr(plotter, "scalar_bars", None)))
+            if actor is not None:
+                plotter.add_actor(actor, name=FORMULA_ACTOR, reset_camera=False, pickable=False, render=False)
+        axes = getattr(self.window.plotter.renderer, "cube_axes_actor", None)
+        if getattr(axes, "_gcmh_key", None) is not None:
+            add_axes(plotter, axes._gcmh_key)
 
     def formula_actor(self):
         """The VTK actor of the typeset card (None when none is shown)."""
@@ -396,8 +449,11 @@ class QtPresentation(QObject):
 
     @staticmethod
     def _place(actor, view_width: int) -> None:
-        w, _h = actor.image_size
-        actor.SetPosition(max(MARGIN, view_width - w - MARGIN), MARGIN)
+        size = getattr(actor, "image_size", None)
+        if size is None:   # the plain-text card: right-justified at the corner
+            actor.SetPosition(view_width - MARGIN, MARGIN)
+        else:
+            actor.SetPosition(max(MARGIN, view_width - size[0] - MARGIN), MARGIN)
 
     def _remove_actor(self, name: str) -> None:
         pl = self.window.plotter
@@ -523,11 +579,7 @@ class QtPresentation(QObject):
                 actor.SetZTitle(titles[2])
                 actor._gcmh_key = (bounds, titles, ranges, font, counts)
             return
-        actor = pl.show_bounds(bounds=bounds, axes_ranges=ranges, xtitle=titles[0], ytitle=titles[1],
-                               ztitle=titles[2], location="outer", ticks="outside", font_size=font, color="#e6e9f0",
-                               bold=False, n_xlabels=counts[0], n_ylabels=counts[1], n_zlabels=counts[2],
-                               fmt="{0:.2g}", use_3d_text=False, render=False)
-        actor._gcmh_key = (bounds, titles, ranges, font, counts)
+        add_axes(pl, (bounds, titles, ranges, font, counts))
 
     def _frame_axes(self, how: str) -> None:
         """Frame the axes' box, not only the object (the camera frames the object's points; the box's

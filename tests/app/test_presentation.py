@@ -201,3 +201,48 @@ def test_installing_twice_leaves_one_set_of_actions(qtbot, window):
     p.enter()
     assert p.presenting
     p.leave()
+
+
+def test_decorate_draws_the_card_and_axes_on_an_off_screen_copy(qtbot, presenting):
+    import pyvista as pv
+
+    from app.qt_presentation import FORMULA_ACTOR
+    from app.scene import Scene
+
+    window, p = presenting
+    p.enter()
+    p.set_axes(True)
+    window.screenshot_array()
+    pl = pv.Plotter(off_screen=True, window_size=[800, 600])
+    try:
+        Scene(pl).adopt(window.scene)
+        pl.render()
+        plain = pl.screenshot(return_img=True)
+        p.decorate(pl)
+        assert FORMULA_ACTOR in pl.actors
+        w, h = pl.actors[FORMULA_ACTOR].image_size
+        assert w <= 0.62 * 800 and h <= 0.3 * 600        # typeset for that picture's size
+        axes = pl.renderer.cube_axes_actor
+        assert axes is not None and axes.GetZTitle() == "z"
+        pl.render()
+        decorated = pl.screenshot(return_img=True)
+        assert np.any(decorated[-h:, -w:] != plain[-h:, -w:])
+    finally:
+        pl.close()
+    p.leave()
+
+
+def test_a_card_that_cannot_be_drawn_is_plain_text(qtbot, presenting, monkeypatch):
+    import app.qt_presentation as qp
+
+    window, p = presenting
+
+    def broken(*a, **kw):
+        raise ImportError("no matplotlib here")
+
+    monkeypatch.setattr(qp, "typeset_system", broken)
+    p.enter()
+    actor = p.formula_actor()
+    assert actor is not None and actor.GetInput() == "x^2 + y^2 - z^2 - a = 0\na = 0.5"
+    window.screenshot_array()
+    p.leave()
