@@ -246,3 +246,25 @@ def test_a_card_that_cannot_be_drawn_is_plain_text(qtbot, presenting, monkeypatc
     assert actor is not None and actor.GetInput() == "x^2 + y^2 - z^2 - a = 0\na = 0.5"
     window.screenshot_array()
     p.leave()
+
+
+def test_a_step_during_a_run_cancels_it_and_opens_the_example_when_it_has_stopped(qtbot, presenting, monkeypatch):
+    from app.qt_presentation import example_names
+
+    window, p = presenting
+    names = example_names()
+    opened, cancels = [], []
+    running = [True]
+    monkeypatch.setattr(window, "is_running", lambda: running[0])
+    monkeypatch.setattr(window, "cancel", lambda: cancels.append(1))
+    monkeypatch.setattr(window, "load_example", lambda name, **kw: opened.append(name) or True)
+    p.enter()
+    start = names.index("hyperboloid")
+    assert p.next_example() == names[start + 1]
+    assert p.next_example() == names[start + 2]      # pressed again before the run stopped: the later one wins
+    assert cancels and not opened
+    assert p.caption().startswith(f"{start + 3}/{len(names)} ")
+    running[0] = False
+    window.runFinished.emit("cancelled")
+    qtbot.waitUntil(lambda: opened == [names[start + 2]], timeout=2000)
+    p.leave()
