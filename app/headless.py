@@ -455,35 +455,38 @@ def sweep_images(scene, names, view, complexes, spec, style, mapping: str = "ort
     # the caption's font: the title's, smaller where the longest caption would not fit in 60 % of the width
     # (a character is about 0.95 font units wide)
     w = int(pl.window_size[0])
-    longest = param_caption(spec.param, -max(abs(spec.lo), abs(spec.hi)), step, -10, 10)
+    far = -max(abs(spec.lo), abs(spec.hi))
+    longest = max(param_caption(spec.param, far, step, -10, 10), param_caption(spec.param, far, step, 0, 0), key=len)
     font = max(6, min(scene._font(18), int(0.6 * w / (0.95 * len(longest)))))
     for k, cx in enumerate(complexes):
+        empty = not cx.count(0)
         st = copy.copy(style)
         st.subtitle = view_subtitle(cx, names, style.color_by, style.two_sided, mapping, style.labels)
         geo = None
-        if cx.count(0):
+        if not empty:
             geo = Geometry.build(cx, lod=False)
             geo.projector = Projector(cx.vertices, center=center)   # (not each frame's own centre)
             geo.projector.set_radii(radii)
-        scene.set_complex(cx, names, view, st, geometry=geo)
-        copy_camera(camera, pl.camera)
-        if clim is not None and scene.actor is not None:
-            scene.actor.mapper.scalar_range = clim
-        if boundary and cx.count(0):
-            draw_overlays(scene, cx, boundary=True)
         value = float(cx.meta.get("params", {}).get(spec.param, values[k]))
-        caption = param_caption(spec.param, value, step, cx.euler_characteristic() if cx.count(0) else 0,
-                                cx.connected_components() if cx.count(0) else 0)
-        pl.add_text(caption, position=(0.03, 0.055), viewport=True, font_size=font, color="white",
-                    name="gcmh-sweep-caption", render=False)
+        caption = param_caption(spec.param, value, step, 0 if empty else cx.euler_characteristic(),
+                                0 if empty else cx.connected_components())
         note = critical_note(spec.param, int(cx.meta.get("singular_vertices") or 0))
-        if note:
-            small = max(6, min(int(font * 0.6), int(0.9 * w / (0.95 * len(note)))))
-            pl.add_text(note, position=(0.03, 0.015), viewport=True, font_size=small,
-                        color=CRITICAL_COLOUR, name="gcmh-sweep-note", render=False)
-        else:
-            pl.remove_actor("gcmh-sweep-note", render=False)
-        pl.renderer.ResetCameraClippingRange()
+        with scene.held_render(render=False):   # (each added actor would render: one render a frame)
+            scene.set_complex(cx, names, view, st, geometry=geo)
+            copy_camera(camera, pl.camera)
+            if clim is not None and scene.actor is not None:
+                scene.actor.mapper.scalar_range = clim
+            if boundary and not empty:
+                draw_overlays(scene, cx, boundary=True)
+            pl.add_text(caption, position=(0.03, 0.055), viewport=True, font_size=font, color="white",
+                        name="gcmh-sweep-caption", render=False)
+            if note:
+                small = max(6, min(int(font * 0.6), int(0.9 * w / (0.95 * len(note)))))
+                pl.add_text(note, position=(0.03, 0.015), viewport=True, font_size=small,
+                            color=CRITICAL_COLOUR, name="gcmh-sweep-note", render=False)
+            else:
+                pl.remove_actor("gcmh-sweep-note", render=False)
+            pl.renderer.ResetCameraClippingRange()
         pl.render()
         img = pl.screenshot(None, return_img=True)
         if progress is not None:
@@ -541,7 +544,7 @@ def _param_animation(opts: Options, prep) -> int:
                                           transparent=opts.transparent)
     except InputError as e:
         return fail(str(e))
-    chis = [cx.euler_characteristic() if cx.count(0) else None for cx in complexes]
+    chis = [cx.euler_characteristic() if cx.count(0) else "empty" for cx in complexes]
     steps = [f"{chis[0]}"] + [f"{b} at {spec.param} = {cx.meta['params'][spec.param]:.3g}"
                               for a, b, cx in zip(chis, chis[1:], complexes[1:]) if a != b]
     critical = [f"{cx.meta['params'][spec.param]:.3g}" for cx in complexes if cx.meta.get("singular_vertices")]

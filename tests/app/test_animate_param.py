@@ -52,6 +52,7 @@ def test_caption_shows_value_topology_and_the_critical_value():
     assert param_caption("a", -0.5, 2 / 23, 2, 2) == "a = -0.50   chi = 2   2 components"
     assert param_caption("a", -1e-9, 0.5, 0, 1) == "a = 0.00   chi = 0   1 component"   # never "-0.00"
     assert param_caption("c", 0.1234, 0.001, 0, 1).startswith("c = 0.123 ")   # decimals follow the step
+    assert param_caption("r", 0.0, 0.5, 0, 0) == "r = 0.00   empty: M does not meet the box (or the grid misses it)"
     assert critical_note("a", 0) == ""
     assert "critical value of a" in critical_note("a", 86) and "86 vertices" in critical_note("a", 86)
 
