@@ -189,7 +189,7 @@ def param_caption(name: str, value: float, step: float, chi: int, components: in
     digits = 2 if not step else min(6, max(2, int(np.ceil(-np.log10(abs(step))))))
     v = round(float(value), digits) + 0.0   # (+ 0.0: no "-0.00")
     if not components:
-        return f"{name} = {v:.{digits}f}   empty: M does not meet the box (or the grid misses it)"
+        return f"{name} = {v:.{digits}f}   empty (M misses the grid)"
     return (f"{name} = {v:.{digits}f}   chi = {int(chi)}   "
             f"{int(components)} component{'' if int(components) == 1 else 's'}")
 

@@ -52,7 +52,7 @@ def test_caption_shows_value_topology_and_the_critical_value():
     assert param_caption("a", -0.5, 2 / 23, 2, 2) == "a = -0.50   chi = 2   2 components"
     assert param_caption("a", -1e-9, 0.5, 0, 1) == "a = 0.00   chi = 0   1 component"   # never "-0.00"
     assert param_caption("c", 0.1234, 0.001, 0, 1).startswith("c = 0.123 ")   # decimals follow the step
-    assert param_caption("r", 0.0, 0.5, 0, 0) == "r = 0.00   empty: M does not meet the box (or the grid misses it)"
+    assert param_caption("r", 0.0, 0.5, 0, 0) == "r = 0.00   empty (M misses the grid)"
     assert critical_note("a", 0) == ""
     assert "critical value of a" in critical_note("a", 86) and "86 vertices" in critical_note("a", 86)
 
@@ -204,3 +204,14 @@ def test_the_animate_tab_offers_a_parameter_sweep_and_exports_it(qtbot, tmp_path
 
     panel.set_parameters({})                                      # a system without parameters
     assert panel.mode_combo.findData(PARAM_MODE[0]) < 0 and panel.mode() == "rotate"
+
+
+def test_param_sets_a_screenshot_parameter_and_needs_a_headless_mode(tmp_path):
+    png = tmp_path / "two-sheets.png"
+    r = _app("--example", "hyperboloid", "--div", "20", "--param", "a=-0.3", "--screenshot", str(png),
+             "--size", "160x120")
+    assert r.returncode == 0, r.stderr
+    assert "chi = 2" in r.stdout and Image.open(png).size == (160, 120)
+    r = _app("--example", "hyperboloid", "--param", "a=-0.3")   # (the window takes it from its slider)
+    lines = [line for line in r.stderr.splitlines() if line.strip()]
+    assert r.returncode == 2 and len(lines) == 1 and "--param goes with --screenshot or --animate" in lines[0]
