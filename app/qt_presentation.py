@@ -164,6 +164,8 @@ class _Keys(QObject):
             return True
         if ev.type() == QEvent.Resize and obj is p.window.viewer.widget:
             p._relayout.start()
+        elif ev.type() == QEvent.Close and obj is p.window:
+            p.closing()
         return False
 
 
@@ -216,6 +218,7 @@ class QtPresentation(QObject):
         for signal, slot in self._connections:   # after the viewer's own slots: it has framed the object
             signal.connect(slot)
         window.viewer.widget.installEventFilter(self._keys)
+        window.installEventFilter(self._keys)
         self._observer = window.plotter.ren_win.AddObserver("StartEvent", self._before_render)
 
     # ------------------------------------------------------------------ installing
@@ -262,11 +265,21 @@ class QtPresentation(QObject):
             except (TypeError, RuntimeError):
                 pass
         self.window.viewer.widget.removeEventFilter(self._keys)
+        self.window.removeEventFilter(self._keys)
         try:
             self.window.plotter.ren_win.RemoveObserver(self._observer)
         except Exception:  # noqa: BLE001 - the render window is gone already
             pass
         self.setObjectName("")
+
+    def closing(self) -> None:
+        """The window closes (its plotter with it): out of presentation mode, and no more render hooks."""
+        self.leave()
+        self._relayout.stop()
+        try:
+            self.window.plotter.ren_win.RemoveObserver(self._observer)
+        except Exception:  # noqa: BLE001 - the render window is gone already
+            pass
 
     # ------------------------------------------------------------------ presentation mode
     def toggle(self) -> None:
