@@ -48,6 +48,7 @@ from .scene import (
     screen_coordinates,
     view_subtitle,
 )
+from .studio_io import apply_camera, camera_state
 
 SETTLE_MS = 250          # a view at rest this long is drawn in full again
 DRAG_DEGREES = 0.4       # per pixel of a Shift-drag
@@ -142,9 +143,12 @@ class QtViewer:
         The first result gets the default oblique view; later ones keep the camera's direction
         (and, with "keep camera", the whole camera)."""
         first = self.scene.mesh is None and self._mapping is None
+        held = None if first or not self.keep_camera() else camera_state(self.plotter.camera)
         with self.scene.held_render(render=False):
             self.scene.set_complex(self.model.result, self.model.names, self.panel.model.view(), self.style(),
                                    geometry=geometry)
+            if held is not None:    # (set_complex resets the camera to the new bounds)
+                apply_camera(self.plotter.camera, held)
             self.clear_pick()
             self.apply_overlays(self.scene)
             self.apply_slice(render=False)
@@ -343,6 +347,22 @@ class QtViewer:
         return self.pick_cell(cid)
 
     # ------------------------------------------------------------ camera and pictures
+    def camera_session(self) -> dict:
+        """The camera and the "keep camera" toggle, for a session file (:func:`app.studio_io.session_dict`)."""
+        return {"camera": camera_state(self.plotter.camera), "keep_camera": self.keep_camera()}
+
+    def restore_camera(self, camera: dict | None, keep: bool) -> None:
+        """A session's camera (:func:`app.studio_io.session_camera`) as it was saved, and the "keep camera"
+        toggle as the user left it (held, later results and changes of mapping leave the camera alone)."""
+        from .studio_io import valid_camera
+
+        self.panel.keep_camera_check.setChecked(bool(keep))
+        camera = valid_camera(camera)
+        if camera is not None and self.scene.complex is not None:
+            apply_camera(self.plotter.camera, camera)
+            self.plotter.renderer.ResetCameraClippingRange()
+        self.render()
+
     def reset_camera(self) -> None:
         """The default oblique view, framed."""
         default_camera(self.plotter)

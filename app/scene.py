@@ -439,11 +439,11 @@ class Scene:
                 self._still_lights = None
             return
         if self._still_lights is None:
-            import vtk
+            from vtkmodules.vtkRenderingCore import vtkLight  # (not ``import vtk``: that loads every module, 1.3 s)
 
             lights = ren.GetLights()
             self._still_lights = [lights.GetItemAsObject(i) for i in range(lights.GetNumberOfItems())]
-            head = vtk.vtkLight()
+            head = vtkLight()
             head.SetLightTypeToHeadlight()
             ren.RemoveAllLights()
             ren.AddLight(head)
@@ -617,9 +617,9 @@ class Scene:
         """The complex's cell (2-cell, or edge of a curve) drawn at pixel ``display_xy`` (x, y from bottom left)."""
         if self.mesh is None or self.actor is None:
             return None
-        import vtk
+        from vtkmodules.vtkRenderingCore import vtkCellPicker
 
-        picker = vtk.vtkCellPicker()
+        picker = vtkCellPicker()
         picker.SetTolerance(0.002)
         picker.PickFromListOn()
         picker.AddPickList(self.actor)

@@ -1,7 +1,8 @@
 """Sessions and exports of GCMH Studio, without Qt.
 
 A session is a JSON file (format ``gcmh-session/1``): the title, the Manifold
-tab's system, the View tab's view and the camera. Exports write the cell
+tab's system, the View tab's view, the camera and whether the user held it
+("keep camera"; files written before it was saved load as not held). Exports write the cell
 complex (.npz or .vtu) or the projected 3D mesh (.ply, .obj, .vtp, .stl,
 .vtk). The window asks for the paths and reports; the files are written here.
 """
@@ -31,10 +32,53 @@ def apply_camera(camera, state: dict) -> None:
     camera.parallel_scale = state.get("parallel_scale", camera.parallel_scale)
 
 
-def session_dict(model, camera: dict) -> dict:
-    """The session of an :class:`app.model.StudioModel` with a :func:`camera_state`."""
+def valid_camera(state) -> dict | None:
+    """``state`` if it is a usable :func:`camera_state` (three finite numbers for the position, focal
+    point and up, an eye apart from the focal point, a positive view angle and scale if given), else None:
+    a hand-edited file must not put a traceback or a blank view on the screen."""
+    import math
+
+    if not isinstance(state, dict):
+        return None
+
+    def vec(key):
+        v = state.get(key)
+        if not isinstance(v, (list, tuple)) or len(v) != 3:
+            return None
+        try:
+            v = [float(x) for x in v]
+        except (TypeError, ValueError):
+            return None
+        return v if all(math.isfinite(x) for x in v) else None
+
+    pos, focal, up = vec("position"), vec("focal_point"), vec("up")
+    if pos is None or focal is None or up is None or pos == focal or not any(up):
+        return None
+    out = {"position": pos, "focal_point": focal, "up": up}
+    for key, hi in (("view_angle", 179.0), ("parallel_scale", math.inf)):
+        if key in state:
+            try:
+                x = float(state[key])
+            except (TypeError, ValueError):
+                return None
+            if not (0.0 < x < hi):
+                return None
+            out[key] = x
+    return out
+
+
+def session_dict(model, camera: dict, keep_camera: bool = False) -> dict:
+    """The session of an :class:`app.model.StudioModel` with a :func:`camera_state` and the "keep camera"
+    toggle (the camera is saved either way; opening puts it back exactly when it was held)."""
     return {"format": SESSION_FORMAT, "title": model.title, "system": dict(model.system), "view": dict(model.view),
-            "camera": camera}
+            "camera": camera, "keep_camera": bool(keep_camera)}
+
+
+def session_camera(session: dict) -> tuple[dict | None, bool]:
+    """(camera, keep) of a :func:`read_session` result: the saved camera (None if there is none or it is
+    not usable) and whether the user held it (False for files saved before the toggle was)."""
+    keep = session.get("keep_camera", False)
+    return valid_camera(session.get("camera")), keep if isinstance(keep, bool) else False
 
 
 def write_session(path, session: dict) -> Path:
@@ -53,6 +97,7 @@ def read_session(path) -> dict:
         raise ValueError(f"not a GCMH session file (format {SESSION_FORMAT!r} expected)")
     if not isinstance(d.get("system"), dict):
         raise ValueError("the session has no system")
+    d["camera"], d["keep_camera"] = session_camera(d)
     return d
 
 
