@@ -24,11 +24,14 @@ The window's menus stay as they are; this controller only adds actions through
 from __future__ import annotations
 
 import functools
+from collections.abc import Sequence
 
 import numpy as np
 from qtpy.QtCore import QEvent, QObject, Qt, QTimer
 from qtpy.QtGui import QKeySequence
 from qtpy.QtWidgets import QAction, QApplication, QDockWidget, QSplitter, QToolBar, QWidget
+
+from gcmh_core.examples import Example
 
 from .typeset import typeset_system
 
@@ -62,7 +65,7 @@ def example_names() -> list[str]:
         return []
 
 
-def example_for(title: str, names) -> object | None:
+def example_for(title: str, names: Sequence[str]) -> Example | None:
     """The example a result with this title and these variables came from, or None (a system typed in)."""
     if not title:
         return None
@@ -381,7 +384,9 @@ class QtPresentation(QObject):
         if w.result is None or job is None:
             return None
         ex = example_for(w.model.title, w.result_names)
-        cplx = (tuple(ex.complex), tuple(ex.complex_variables)) if ex is not None and ex.complex else (None, None)
+        cplx: tuple = (None, None)
+        if ex is not None and ex.complex and ex.complex_variables:
+            cplx = (tuple(ex.complex), tuple(ex.complex_variables))
         params = tuple(sorted((job.params or {}).items()))
         return (tuple(job.formulas), tuple(job.variables), params) + cplx
 
@@ -445,9 +450,9 @@ class QtPresentation(QObject):
             actor = self.card_actor(key, (w, h), bool(getattr(plotter, "scalar_bars", None)))
             if actor is not None:
                 plotter.add_actor(actor, name=FORMULA_ACTOR, reset_camera=False, pickable=False, render=False)
-        axes = getattr(self.window.plotter.renderer, "cube_axes_actor", None)
-        if getattr(axes, "_gcmh_key", None) is not None:
-            add_axes(plotter, axes._gcmh_key)
+        key = getattr(getattr(self.window.plotter.renderer, "cube_axes_actor", None), "_gcmh_key", None)
+        if key is not None:
+            add_axes(plotter, key)
 
     def formula_actor(self):
         """The VTK actor of the typeset card (None when none is shown)."""
@@ -583,7 +588,7 @@ class QtPresentation(QObject):
         counts = tuple(5 if r >= 0.5 * sides.max() else 3 for r in sides)
         actor = getattr(pl.renderer, "cube_axes_actor", None)
         key = getattr(actor, "_gcmh_key", None)
-        if key is not None and key[3:] == (font, counts):
+        if actor is not None and key is not None and key[3:] == (font, counts):
             if key[:3] != (bounds, titles, ranges):
                 actor.bounds = bounds
                 actor.x_axis_range, actor.y_axis_range, actor.z_axis_range = ranges[0:2], ranges[2:4], ranges[4:6]

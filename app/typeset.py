@@ -199,17 +199,18 @@ def system_lines(formulas: Sequence[str], variables: Sequence[str], params: Mapp
     except Exception:  # noqa: BLE001 - each formula says for itself below
         parameters = list(params)
     lines: list[Line] = []
-    over_c = bool(complex_equations and complex_variables
-                  and _split_matches(formulas, variables, complex_equations, complex_variables))
+    ceqs = [str(e) for e in complex_equations or ()]
+    cvars = [str(v) for v in complex_variables or ()]
+    over_c = bool(ceqs and cvars and _split_matches(formulas, variables, ceqs, cvars))
     rest = formulas
     if over_c:
-        for eq in complex_equations:
-            lines.append(_line(lambda eq=eq: complex_equation_latex(eq, complex_variables, parameters), eq))
-        rest = formulas[2 * len(complex_equations):]
+        for eq in ceqs:
+            lines.append(_line(lambda eq=eq: complex_equation_latex(eq, cvars, parameters), eq))
+        rest = formulas[2 * len(ceqs):]
     for f in rest:
         lines.append(_line(lambda f=f: equation_latex(f, variables, parameters), f"{f} = 0"))
     if over_c:
-        lines.append(_line(lambda: _naming(complex_variables, variables), ""))
+        lines.append(_line(lambda: _naming(cvars, variables), ""))
     if params:
         lines.append(_line(lambda: params_latex(params),
                            ",  ".join(f"{p} = {v:g}" for p, v in params.items())))
