@@ -381,6 +381,29 @@ LOD_SKELETON_CELLS = 60_000  # a 2-skeleton (dim >= 3) with more 2-cells gets on
 # coarse copy blurs: the three-torus at its div, 27,648 cells)
 
 
+def row_ids(key: np.ndarray) -> np.ndarray:
+    """Dense ids (0..m-1) of the distinct rows of ``key`` (N, n) int64, numbered in the rows' lexicographic
+    order: ``np.unique(key, axis=0, return_inverse=True)[1]``, by sorts of one int64 column. (np.unique
+    over rows sorts a void dtype and holds the GIL the whole time: the GUI thread stalled 0.25 s while
+    the worker made the coarse copy of a large result.)"""
+    key = np.asarray(key, dtype=np.int64)
+    if key.ndim != 2 or len(key) == 0:
+        return np.zeros(len(key), dtype=np.int64)
+    key = key - key.min(axis=0)            # (a shift per column keeps the order)
+    acc = np.zeros(len(key), dtype=np.int64)
+    top = 1                                # acc < top
+    for j in range(key.shape[1]):
+        r = int(key[:, j].max()) + 1
+        if top * r >= 2**62:               # would overflow: renumber what is there densely first
+            _, acc = np.unique(acc, return_inverse=True)
+            acc = acc.ravel().astype(np.int64)
+            top = int(acc.max()) + 1
+        acc = acc * r + key[:, j]
+        top *= r
+    _, ids = np.unique(acc, return_inverse=True)
+    return ids.ravel().astype(np.int64)
+
+
 def coarse_geometry(geo: Geometry, V: np.ndarray, target: int = LOD_TARGET) -> Geometry:
     """A coarse copy of ``geo`` (vertices ``V`` (V, n)) by vertex clustering in R^n: vertices in one cube
     of side h merge into their mean, loops keep the corners that remain distinct (those with fewer than
@@ -396,8 +419,7 @@ def coarse_geometry(geo: Geometry, V: np.ndarray, target: int = LOD_TARGET) -> G
     h = float(np.linalg.norm(span)) / max(len(X), 1) ** (1.0 / dim) * (len(X) / max(target, 1)) ** (1.0 / dim)
     for _ in range(3):
         key = np.floor((Xf - lo) / max(h, 1e-300)).astype(np.int64)
-        _, cid = np.unique(key, axis=0, return_inverse=True)
-        cid = cid.ravel()
+        cid = row_ids(key)
         m = int(cid.max()) + 1
         if m <= 1.5 * target:
             break

@@ -164,3 +164,16 @@ def test_klein_seam_swaps_the_sides():
     dm = np.linalg.norm(cent[mid, None, :3] - cent[None, mid, :3], axis=2) + np.eye(len(mid)) * 9
     nb = np.argmin(dm, axis=1)
     assert np.mean(np.einsum("ij,ij->i", N[mid], N[mid[nb]]) > 0) > 0.9
+
+
+@pytest.mark.parametrize("shape,spread", [((1000, 3), 5), ((5000, 10), 3000), ((300, 1), 7), ((1, 6), 4),
+                                          ((2000, 5), 2**40)])
+def test_row_ids_number_rows_as_numpy_unique_does(shape, spread):
+    """The coarse copy's clusters: the same ids as np.unique over rows (which held the GIL), negative keys,
+    ten columns and keys too wide to combine in one int64 included."""
+    from app.geometry import row_ids
+
+    key = np.random.default_rng(shape[0]).integers(-spread, spread, size=shape)
+    key[::7] = key[0]                                 # repeated rows
+    expected = np.unique(key, axis=0, return_inverse=True)[1].ravel()
+    assert np.array_equal(row_ids(key), expected)
