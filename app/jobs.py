@@ -40,6 +40,7 @@ class Job:
     params: dict | None = None        # the formulas' parameters, {name: value}
     periodic: list | None = None      # glued axes, e.g. ["t", "s:flip=t"] (extract's periodic=)
     labels: dict | None = None        # what the variables mean, {"u": "Re w"} (complex mode; not the engine's)
+    title: str = ""                   # what a system typed in is called on screen (complex mode: its equations)
     step: str | None = None           # a parameter step: "coarse" (a slider held) or "full" (let go); None: a run
     extra: dict = field(default_factory=dict)
 

@@ -1004,7 +1004,8 @@ class QtFormulaPanel(QWidget):
         return Job(formulas=self.formulas(), variables=self.variables(), bounds=self.bounds(),
                    div=self.div(), method=self.method(), seed=self.seed_spin.value(), start=self.start(),
                    scheduler=check_scheduler(self.scheduler_edit.text())[1], params=self.params() or None,
-                   periodic=self.periodic() or None, labels=self.labels() or None)
+                   periodic=self.periodic() or None, labels=self.labels() or None,
+                   title=", ".join(self.complex_equations()) if self.is_complex() else "")
 
     def periodic(self) -> list[str]:
         """The glued axes as extract's periodic= list ([] when none or the field is wrong)."""

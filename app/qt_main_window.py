@@ -71,10 +71,11 @@ except ImportError:
 
 DEFAULT_EXAMPLE = "klein-bottle"
 
-# a parameter step while a slider is held: its grid is coarsened until a step (extraction and drawing) takes
-# about this long; never below COARSE_MIN_DIV cubes an axis (nor above the full div)
-COARSE_STEP_SECONDS = 0.1
-COARSE_MIN_DIV = 4
+# a parameter step while a slider is held: its grid is coarsened until the step's computing (extraction, drawing
+# arrays, topology; before the render, which the grid hardly changes: ~0.1 s in software GL) takes about this
+# long; never below COARSE_MIN_DIV cubes an axis (nor above the full div)
+COARSE_COMPUTE_SECONDS = 0.05
+COARSE_MIN_DIV = 6
 COARSE_MAX_CUBES = 300_000   # the first coarse grid's size at most (the Klein bottle: about 50 ms on 2 cores)
 
 
@@ -91,6 +92,9 @@ class _Viewer(QtViewer):
             two = pp.two_sided_check.isChecked()
             mapping = pp.model.mapping if pp.model.n >= 4 else "orthographic"
             st.subtitle = view_subtitle(self.model.result, self.model.names, pp.color_by(), two, mapping, st.labels)
+        params = (self.model.result.meta.get("params") if self.model.result is not None else None) or {}
+        if params:   # the picture says at which values it was made (a class watching a slider reads them)
+            st.subtitle = "  ".join(f"{p} = {format_value(v)}" for p, v in params.items()) + " \u00b7 " + st.subtitle
         return st
 
 
@@ -359,8 +363,21 @@ class QtMainWindow(QMainWindow):
             if state is None:
                 self.set_status(f"Nothing to {what}.")
                 return False
+            before = self.formula_panel.state()
             if self._restore(state):
+                self._follow_parameters(before)
                 return True
+
+    def _follow_parameters(self, before: dict) -> None:
+        """An undo or redo that changed only the parameters' values of the system on screen shows the
+        manifold at the values it brought back (as a slider let go would)."""
+        after = self.formula_panel.state()
+        values = [{p: s["value"] for p, s in (d.get("params") or {}).items()} for d in (before, after)]
+        rest = [{key: v for key, v in d.items() if key != "params"} for d in (before, after)]
+        job = self.model.job
+        if (values[0] != values[1] and rest[0] == rest[1] and self.result is not None and job is not None
+                and list(job.formulas) == self.formula_panel.formulas()):
+            self.parameter_step(coarse=False)
 
     def _restore(self, state: dict) -> bool:
         """Show ``state`` (a History entry) in the panels; False if nothing changed."""
@@ -563,7 +580,7 @@ class QtMainWindow(QMainWindow):
             chi = "?"
         return (f"{name} = {format_value(params[name])} is a critical value: F's Jacobian loses rank at {k} "
                 f"vertices, so M is singular there (a cone point, a pinch) and \u03c7 = {chi} describes the grid's "
-                f"picture of a singular set, not a manifold. Move {name} a little to either side to see the "
+                f"picture of a singular set, not a manifold. Move the slider a little to either side to see the "
                 "topology on each side.")
 
     def _on_checked(self) -> None:
@@ -639,12 +656,14 @@ class QtMainWindow(QMainWindow):
         job = self.model.job
         self.progress.setValue(1000)
         self.progress.setFormat(f"done \u00b7 {self.runs.elapsed():.1f} s")
+        computed = time.perf_counter() - self._step_t0   # (a step's computing, before it is drawn)
         # a parameter step of the system on screen keeps the whole view: projection, turns, slice, colour, camera
         keep = job.step is not None and self.result is not None and list(job.variables) == self.model.names
         view = None if keep else self.model.take_view()
         title = self.model.title_for(job.formulas, job.variables)
         if not title:   # a system typed in: the last example's description no longer applies
             self.show_description("", "")
+            title = job.title
         camera = studio_io.camera_state(self.plotter.camera) if keep else None
         try:
             self.show_result(cx, job.variables, view=view, title=title, geometry=geometry, report=report,
@@ -661,7 +680,7 @@ class QtMainWindow(QMainWindow):
         if notice and self.topology_panel is not None:
             euler = self.topology_panel.values.get("euler")
             if euler is not None:
-                euler.setText(f"{euler.text()}  \u2014 critical value: M is singular")
+                euler.setText(f"{euler.text()}  (critical value)")
                 euler.setStyleSheet("color: #a04000; font-weight: bold;")
         if cx.count(0) == 0:
             self.set_status(EMPTY_RESULT, error=True)
@@ -673,10 +692,10 @@ class QtMainWindow(QMainWindow):
             self.last_step_seconds = time.perf_counter() - self._step_t0
             if job.step == "coarse" and self._coarse[0] == self._step_key(job):   # aim the next coarse grid
                 key, f = self._coarse
-                if self.last_step_seconds > COARSE_STEP_SECONDS:
-                    f = max(0.05, f * 0.8)
-                elif self.last_step_seconds < 0.4 * COARSE_STEP_SECONDS:
-                    f = min(0.5, f * 1.2)
+                if computed > COARSE_COMPUTE_SECONDS:
+                    f = max(0.25, f * 0.85)   # (coarser than a quarter: a picture too rough to follow)
+                elif computed < 0.4 * COARSE_COMPUTE_SECONDS:
+                    f = min(0.5, f * 1.15)
                 self._coarse = (key, f)
         self.runFinished.emit("done")
 

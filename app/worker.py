@@ -192,15 +192,15 @@ class ExtractWorker(QThread):
     def _estimate_and_ask(self) -> bool:
         """Estimate the run; when it won't fit, ask (through ``confirm``) and follow the answer.
         False: the user declined."""
+        if self.job.step is not None:
+            # a slider step: the grid of a run the user started (or a coarser one), so no estimate first (its
+            # helper thread's hand-off is a tenth of a coarse step); the engine still refuses what won't fit
+            return True
         self.progress.emit("estimating", 0.0, time.perf_counter() - self._t0)
         est = self.estimate = self._estimate()
         self.estimated.emit(est)
         if est.fits or self.job.force:
             return True
-        if self.job.step is not None:   # a slider step never opens a dialog: Run asks
-            from gcmh_core.errors import InputError
-
-            raise InputError("this parameter value's run would not fit: press Run to be asked")
         self.confirm.emit(est)
         self._wait(self._answered.is_set)
         if self._answer == "gcch":

@@ -56,6 +56,7 @@ def test_z_squared_equals_w_equals_the_hand_split_system(qtbot, window):
     assert [p.table.item(r, 0).text() for r in range(4)] == ["-2"] * 4   # C^m's default box
     assert "F1 = a**2 - b**2 - c" in p.split_label.text()
     assert run_and_wait(qtbot, window) == "done", window.last_status
+    assert window.scene.style.title == "z^2 = w"   # a system typed in is called by its equation
     hand = gcmh_core.extract(["a^2 - b^2 - c", "2*a*b - d"], bounds=[(-2, 2)] * 4, div=8,
                              variables=["a", "b", "c", "d"])
     _same(window.result, hand)
