@@ -9,8 +9,12 @@ Equations are written as on a blackboard: a component ``F_i`` is shown as
 ``lhs = rhs`` with the terms free of variables moved to the right
 (``x^2 + y^2 - z^2 - a`` -> x^2 + y^2 - z^2 = a), a variable that appears once
 and alone as a graph (``... - x`` -> x = ...), else the negative terms on the
-right; an example written over C shows its complex equations
+right; the terms of a sum in the order the text names their symbols (``z^2 + w^3``,
+not sympy's ``w^3 + z^2``); an example written over C shows its complex equations
 (``z = cos(w)``) and how the real variables name them (w = u + i v).
+
+Each line is drawn once per font size and kept: while a parameter moves, only its
+own line (``a = 0.30``) is drawn again.
 
 Failing soft: a formula that cannot be parsed or typeset becomes a line of plain
 text (its own text, ``= 0``), never an exception.
@@ -22,6 +26,7 @@ text (its own text, ``= 0``), never an exception.
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 from collections.abc import Mapping, Sequence
@@ -52,12 +57,27 @@ class Line:
 
 # ---------------------------------------------------------------------------- LaTeX
 class _Latex(LatexPrinter):
-    """sympy's LaTeX with the terms of a sum in reading order: positive terms first, numbers last
-    (sympy's own order starts ``- a + x^{2}``)."""
+    """sympy's LaTeX with the terms of a sum in the order the text names their symbols (``z^2 + w^3`` as
+    typed, where sympy writes ``w^{3} + z^{2}``), numbers last, and never a leading minus when a term is
+    positive (sympy's own order starts ``- a + x^{2}``). ``positions``: {symbol name: where the text
+    first names it}."""
+
+    def __init__(self, positions: Mapping[str, int] | None = None):
+        super().__init__({"fold_func_brackets": True, "full_prec": False})
+        self.positions = dict(positions or {})
+
+    def _first(self, term) -> int:
+        return min((self.positions.get(s.name, len(self.positions) + 10**6) for s in term.free_symbols),
+                   default=10**9)
 
     def _print_Add(self, expr, order=None):
         terms = sorted(self._as_ordered_terms(expr, order=order),
-                       key=lambda t: (bool(t.is_number), bool(t.could_extract_minus_sign())))
+                       key=lambda t: (bool(t.is_number), self._first(t)))
+        if terms[0].could_extract_minus_sign():
+            first = next((t for t in terms if not t.could_extract_minus_sign()), None)
+            if first is not None:
+                terms.remove(first)
+                terms.insert(0, first)
         tex = ""
         for i, term in enumerate(terms):
             if i:
@@ -73,16 +93,24 @@ class _Latex(LatexPrinter):
         return tex
 
 
-_PRINTER = _Latex({"fold_func_brackets": True, "full_prec": False})
+def _positions(text: str) -> dict[str, int]:
+    """{name: where ``text`` first names it}, for :class:`_Latex`."""
+    found: dict[str, int] = {}
+    for m in re.finditer(r"[^\W\d]\w*", text):
+        found.setdefault(m.group(), m.start())
+    return found
+
+
 # mathtext sets "\\sin t \\cos s" as "sin tcos s" (TeX spaces operators): a thin space after a factor
 _OPERATOR_SPACE = re.compile(r"(?<=[\w})])\s+\\(?=(?:a?sin|a?cos|a?tan|sinh|cosh|tanh|log|exp|max|min|operatorname)\b)")
 
 
-def _latex(expr: sympy.Expr) -> str:
+def _latex(expr: sympy.Expr, text: str = "") -> str:
+    """LaTeX of ``expr``, its sums in the order ``text`` (the formula it was read from) names the symbols."""
     # the parser's pairwise max/min (kept unevaluated for speed) print as \max and \min
     expr = expr.replace(lambda e: type(e).__name__ in ("_Max2", "_Min2"),
                         lambda e: (sympy.Max if type(e).__name__ == "_Max2" else sympy.Min)(*e.args, evaluate=False))
-    return _OPERATOR_SPACE.sub(r"\\,\\", _PRINTER.doprint(expr))
+    return _OPERATOR_SPACE.sub(r"\\,\\", _Latex(_positions(text)).doprint(expr))
 
 
 def _sides(expr: sympy.Expr, variables: set) -> tuple[sympy.Expr, sympy.Expr]:
@@ -117,7 +145,7 @@ def equation_latex(text: str, variables: Sequence[str], parameters: Sequence[str
     system = parse_system([text], variables + [p for p in parameters if p not in variables])
     symbols = {sympy.Symbol(v, real=True) for v in variables}
     lhs, rhs = _sides(system.exprs[0], symbols)
-    return f"{_latex(lhs)} = {_latex(rhs)}"
+    return f"{_latex(lhs, text)} = {_latex(rhs, text)}"
 
 
 def complex_equation_latex(text: str, complex_variables: Sequence[str], parameters: Sequence[str] | None = None) -> str:
@@ -139,7 +167,7 @@ def complex_equation_latex(text: str, complex_variables: Sequence[str], paramete
     names += [p for p in parameters if p not in names]
     exprs = parse_system(sides, names).exprs
     rhs = exprs[1] if len(exprs) == 2 else sympy.Integer(0)
-    return f"{_latex(exprs[0])} = {_latex(rhs)}"
+    return f"{_latex(exprs[0], text)} = {_latex(rhs, text)}"
 
 
 def _number(value: float) -> str:
@@ -191,16 +219,24 @@ def system_lines(formulas: Sequence[str], variables: Sequence[str], params: Mapp
     are still those parts, with a line naming the real variables. A formula that cannot be typeset
     is a plain-text line.
     """
-    formulas = [str(f) for f in formulas]
-    variables = [str(v) for v in variables]
     params = dict(params or {})
+    lines = list(_equation_lines(tuple(str(f) for f in formulas), tuple(str(v) for v in variables),
+                                 tuple(str(e) for e in complex_equations or ()),
+                                 tuple(str(v) for v in complex_variables or ()), tuple(params)))
+    if params:
+        lines.append(_line(lambda: params_latex(params),
+                           ",  ".join(f"{p} = {v:g}" for p, v in params.items())))
+    return [line for line in lines if line.text]
+
+
+@functools.lru_cache(maxsize=128)
+def _equation_lines(formulas: tuple, variables: tuple, ceqs: tuple, cvars: tuple, given: tuple) -> tuple:
+    """The equations' lines of :func:`system_lines` (cached: a moving parameter changes only its own line)."""
     try:
         parameters = find_parameters(formulas, variables)
     except Exception:  # noqa: BLE001 - each formula says for itself below
-        parameters = list(params)
+        parameters = list(given)
     lines: list[Line] = []
-    ceqs = [str(e) for e in complex_equations or ()]
-    cvars = [str(v) for v in complex_variables or ()]
     over_c = bool(ceqs and cvars and _split_matches(formulas, variables, ceqs, cvars))
     rest = formulas
     if over_c:
@@ -208,13 +244,10 @@ def system_lines(formulas: Sequence[str], variables: Sequence[str], params: Mapp
             lines.append(_line(lambda eq=eq: complex_equation_latex(eq, cvars, parameters), eq))
         rest = formulas[2 * len(ceqs):]
     for f in rest:
-        lines.append(_line(lambda f=f: equation_latex(f, variables, parameters), f"{f} = 0"))
+        lines.append(_line(lambda f=f: equation_latex(f, list(variables), parameters), f"{f} = 0"))
     if over_c:
         lines.append(_line(lambda: _naming(cvars, variables), ""))
-    if params:
-        lines.append(_line(lambda: params_latex(params),
-                           ",  ".join(f"{p} = {v:g}" for p, v in params.items())))
-    return [line for line in lines if line.text]
+    return tuple(lines)
 
 
 def _line(make, plain: str) -> Line:
@@ -233,49 +266,64 @@ def _text_artist(fig, line: Line, font_px: float, color):
                     family="DejaVu Sans Mono", ha="left", va="bottom")
 
 
+@functools.lru_cache(maxsize=512)
+def _line_image(text: str, math_line: bool, font_px: float, color) -> np.ndarray:
+    """One line drawn tight on a transparent background, (h, w, 4) uint8 RGBA (cached: while a parameter
+    moves, only its own line is drawn again). Raises when mathtext cannot draw it."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(1, 1), dpi=DPI)
+    canvas = FigureCanvasAgg(fig)
+    artist = _text_artist(fig, Line(text, math_line), font_px, color)
+    box = artist.get_window_extent(canvas.get_renderer())
+    w, h = int(math.ceil(box.width)) + 2, int(math.ceil(box.height)) + 2
+    fig.set_size_inches(w / DPI, h / DPI)
+    fig.patch.set_alpha(0.0)
+    artist.set_position((1.0 / w, 1.0 / h))
+    canvas.draw()
+    image = np.array(canvas.buffer_rgba(), dtype=np.uint8)
+    image.setflags(write=False)
+    return image
+
+
 def render_lines(lines: Sequence[Line], font_px: float = 28.0, color=TEXT_COLOR, background=PANEL_COLOR,
                  pad: float | None = None) -> np.ndarray | None:
     """The lines drawn one under the other on a translucent card: an (h, w, 4) uint8 RGBA image (None
     when there is nothing to draw). A math line mathtext cannot draw is drawn as plain text."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
+    from matplotlib.colors import to_rgba
 
     font_px = max(6.0, float(font_px))
-    pad = 0.5 * font_px if pad is None else float(pad)
-    gap = 0.35 * font_px
-    fig = Figure(figsize=(1, 1), dpi=DPI)
-    canvas = FigureCanvasAgg(fig)
-    renderer = canvas.get_renderer()
-    placed = []
+    pad = int(round(0.5 * font_px if pad is None else float(pad)))
+    gap = int(round(0.35 * font_px))
+    color = to_rgba(color)
+    images = []
     for line in lines:
         if not line.text:
             continue
-        artist = _text_artist(fig, line, font_px, color)
-        try:
-            box = artist.get_window_extent(renderer)
-        except Exception:  # noqa: BLE001 - mathtext refused it: the plain text instead
-            artist.remove()
-            line = Line(line.text, False)
-            artist = _text_artist(fig, line, font_px, color)
+        for math_line in ((True, False) if line.math else (False,)):
             try:
-                box = artist.get_window_extent(renderer)
-            except Exception:  # noqa: BLE001
-                artist.remove()
+                images.append(_line_image(line.text, math_line, font_px, color))
+                break
+            except Exception:  # noqa: BLE001 - mathtext refused it: the plain text instead
                 continue
-        placed.append((artist, box.width, box.height))
-    if not placed:
+    if not images:
         return None
-    width = int(math.ceil(max(w for _, w, _ in placed) + 2 * pad))
-    height = int(math.ceil(sum(h for _, _, h in placed) + gap * (len(placed) - 1) + 2 * pad))
-    fig.set_size_inches(width / DPI, height / DPI)
-    fig.patch.set_facecolor(background)
-    y = height - pad
-    for artist, _w, h in placed:          # top to bottom, in figure fractions
-        y -= h
-        artist.set_position((pad / width, y / height))
-        y -= gap
-    canvas.draw()
-    return np.array(canvas.buffer_rgba(), dtype=np.uint8)
+    width = max(im.shape[1] for im in images) + 2 * pad
+    height = sum(im.shape[0] for im in images) + gap * (len(images) - 1) + 2 * pad
+    card = np.empty((height, width, 4), dtype=float)
+    card[:] = to_rgba(background)
+    y = pad
+    for im in images:        # "over" compositing of straight-alpha images, top to bottom
+        h, w = im.shape[:2]
+        src = im.astype(float) / 255.0
+        dst = card[y:y + h, pad:pad + w]
+        a = src[..., 3:4]
+        out_a = a + dst[..., 3:4] * (1.0 - a)
+        rgb = (src[..., :3] * a + dst[..., :3] * dst[..., 3:4] * (1.0 - a)) / np.maximum(out_a, 1e-12)
+        dst[..., :3], dst[..., 3:4] = rgb, out_a
+        y += h + gap
+    return np.round(255.0 * card).astype(np.uint8)
 
 
 def typeset_system(formulas: Sequence[str], variables: Sequence[str], params: Mapping[str, float] | None = None,
@@ -287,6 +335,7 @@ def typeset_system(formulas: Sequence[str], variables: Sequence[str], params: Ma
     ``max_size`` (w, h) pixels: the font shrinks (down to 10 px) until the card fits.
     """
     lines = system_lines(formulas, variables, params, complex_equations, complex_variables)
+    font_px = float(round(font_px))
     image = render_lines(lines, font_px)
     for _ in range(3):   # the size is nearly proportional to the font: one step, rarely two
         if image is None or max_size is None or font_px <= 10.0:
@@ -295,6 +344,6 @@ def typeset_system(formulas: Sequence[str], variables: Sequence[str], params: Ma
         scale = min(max_size[0] / w, max_size[1] / h)
         if scale >= 1.0:
             break
-        font_px = max(10.0, font_px * scale * 0.98)
+        font_px = max(10.0, float(math.floor(font_px * scale * 0.98)))
         image = render_lines(lines, font_px)
     return image, lines

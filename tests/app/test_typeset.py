@@ -106,3 +106,19 @@ def test_a_card_too_large_shrinks_to_fit():
     small, _ = typeset_system(formulas, ["x", "s", "t"], font_px=40, max_size=(400, 120))
     assert big.shape[1] > 400
     assert small.shape[1] <= 400 and small.shape[0] <= 120
+
+
+def test_terms_keep_the_order_they_were_typed_in():
+    assert complex_equation_latex("z^2 + w^3 = t", ["z", "w"]) == "z^{2} + w^{3} = t"   # sympy: w^{3} + z^{2}
+    assert equation_latex("x^2 + y^2 + z^2 + w^2 - 1", ["x", "y", "z", "w"]) == "x^{2} + y^{2} + z^{2} + w^{2} = 1"
+    assert equation_latex("-y^2 + x^2", ["x", "y"]) == "x^{2} = y^{2}"
+
+
+def test_a_moving_parameter_redraws_only_its_own_line():
+    from app.typeset import _line_image
+
+    typeset_system(["x^2 + y^2 - z^2 - a"], ["x", "y", "z"], {"a": 0.3}, font_px=30)
+    before = _line_image.cache_info()
+    typeset_system(["x^2 + y^2 - z^2 - a"], ["x", "y", "z"], {"a": 0.31}, font_px=30)
+    after = _line_image.cache_info()
+    assert after.misses - before.misses == 1 and after.hits - before.hits >= 1
