@@ -47,6 +47,7 @@ from .scene import (
     render_image,
     screen_coordinates,
     view_subtitle,
+    warm_labels,
 )
 from .studio_io import apply_camera, camera_state
 
@@ -98,6 +99,7 @@ class QtViewer:
         self.plotter = QtInteractor(parent, auto_update=False, multi_samples=0)
         self.widget = self.plotter.interactor
         self.scene = Scene(self.plotter, anti_aliasing="fxaa")
+        warm_labels()
         self.renders = 0                     # full renders of the window (the benchmark counts them)
         self._mapping = None                 # the mapping the camera was fitted for
         self._settle = QTimer()

@@ -798,6 +798,15 @@ def _example_titles() -> dict:
     return _TITLES
 
 
+def warm_labels() -> None:
+    """Read the examples' titles in a daemon thread now (the window calls this when it opens), so the first
+    result does not wait for them on the GUI thread."""
+    import threading
+
+    if _TITLES is None:
+        threading.Thread(target=_example_titles, name="gcmh-example-titles", daemon=True).start()
+
+
 def labels_for(title: str, names) -> dict:
     """The labels of the example with this title and these variables (a run of an example in the
     window), else {} (a system the user typed)."""
