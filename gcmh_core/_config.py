@@ -1,9 +1,15 @@
-"""Compiler flags for every numba kernel, in one place.
+"""Compiler flags for every numba kernel, in one place, and `compile_notice`.
 
 nogil: a kernel running in a worker thread must not stall the GUI thread.
 cache: kernels compile once per machine, not once per process (and never per F:
        kernels only ever see arrays of F's values).
 """
+
+from __future__ import annotations
+
+import contextlib
+import threading
+from collections.abc import Callable, Iterator
 
 JIT = dict(nogil=True, cache=True, fastmath=False, error_model="numpy")
 PARALLEL_JIT = dict(JIT, parallel=True)
@@ -20,3 +26,32 @@ INLINE_JIT = dict(JIT, inline="always")
 # sees first: a counter started as `= 0` is Literal[int](0) there and int64 later, so
 # the callee compiled twice (seconds each on a first run).  Counters and indices passed
 # to another kernel start as np.int64(0).
+
+
+@contextlib.contextmanager
+def compile_notice(callback: Callable[[], None]) -> Iterator[None]:
+    """Within the block, call `callback()` once when a kernel of this package starts to
+    compile: numba misses it in its on-disk cache (a new install, or a kernel no run has
+    needed yet).  Loading a cached kernel says nothing.  Which kernels a run needs
+    depends on the run (n = 3 sweeps take their own), so this asks numba rather than
+    looking for cache files.  The callback may run on a kernel thread."""
+    from numba.core import event  # noqa: PLC0415  (numba loads with the engine)
+
+    told = threading.Event()
+
+    class _Listener(event.Listener):
+        def on_start(self, ev: event.Event) -> None:
+            func = getattr(ev.data.get("dispatcher"), "py_func", None)
+            if not told.is_set() and getattr(func, "__module__", "").startswith(__package__ + "."):
+                told.set()
+                callback()
+
+        def on_end(self, ev: event.Event) -> None:
+            pass
+
+    listener = _Listener()
+    event.register("numba:compile", listener)
+    try:
+        yield
+    finally:
+        event.unregister("numba:compile", listener)

@@ -249,7 +249,9 @@ def _joined_pieces(values, o, corner_row, corner_signs, all_signs, kuhn, ksimple
             if (corners[s, 0] & ~f_free) != f_fixed or (corners[s, d] & ~f_free) != f_fixed:
                 continue
             if d == k:
-                hit = _simplex_crosses_call(values, o, corner_row, corners, s, k, corner_signs, all_signs, mat, rhs, lam)
+                hit = _simplex_crosses_call(
+                    values, o, corner_row, corners, s, k, corner_signs, all_signs, mat, rhs, lam
+                )
                 if hit == 2:
                     hit = _zero_side(values, o, corner_row, corners, s, k, lam)
                 if hit:
