@@ -15,8 +15,20 @@ Under the method, the run's estimate (:func:`app.jobs.estimate_job`: peak memory
 and time, made in a worker a moment after the last change) says before Run what
 the run will cost, in red when it won't fit.
 
+Every name in the formulas that is neither a variable nor a constant or function is
+a parameter: it gets a row of :class:`app.qt_parameters.QtParameterPanel` (slider,
+value, range) under the formulas, found by the same checks; the window re-extracts
+as a slider moves.
+
+Complex mode ("complex" switch): equations over C^m as on the blackboard (``z = cos(w)``,
+one a line, ``lhs = rhs``), with real equations beside them; the checker splits them
+(:func:`gcmh_core.complex_equations.split_complex`) into the real system, shown under
+them and run; the real variables (x, y for z; u, v for w, unless typed) name the table's
+rows ("u = Re w") and the view's axes.
+
 ``state()`` / ``set_state(d)`` give the panel's contents as a plain dict (the
-session file stores it); ``job()`` builds a :class:`app.worker.Job` when valid.
+session file stores it; in complex mode the equations as typed, not their split);
+``job()`` builds a :class:`app.worker.Job` when valid.
 """
 
 from __future__ import annotations

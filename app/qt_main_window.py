@@ -8,6 +8,11 @@ status line always visible below, and the example's description above them) and
 the 3D view (:class:`app.qt_viewer.QtViewer`) in the centre. Double-click a cell
 to see its vertices' coordinates in R^n and its grid cube.
 
+Parameters are live: moving a slider of the Manifold tab re-extracts on a coarse
+grid while it is held and on the full one when it is let go (:meth:`QtMainWindow.parameter_step`:
+the newest value wins, the view and camera stay, continuation starts from the result on
+screen), and a result at a critical value says so.
+
 Waits explain themselves: the kernels compile (once per install) in the
 background from the start (:func:`app.jobs.start_warm_up`, said in the status
 bar), a run first shows its estimate (memory and time) and asks before one that
