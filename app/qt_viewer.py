@@ -49,7 +49,7 @@ from .scene import (
     view_subtitle,
     warm_labels,
 )
-from .studio_io import apply_camera, camera_state
+from .studio_io import apply_camera, camera_state, valid_camera
 
 SETTLE_MS = 250          # a view at rest this long is drawn in full again
 DRAG_DEGREES = 0.4       # per pixel of a Shift-drag
@@ -356,8 +356,6 @@ class QtViewer:
     def restore_camera(self, camera: dict | None, keep: bool) -> None:
         """A session's camera (:func:`app.studio_io.session_camera`) as it was saved, and the "keep camera"
         toggle as the user left it (held, later results and changes of mapping leave the camera alone)."""
-        from .studio_io import valid_camera
-
         self.panel.keep_camera_check.setChecked(bool(keep))
         camera = valid_camera(camera)
         if camera is not None and self.scene.complex is not None:

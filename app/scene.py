@@ -404,7 +404,7 @@ class Scene:
     # While the view moves (a slider, a drag) it is drawn cheaper, and exactly as before once it rests:
     # a very large result by its coarse copy; a see-through one lit by one headlight instead of the
     # five lights of pyvista's light kit (software GL shades every layer of every pixel for each light:
-    # the three-torus 0.26 s -> 0.11 s a frame, edges and colours as they were).
+    # a three-torus slider step takes about half the time, its edges and colours as they were).
     def set_moving(self, on: bool) -> None:
         """The moving look (``on``) or the still one, for the points as they are (a camera drag)."""
         if self.complex is None:
