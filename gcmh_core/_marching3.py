@@ -19,7 +19,9 @@ A layer t arrives with F's values; then, lagging behind it,
   V(t-1) the vertices on the edges starting in layer t-1 (positions from F's values);
   E(t-2) the edges of M_A on the squares anchored in layer t-2 (they need V(t-1));
   C(t-3) the 2-cells of the cubes in layer t-3 (they need E(t-2)).
-Rows whose neighbourhood has one sign throughout are skipped whole (flying edges' trick).
+A layer's signs are kept as bit rows (64 grid vertices a word), so the crossed edges,
+squares and cubes of a row are found 64 at a time by bitwise operations; rows whose
+neighbourhood has one sign throughout are skipped whole (flying edges' trick).
 
 The result is the general path's complex bit for bit (tests/core/test_marching3.py):
 the positions are computed by the same arithmetic as `_kernels.simplex_crosses` for k = 1.
@@ -39,7 +41,7 @@ from numba.cpython.unsafe.numbers import trailing_zeros
 from ._config import INLINE_JIT, JIT
 from ._tables import cube_tables
 
-__all__ = ["cube_cases", "march_layers", "OK", "NOT_FINITE", "OVERFLOW"]
+__all__ = ["cube_cases", "march_layers", "room_per_layer", "OK", "NOT_FINITE", "OVERFLOW"]
 
 # march_layers' status
 OK, NOT_FINITE, OVERFLOW = 0, 1, 2
@@ -215,7 +217,7 @@ class Cases:
             crossed = [s for s in range(12) if positive[ks[s][0]] != positive[ks[s][1]]]
             parent = {s: s for s in crossed}
 
-            def find(s):
+            def find(s, parent=parent):
                 while parent[s] != s:
                     s = parent[s]
                 return s
@@ -258,23 +260,9 @@ _BIG = 1.7976931348623157e308  # the largest float64: |v| <= _BIG is False for N
 
 
 @nb.njit(**JIT)
-def _grow_rows(a, need):
-    b = np.empty((max(2 * a.shape[0], need), a.shape[1]), a.dtype)
-    b[: a.shape[0]] = a
-    return b
-
-
-@nb.njit(**JIT)
-def _grow(a, need):
-    b = np.zeros(max(2 * a.shape[0], need), a.dtype)
-    b[: a.shape[0]] = a
-    return b
-
-
-@nb.njit(**JIT)
 def _signs(x, bits, rowc):
-    """S(t): F's signs on layer x (d1, d2) as bit rows, bits (d1, W) uint64 (bit l of row j:
-    F >= 0 at (j, l); bits past d2 are 0), and each row's class; False if a value is not finite."""
+    """S(t): F's signs on layer x (d1, d2) as bit rows, bits (d1, W) uint64 (bit col of row j:
+    F >= 0 at (j, col); bits past d2 are 0), and each row's class; False if a value is not finite."""
     d1, d2 = x.shape
     words = bits.shape[1]
     full = d2 // 64
@@ -318,14 +306,14 @@ def _quiet(c00, c01, c10, c11):
 
 @nb.njit(**INLINE_JIT)
 def _up(x, x_next):
-    """A word of a bit row shifted down by one (bit l: the row's bit l + 1), from the word
+    """A word of a bit row shifted down by one (bit col: the row's bit col + 1), from the word
     and the next one (the helpers take words, not rows: see `_config`)."""
     return (x >> np.uint64(1)) | (x_next << np.uint64(63))
 
 
 @nb.njit(**INLINE_JIT)
 def _at(x, x_next, b):
-    """Bit b + 1 (b <= 63) of a row whose words at b are x, x_next, and bit b, as (bit b, bit b + 1)."""
+    """Bits b and b + 1 of a bit row, from its word x that holds bit b (b <= 63) and the next word."""
     lo = (x >> np.uint64(b)) & np.uint64(1)
     hi = ((x >> np.uint64(b + 1)) & np.uint64(1)) if b < 63 else (x_next & np.uint64(1))
     return lo, hi
@@ -359,7 +347,7 @@ def _mix(lam0, lam1, g0, g1):
 @nb.njit(**JIT)
 def _vstep(values, base, u, d0, lines, sg, rowc, vid, vert, counts, valid, valid2):
     """V(u): the vertices on the edges that start in layer u, in key order (grid vertex, axis).
-    valid, valid2: per word, the bits l < d2 and l < d2 - 1."""
+    valid, valid2: per word, the bits col < d2 and col < d2 - 1."""
     if u < 0 or u >= d0:
         return
     d1 = sg.shape[1]
@@ -384,29 +372,29 @@ def _vstep(values, base, u, d0, lines, sg, rowc, vid, vert, counts, valid, valid
             while m != zero:
                 b = trailing_zeros(m)
                 m &= m - np.uint64(1)
-                l = 64 * w + b
-                f0 = values[u - base, j, l]
+                col = 64 * w + b
+                f0 = values[u - base, j, col]
                 x0 = lines[0, u]
                 y0 = lines[1, j]
-                z0 = lines[2, l]
+                z0 = lines[2, col]
                 for axis in range(3):
                     ma = m0 if axis == 0 else (m1 if axis == 1 else m2)
                     if not ((ma >> np.uint64(b)) & np.uint64(1)):
                         continue
                     if axis == 0:
-                        f1 = values[u + 1 - base, j, l]
+                        f1 = values[u + 1 - base, j, col]
                     elif axis == 1:
-                        f1 = values[u - base, j + 1, l]
+                        f1 = values[u - base, j + 1, col]
                     else:
-                        f1 = values[u - base, j, l + 1]
+                        f1 = values[u - base, j, col + 1]
                     lam0, lam1 = _lam(f0, f1)
                     if lam0 < 0.0:
                         counts[6] = 2
                         return
                     vert[nv, 0] = _mix(lam0, lam1, x0, lines[0, u + 1] if axis == 0 else x0)
                     vert[nv, 1] = _mix(lam0, lam1, y0, lines[1, j + 1] if axis == 1 else y0)
-                    vert[nv, 2] = _mix(lam0, lam1, z0, lines[2, l + 1] if axis == 2 else z0)
-                    vid[ids, j, l, axis] = nv
+                    vert[nv, 2] = _mix(lam0, lam1, z0, lines[2, col + 1] if axis == 2 else z0)
+                    vid[ids, j, col, axis] = nv
                     nv += 1
     counts[0] = nv
 
@@ -457,7 +445,7 @@ def _estep(u, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count,
             while m != zero:
                 b = trailing_zeros(m)
                 m &= m - np.uint64(1)
-                l = 64 * w + b
+                col = 64 * w + b
                 pa, pa1 = _at(a, an, b)
                 pb, pb1 = _at(bb, bn, b)
                 pc, pc1 = _at(c, cn, b)
@@ -480,9 +468,9 @@ def _estep(u, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count,
                         for end in range(2):
                             g = square_edges[q, ci, slot, end]
                             corner = g >> 2
-                            edges[ne, end] = vid[(u + (corner & 1)) % 3, j + (corner >> 1 & 1), l + (corner >> 2 & 1),
+                            edges[ne, end] = vid[(u + (corner & 1)) % 3, j + (corner >> 1 & 1), col + (corner >> 2 & 1),
                                                  g & 3]
-                        eid[ids, j, l, q, slot] = ne
+                        eid[ids, j, col, q, slot] = ne
                         ne += 1
     counts[1] = ne
 
@@ -534,7 +522,7 @@ def _cstep(u, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonba
             while m != zero:
                 b = trailing_zeros(m)
                 m &= m - np.uint64(1)
-                l = 64 * w + b
+                col = 64 * w + b
                 pa, pa1 = _at(a, an, b)
                 pb, pb1 = _at(bb, bn, b)
                 pc, pc1 = _at(c, cn, b)
@@ -544,7 +532,7 @@ def _cstep(u, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonba
                                 | pd1 << np.uint64(7))
                 candidates += 1
                 nonball += cube_nonball[case]
-                at = (j * d2 + l) * 6
+                at = (j * d2 + col) * 6
                 for p in range(cube_pieces[case]):
                     for r in range(piece_start[case, p], piece_start[case, p + 1]):
                         faces[nf] = flat[at + face_at[r]]
@@ -557,19 +545,19 @@ def _cstep(u, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonba
     counts[5] += nonball
 
 
+def room_per_layer(d1: int, d2: int) -> tuple[int, int, int, int]:
+    """The most vertices, edges, 2-cells and face rows one layer's steps can write."""
+    return 3 * d1 * d2, 6 * d1 * d2, 4 * d1 * d2, 12 * d1 * d2
+
+
 @nb.njit(**JIT)
-def _room(vert, edges, offsets, faces, counts, d1, d2):
-    """The output arrays, grown if a layer's worst case would not fit."""
-    per_layer = d1 * d2
-    if counts[0] + 3 * per_layer > vert.shape[0]:
-        vert = _grow_rows(vert, counts[0] + 3 * per_layer)
-    if counts[1] + 6 * per_layer > edges.shape[0]:
-        edges = _grow_rows(edges, counts[1] + 6 * per_layer)
-    if counts[2] + 4 * per_layer + 1 > offsets.shape[0]:
-        offsets = _grow(offsets, counts[2] + 4 * per_layer + 1)
-    if counts[3] + 12 * per_layer > faces.shape[0]:
-        faces = _grow(faces, counts[3] + 12 * per_layer)
-    return vert, edges, offsets, faces
+def _has_room(vert, edges, offsets, faces, counts, d1, d2, layers):
+    """Room in the output arrays for `layers` layers' steps (see room_per_layer)."""
+    per = d1 * d2
+    return (counts[0] + 3 * per * layers <= vert.shape[0]
+            and counts[1] + 6 * per * layers <= edges.shape[0]
+            and counts[2] + 4 * per * layers + 1 <= offsets.shape[0]
+            and counts[3] + 12 * per * layers <= faces.shape[0])
 
 
 @nb.njit(**JIT)
@@ -577,44 +565,46 @@ def march_layers(values, base, t_first, t_last, d0, lines, sg, rowc, vid, eid,
                  vert, edges, offsets, faces, counts,
                  square_edges, square_count, cube_pieces, cube_nonball, piece_start, piece_face):
     """Layers t_first..t_last of the grid through the steps S, V, E, C (module docstring);
-    at t = d0 - 1 the steps left are run too.
+    at t = d0 - 1 the steps left are run too.  Returns the layer to go on from: t_last + 1,
+    or a layer the output arrays have no room for (grow them by `room_per_layer` and call
+    again from there; numba growing them itself took seconds to compile).
 
     values (L, d1, d2): F at layers base..base+L-1, with base = t_first - 1 (the last call's
     last layer) or base = t_first = 0.  lines (3, max vertices per axis): the grid lines.
     Ring buffers kept between calls: sg (4, d1, W) uint64 sign bits of rows (W = words of
     d2 bits), rowc (4, d1) uint8 row classes (0: all < 0, 1: all >= 0, 2: mixed),
     vid (3, d1, d2, 3) vertex ids by edge, eid (3, d1, d2, 3, 2) edge ids by square and
-    slot.  The output arrays (vertices, edges, 2-cell offsets (offsets[0] = 0) and faces)
-    are grown as needed and returned; counts: vertices, edges, 2-cells, faces, candidate
-    cubes, non-ball cells, status (OK, NOT_FINITE or OVERFLOW: then the pass stops).
+    slot.  Outputs: vertices (V, 3), edges (E, 2), 2-cell offsets (offsets[0] = 0) and
+    faces; counts: vertices, edges, 2-cells, faces, candidate cubes, non-ball cells,
+    status (OK, NOT_FINITE or OVERFLOW: then the pass stops).
     """
     d1 = values.shape[1]
     d2 = values.shape[2]
     words = sg.shape[2]
-    valid = np.zeros(words, np.uint64)  # per word, the bits l < d2 and l < d2 - 1
+    valid = np.zeros(words, np.uint64)  # per word, the bits col < d2 and col < d2 - 1
     valid2 = np.zeros(words, np.uint64)
-    for l in range(d2):
-        valid[l >> 6] |= np.uint64(1) << np.uint64(l & 63)
-        if l < d2 - 1:
-            valid2[l >> 6] |= np.uint64(1) << np.uint64(l & 63)
+    for col in range(d2):
+        valid[col >> 6] |= np.uint64(1) << np.uint64(col & 63)
+        if col < d2 - 1:
+            valid2[col >> 6] |= np.uint64(1) << np.uint64(col & 63)
     for t in range(t_first, t_last + 1):
+        if counts[6] != 0:
+            return t_last + 1
+        if not _has_room(vert, edges, offsets, faces, counts, d1, d2, 3 if t == d0 - 1 else 1):
+            return t
         if not _signs(values[t - base], sg[t % 4], rowc[t % 4]):
             counts[6] = 1
-        if counts[6] != 0:
-            break
-        vert, edges, offsets, faces = _room(vert, edges, offsets, faces, counts, d1, d2)
+            return t_last + 1
         _vstep(values, base, t - 1, d0, lines, sg, rowc, vid, vert, counts, valid, valid2)
         _estep(t - 2, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count, valid, valid2)
         _cstep(t - 3, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonball, piece_start,
                piece_face, valid2)
         if t == d0 - 1 and counts[6] == 0:  # the last layer: drain (ring slots are reused in this order)
-            vert, edges, offsets, faces = _room(vert, edges, offsets, faces, counts, d1, d2)
             _vstep(values, base, t, d0, lines, sg, rowc, vid, vert, counts, valid, valid2)
             _estep(t - 1, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count, valid, valid2)
             _cstep(t - 2, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonball, piece_start,
                    piece_face, valid2)
-            vert, edges, offsets, faces = _room(vert, edges, offsets, faces, counts, d1, d2)
             _estep(t, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count, valid, valid2)
             _cstep(t - 1, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonball, piece_start,
                    piece_face, valid2)
-    return vert, edges, offsets, faces
+    return t_last + 1

@@ -142,27 +142,30 @@ def _plain_sweep(grid, axes, system, sampled, progress, cancel) -> CellComplex:
 
 
 def _marching_sweep(grid, axes, system, sampled, progress, cancel) -> CellComplex | None:
-    """n = 3, k = 1: F slab by slab as in `_plain_sweep` (the same slabs, so the same values),
-    each slab through `_marching3.march_layers`, which writes the complex in its final
-    order.  None when a value is not finite or a difference overflows (the general
-    path then runs: it counts and skips such vertices)."""
+    """n = 3, k = 1: F slab by slab along axis 0 as in `_plain_sweep` (thinner slabs: each
+    row of values is computed alike, so the values are the same), each slab through
+    `_marching3.march_layers`, which writes the complex in its final order.  None when a
+    value is not finite or a difference overflows (the general path then runs: it
+    counts and skips such vertices)."""
     from . import _marching3  # noqa: PLC0415  (compiled on first use only)
 
     cases = _marching3.cube_cases()
     d0, d1, d2 = (int(d) for d in grid.dims)
     thickness = int(max(1, min(d0 - 1, MARCH_SLAB_VERTICES // (d1 * d2))))
     buffer = None if sampled is not None else np.empty((thickness + 1, d1, d2, 1))
-    # ring buffers of the pass (see march_layers), and outputs sized for a surface
-    # crossing the grid a few times (they grow when needed)
+    # the pass's ring buffers (see march_layers)
     sg = np.empty((4, d1, -(-d2 // 64)), np.uint64)
     rowc = np.empty((4, d1), np.uint8)
     vid = np.empty((3, d1, d2, 3), np.int64)
     eid = np.empty((3, d1, d2, 3, 2), np.int64)
+    # (room for a surface crossing the grid twice, and for the last layer's steps: memory
+    # is only touched where written)
     room = 2 * (d0 * d1 + d1 * d2 + d0 * d2) + 64
-    vert = np.empty((room, 3))
-    edges = np.empty((2 * room, 2), np.int64)
-    offsets = np.zeros(room + 1, np.int64)
-    faces = np.empty(4 * room, np.int64)
+    last = [3 * r for r in _marching3.room_per_layer(d1, d2)]
+    vert = np.empty((room + last[0], 3))
+    edges = np.empty((2 * room + last[1], 2), np.int64)
+    offsets = np.zeros(room + last[2] + 1, np.int64)
+    faces = np.empty(4 * room + last[3], np.int64)
     counts = np.zeros(7, np.int64)
     tables = (cases.square_edges, cases.square_count, cases.cube_pieces, cases.cube_nonball, cases.piece_start,
               cases.piece_face)
@@ -185,10 +188,16 @@ def _marching_sweep(grid, axes, system, sampled, progress, cancel) -> CellComple
             system.evaluate_grid([axes[0][i0 + first : i1 + 1]] + list(axes[1:]), out=values[first:])
         t2 = time.perf_counter()
         grid.timings["evaluate"] += t2 - t
-        t_first = 0 if si == 0 else i0 + 1
-        vert, edges, offsets, faces = _marching3.march_layers(
-            values[..., 0] if sampled is None else values, i0, t_first, i1, d0, grid.axes_arr, sg, rowc, vid, eid,
-            vert, edges, offsets, faces, counts, *tables)
+        layer = 0 if si == 0 else i0 + 1
+        while layer <= i1:
+            layer = _marching3.march_layers(values[..., 0] if sampled is None else values, i0, layer, i1, d0,
+                                            grid.axes_arr, sg, rowc, vid, eid, vert, edges, offsets, faces, counts,
+                                            *tables)
+            if layer <= i1:  # out of room: twice the arrays, or what the last layer's steps need
+                vert = _grown(vert, int(counts[0]) + last[0])
+                edges = _grown(edges, int(counts[1]) + last[1])
+                offsets = _grown(offsets, int(counts[2]) + last[2] + 1)
+                faces = _grown(faces, int(counts[3]) + last[3])
         grid.timings["kernel"] += time.perf_counter() - t2
         if counts[6] != _marching3.OK:
             return None
@@ -203,6 +212,15 @@ def _marching_sweep(grid, axes, system, sampled, progress, cancel) -> CellComple
     cx.meta.update(grid.stats)
     cx.meta["timings"] = grid.timings
     return cx
+
+
+def _grown(a: np.ndarray, need: int) -> np.ndarray:
+    """a with at least `need` rows (twice as many, or need), the first rows kept."""
+    if len(a) >= need:
+        return a
+    b = np.zeros((max(2 * len(a), need), *a.shape[1:]), a.dtype)
+    b[: len(a)] = a
+    return b
 
 
 def surviving_blocks(enclosure, axes, lo, hi, leaf_cubes, cancel=None, max_blocks=None):

@@ -25,8 +25,9 @@ _HERE = os.path.dirname(os.path.abspath(__file__))
 if _HERE not in sys.path:
     sys.path.insert(0, _HERE)
 
-from naive import naive_marching_cases  # noqa: E402
 from test_pinned_outputs import complex_digest  # noqa: E402
+
+from naive import naive_marching_cases  # noqa: E402
 
 VOLATILE = ("seconds", "timings")
 SQUARE_AXES = {0: (0, 1), 1: (0, 2), 2: (1, 2)}
@@ -203,3 +204,15 @@ def test_progress_and_cancel(monkeypatch):
 
     with pytest.raises(Cancelled):
         extract("x^2 + y^2 + z^2 - 1", (-1.5, 1.5), 10, variables="x,y,z", cancel=cancel)
+
+
+def test_checkerboard_grows_the_outputs_same_bytes(monkeypatch):
+    """F changes sign along every grid edge: every cube is ambiguous, and the outputs
+    outgrow the room the pass starts with (a surface crossing the grid twice)."""
+    rng = np.random.default_rng(7)
+    i, j, k = np.indices((24, 23, 70))
+    F = np.where((i + j + k) % 2 == 0, 1.0, -1.0) * rng.uniform(0.5, 2.0, i.shape)
+    fast, general, ran = both_paths(monkeypatch, F[..., None], bounds=(-1, 1))
+    assert ran == [True]
+    assert fast.counts()[0] > 2 * (24 * 23 + 23 * 70 + 24 * 70)
+    assert_same(fast, general)
