@@ -476,10 +476,11 @@ def _estep(u, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count,
 
 
 @nb.njit(**JIT)
-def _cstep(u, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonball, piece_start, piece_face,
+def _cstep(u, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonball, piece_start, face_place,
            valid2):
     """C(u): the 2-cells of the cubes in layer u, in key order (cube, smallest code), each
-    with its edges in id order."""
+    with its edges in id order.  face_place[u % 3, r]: the place of the edge piece_face[r]
+    in eid (flat) relative to the cube's anchor (see march_layers)."""
     if u < 0 or u >= d0 - 1:
         return
     d1 = sg.shape[1]
@@ -493,14 +494,7 @@ def _cstep(u, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonba
     nonball = 0
     zero = np.uint64(0)
     flat = eid.reshape(-1)
-    # each face row's place in flat relative to the cube's anchor (no modulo per face)
-    face_at = np.empty(piece_face.shape[0], np.int64)
-    layer = d1 * d2 * 6
-    for r in range(piece_face.shape[0]):
-        code = piece_face[r]
-        corner = code >> 3
-        slot = (u + (corner & 1)) % 3
-        face_at[r] = slot * layer + ((corner >> 1 & 1) * d2 + (corner >> 2 & 1)) * 6 + (code & 7)
+    face_at = face_place[u % 3]
     for j in range(d1 - 1):
         if _quiet(rowc[s0, j], rowc[s0, j + 1], rowc[s1, j], rowc[s1, j + 1]):
             continue
@@ -587,6 +581,15 @@ def march_layers(values, base, t_first, t_last, d0, lines, sg, rowc, vid, eid,
         valid[col >> 6] |= np.uint64(1) << np.uint64(col & 63)
         if col < d2 - 1:
             valid2[col >> 6] |= np.uint64(1) << np.uint64(col & 63)
+    # each face row's place in eid (flat) relative to its cube's anchor, for each ring slot
+    # of the cube's layer (no modulo per face)
+    face_place = np.empty((3, piece_face.shape[0]), np.int64)
+    for ring in range(3):
+        for r in range(piece_face.shape[0]):
+            code = piece_face[r]
+            corner = code >> 3
+            slot = (ring + (corner & 1)) % 3
+            face_place[ring, r] = slot * d1 * d2 * 6 + ((corner >> 1 & 1) * d2 + (corner >> 2 & 1)) * 6 + (code & 7)
     for t in range(t_first, t_last + 1):
         if counts[6] != 0:
             return t_last + 1
@@ -598,13 +601,13 @@ def march_layers(values, base, t_first, t_last, d0, lines, sg, rowc, vid, eid,
         _vstep(values, base, t - 1, d0, lines, sg, rowc, vid, vert, counts, valid, valid2)
         _estep(t - 2, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count, valid, valid2)
         _cstep(t - 3, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonball, piece_start,
-               piece_face, valid2)
+               face_place, valid2)
         if t == d0 - 1 and counts[6] == 0:  # the last layer: drain (ring slots are reused in this order)
             _vstep(values, base, t, d0, lines, sg, rowc, vid, vert, counts, valid, valid2)
             _estep(t - 1, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count, valid, valid2)
             _cstep(t - 2, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonball, piece_start,
-                   piece_face, valid2)
+                   face_place, valid2)
             _estep(t, d0, sg, rowc, vid, eid, edges, counts, square_edges, square_count, valid, valid2)
             _cstep(t - 1, d0, sg, rowc, eid, offsets, faces, counts, cube_pieces, cube_nonball, piece_start,
-                   piece_face, valid2)
+                   face_place, valid2)
     return t_last + 1

@@ -61,6 +61,10 @@ _BOUND_CHUNK = 1 << 16
 # in the cache (the axis-0 slabs leave each row's values unchanged: same values as the
 # plain sweep's).
 MARCH_SLAB_VERTICES = 1 << 18
+# A thread keeps each work array of the marching pass up to this size for its next run
+# (at div 256: the values 2 MB, the ring buffers 14 MB).
+_SCRATCH_KEEP_BYTES = 16 << 20
+_scratch_arrays = threading.local()
 # None: GCMH for n = 3, k = 1 takes the marching pass (`_marching3`) unless PRUNE is True;
 # False: never (tests compare it with the general path).  Periodic axes never take it.
 MARCHING3: bool | None = None
@@ -152,12 +156,12 @@ def _marching_sweep(grid, axes, system, sampled, progress, cancel) -> CellComple
     cases = _marching3.cube_cases()
     d0, d1, d2 = (int(d) for d in grid.dims)
     thickness = int(max(1, min(d0 - 1, MARCH_SLAB_VERTICES // (d1 * d2))))
-    buffer = None if sampled is not None else np.empty((thickness + 1, d1, d2, 1))
+    buffer = None if sampled is not None else _scratch("values", (thickness + 1, d1, d2, 1), np.float64)
     # the pass's ring buffers (see march_layers)
-    sg = np.empty((4, d1, -(-d2 // 64)), np.uint64)
-    rowc = np.empty((4, d1), np.uint8)
-    vid = np.empty((3, d1, d2, 3), np.int64)
-    eid = np.empty((3, d1, d2, 3, 2), np.int64)
+    sg = _scratch("sg", (4, d1, -(-d2 // 64)), np.uint64)
+    rowc = _scratch("rowc", (4, d1), np.uint8)
+    vid = _scratch("vid", (3, d1, d2, 3), np.int64)
+    eid = _scratch("eid", (3, d1, d2, 3, 2), np.int64)
     # (room for a surface crossing the grid twice, and for the last layer's steps: memory
     # is only touched where written)
     room = 2 * (d0 * d1 + d1 * d2 + d0 * d2) + 64
@@ -212,6 +216,19 @@ def _marching_sweep(grid, axes, system, sampled, progress, cancel) -> CellComple
     cx.meta.update(grid.stats)
     cx.meta["timings"] = grid.timings
     return cx
+
+
+def _scratch(name: str, shape: tuple, dtype) -> np.ndarray:
+    """A work array of the marching pass, kept by the calling thread for its next run when
+    small (first touching fresh pages cost more than a small grid's whole pass)."""
+    size = int(np.prod(shape))
+    kept = getattr(_scratch_arrays, name, None)
+    if kept is not None and kept.dtype == dtype and kept.size >= size:
+        return kept[:size].reshape(shape)
+    array = np.empty(size, dtype)
+    if array.nbytes <= _SCRATCH_KEEP_BYTES:
+        setattr(_scratch_arrays, name, array)
+    return array.reshape(shape)
 
 
 def _grown(a: np.ndarray, need: int) -> np.ndarray:
