@@ -146,6 +146,15 @@ def _plain_sweep(grid, axes, system, sampled, progress, cancel) -> CellComplex:
 
 
 def _marching_sweep(grid, axes, system, sampled, progress, cancel) -> CellComplex | None:
+    """`_march`, with the thread's kept work arrays marked as in use meanwhile."""
+    busy = getattr(_scratch_arrays, "busy", False)
+    try:
+        return _march(grid, axes, system, sampled, progress, cancel)
+    finally:
+        _scratch_arrays.busy = busy
+
+
+def _march(grid, axes, system, sampled, progress, cancel) -> CellComplex | None:
     """n = 3, k = 1: F slab by slab along axis 0 as in `_plain_sweep` (thinner slabs: each
     row of values is computed alike, so the values are the same), each slab through
     `_marching3.march_layers`, which writes the complex in its final order.  None when a
@@ -162,6 +171,7 @@ def _marching_sweep(grid, axes, system, sampled, progress, cancel) -> CellComple
     rowc = _scratch("rowc", (4, d1), np.uint8)
     vid = _scratch("vid", (3, d1, d2, 3), np.int64)
     eid = _scratch("eid", (3, d1, d2, 3, 2), np.int64)
+    _scratch_arrays.busy = True  # (until this run ends: a run started by a callback gets its own)
     # (room for a surface crossing the grid twice, and for the last layer's steps: memory
     # is only touched where written)
     room = 2 * (d0 * d1 + d1 * d2 + d0 * d2) + 64
@@ -222,6 +232,8 @@ def _scratch(name: str, shape: tuple, dtype) -> np.ndarray:
     """A work array of the marching pass, kept by the calling thread for its next run when
     small (first touching fresh pages cost more than a small grid's whole pass)."""
     size = int(np.prod(shape))
+    if getattr(_scratch_arrays, "busy", False):  # (a run inside a run's callback: its own arrays)
+        return np.empty(shape, dtype)
     kept = getattr(_scratch_arrays, name, None)
     if kept is not None and kept.dtype == dtype and kept.size >= size:
         return kept[:size].reshape(shape)

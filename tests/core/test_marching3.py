@@ -216,3 +216,19 @@ def test_checkerboard_grows_the_outputs_same_bytes(monkeypatch):
     assert ran == [True]
     assert fast.counts()[0] > 2 * (24 * 23 + 23 * 70 + 24 * 70)
     assert_same(fast, general)
+
+
+def test_a_run_inside_a_progress_callback_keeps_its_own_work_arrays(monkeypatch):
+    inner = []
+
+    def progress(phase, fraction):
+        if phase == "extracting" and not inner:
+            inner.append(extract("x^2 + y^2 + z^2 - 0.5", (-1, 1), [6, 7, 8], variables="x,y,z"))
+
+    monkeypatch.setattr(sweep, "MARCH_SLAB_VERTICES", 1)
+    outer = extract("x^2 + 2*y^2 + z^2 - 1", (-1.5, 1.5), [11, 9, 10], variables="x,y,z", progress=progress)
+    monkeypatch.setattr(sweep, "MARCHING3", False)
+    assert complex_digest(outer) == complex_digest(
+        extract("x^2 + 2*y^2 + z^2 - 1", (-1.5, 1.5), [11, 9, 10], variables="x,y,z"))
+    assert complex_digest(inner[0]) == complex_digest(
+        extract("x^2 + y^2 + z^2 - 0.5", (-1, 1), [6, 7, 8], variables="x,y,z"))
