@@ -193,20 +193,20 @@ def test_a_slow_formula_check_never_blocks_the_window(qtbot, window, monkeypatch
     and the answer of a stale text is dropped."""
     from qtpy.QtCore import QTimer
 
-    import app.inputs
+    import app.qt_formula_panel
 
-    real = app.inputs.check_formula
+    real = app.qt_formula_panel.check_key
     spans = []
 
-    def slow(text, names, index, params=()):   # pure Python work, as a slow parse would be (holds the GIL by turns)
+    def slow(key):   # pure Python work, as a slow parse would be (holds the GIL by turns)
         t0 = time.perf_counter()
         x = 0
         while time.perf_counter() - t0 < 0.8:
             x += 1
-        spans.append((t0, time.perf_counter(), text))
-        return real(text, names, index, params)
+        spans.append((t0, time.perf_counter(), key[1]))
+        return real(key)
 
-    monkeypatch.setattr(app.inputs, "check_formula", slow)
+    monkeypatch.setattr(app.qt_formula_panel, "check_key", slow)
     p = window.formula_panel
     ticks = []
     timer = QTimer()
@@ -227,7 +227,7 @@ def test_a_slow_formula_check_never_blocks_the_window(qtbot, window, monkeypatch
     # the mark shows the answer for the text in the field now, not the stale one
     assert edit.text().endswith(")")
     msg = p.formula_errors[0].text()
-    assert msg == (real(edit.text(), p.variables(), 0) or "")
+    assert msg == (real(("real", edit.text(), tuple(p.variables()), 0))[0] or "")
     assert "never closed" not in msg
 
 
