@@ -567,6 +567,7 @@ class QtMainWindow(QMainWindow):
         if job is None or self._closing or self.runs.is_running():
             self._next_step = self._next_step or job
             return False
+        self._superseded = False   # (the run it replaced has ended, cancelled or not)
         self._step_t0 = time.perf_counter()
         self.model.job = job
         return self.runs.start(job)

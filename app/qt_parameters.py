@@ -81,12 +81,12 @@ class _Row:
         self.slider.setToolTip(f"drag to change {name}: a coarse grid follows the slider, the full one when "
                                "you let go")
         self.value_edit = QLineEdit()
-        self.value_edit.setMaximumWidth(80)
+        self.value_edit.setMaximumWidth(64)
         self.value_edit.setToolTip(f"the value of {name} (a constant expression such as pi/4)")
         self.min_edit = QLineEdit()
         self.max_edit = QLineEdit()
         for e, what in ((self.min_edit, "lower"), (self.max_edit, "upper")):
-            e.setMaximumWidth(56)
+            e.setMaximumWidth(46)
             e.setToolTip(f"the slider's {what} end")
         self.slider.valueChanged.connect(lambda i: panel._on_slider(self, i))
         self.slider.sliderReleased.connect(lambda: panel._on_released(self))
