@@ -15,6 +15,12 @@ each wave of at least `LOCAL_WAVE` cubes is split into chunks, one task per chun
 (`Grid.process_cubes` on the worker).  Smaller waves run in the client process:
 shipping them costs more than processing them.
 
+Identified axes (`identify`, periodic=): tasks build the `identify.IdentifiedGrid`
+from (spec, bounds); a block ending on a seam copies that face's values from the
+vertices identified with it (F evaluated there, wherever they lie), and the client's
+`IdentifiedGrid.assemble` canonicalises the seam keys: the single-process result again.
+Sampled data can't be checked for periodicity, so it is refused with periodic axes.
+
 Sampled data (an array of F's values): with scheduler="local" the array is saved
 once to a temporary .npy that workers open with mmap (they read only their
 block); with a remote scheduler the workers may not share the client's disk, so
@@ -73,7 +79,8 @@ _ADDRESS = re.compile(r"^tcp://(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):(\d{1,5})$")
 
 
 # ----------------------------------------------------------------------------- public
-def run_distributed(method, n, k, axes, bounds, system, sampled, starts, scheduler, block, progress, cancel):
+def run_distributed(method, n, k, axes, bounds, system, sampled, starts, scheduler, block, progress, cancel,
+                    spec=()):
     """Run `method` on a Dask cluster; returns the same CellComplex as a single-process run.
 
     method : "gcmh"/"cms" (blocks of the whole grid) or "gcch"/"ccs" (continuation waves).
@@ -84,6 +91,8 @@ def run_distributed(method, n, k, axes, bounds, system, sampled, starts, schedul
         "tcp://host:port" (a running `dask scheduler`).
     block : None (default size, see the module doc), an int, or n ints: cubes per block per axis.
     progress(phase, fraction), cancel() -> bool : as in `extract`.
+    spec : identified axes, ((p, (b, ...)), ...) as `_validate.as_periodic` gives them (axes then
+        from `identify.identified_axes`): every task builds the `identify.IdentifiedGrid`.
     """
     address = check_scheduler(scheduler)
     div = np.array([len(a) - 1 for a in axes], np.int64)
@@ -96,16 +105,17 @@ def run_distributed(method, n, k, axes, bounds, system, sampled, starts, schedul
         raise InputError(
             'scheduler needs dask.distributed, which is not installed: pip install -e ".[cluster]"'
         ) from None
-    grid = Grid(n, k, axes, method)  # validates the grid's size before any cluster starts
+    ident = _identification(spec, bounds, sampled)
+    grid = _new_grid(n, k, axes, method, ident)  # validates the grid's size before any cluster starts
     if progress is not None:  # starting a cluster takes a second or two: say so
         progress("starting a local dask cluster" if address == "local" else f"connecting to {address}", 0.0)
     with _Session(address, sampled) as session:
         if method in CONTINUATION_METHODS:
-            process = functools.partial(_process_wave, session, method, system, sampled, cancel)
+            process = functools.partial(_process_wave, session, method, system, sampled, cancel, ident)
             cx = run_continuation(n, k, axes, bounds, system, sampled, starts, progress, cancel,
                                   grid=grid, process=process)
         else:
-            cx = _run_blocks(session, grid, method, div, block_, system, sampled, progress, cancel)
+            cx = _run_blocks(session, grid, method, div, block_, system, sampled, progress, cancel, ident)
         cx.meta["scheduler"] = scheduler
         cx.meta["workers"] = session.workers if session.started else 0
         cx.meta["tasks"] = session.tasks
@@ -154,6 +164,24 @@ def check_scheduler(scheduler) -> str:
 
 def _check_block(block, n: int) -> np.ndarray | None:
     return None if block is None else per_axis_ints(block, n, "block")
+
+
+def _identification(spec, bounds, sampled) -> tuple | None:
+    """What a task needs to build the `IdentifiedGrid` (spec, bounds as nested tuples), or None."""
+    if not spec:
+        return None
+    if sampled is not None:  # (extract refuses this first; a direct caller gets the same words)
+        raise InputError("periodic axes need F as formulas: sampled values can't be checked for periodicity")
+    spec = tuple((int(p), tuple(int(b) for b in flips)) for p, flips in spec)
+    return spec, tuple(map(tuple, np.asarray(bounds, np.float64).tolist()))
+
+
+def _new_grid(n, k, axes, method, ident) -> Grid:
+    if ident is None:
+        return Grid(n, k, axes, method)
+    from .identify import IdentifiedGrid  # noqa: PLC0415
+
+    return IdentifiedGrid(n, k, axes, method, spec=ident[0], bounds=np.array(ident[1], np.float64))
 
 
 # ----------------------------------------------------------------------------- the cluster
@@ -368,7 +396,7 @@ def _blocks(div, block):
         yield lo, np.minimum(lo + block, div)
 
 
-def _run_blocks(session, grid, method, div, block, system, sampled, progress, cancel):
+def _run_blocks(session, grid, method, div, block, system, sampled, progress, cancel, ident=None):
     client = session.client
     if block is None:
         block = default_block(div, session.workers)
@@ -383,7 +411,7 @@ def _run_blocks(session, grid, method, div, block, system, sampled, progress, ca
         else:
             data = shared
         futures.append(client.submit(
-            _block_task, grid.n, grid.k, method, grid.axes, formula, data, lo, hi, threads,
+            _block_task, grid.n, grid.k, method, grid.axes, formula, data, lo, hi, threads, ident,
             key=session.key("block"), pure=False,
         ))
     if progress is not None:
@@ -404,7 +432,7 @@ def _run_blocks(session, grid, method, div, block, system, sampled, progress, ca
 
 
 # ----------------------------------------------------------------------------- continuation
-def _process_wave(session, method, system, sampled, cancel, grid, origins):
+def _process_wave(session, method, system, sampled, cancel, ident, grid, origins):
     """`process` hook of `continuation.run_continuation`: one wave's cubes (m, n) -> (masks (m,), nonfinite ids)."""
     m = len(origins)
     if m < LOCAL_WAVE:
@@ -417,7 +445,7 @@ def _process_wave(session, method, system, sampled, cancel, grid, origins):
     # scattered, not passed inline: a big wave's origins would make a large task graph (dask warns)
     chunks = client.scatter(np.array_split(origins, nchunks), hash=False)
     futures = [
-        client.submit(_cubes_task, grid.n, grid.k, method, grid.axes, formula, data, chunk, threads,
+        client.submit(_cubes_task, grid.n, grid.k, method, grid.axes, formula, data, chunk, threads, ident,
                       key=session.key("wave"), pure=False)
         for chunk in chunks
     ]
@@ -444,14 +472,15 @@ def _worker_sampled(path):
 _GRIDS: dict = {}
 
 
-def _worker_grid(n, k, method, axes):
-    """A fresh `Grid` (empty parts, zero stats) copied from a per-process template."""
-    key = (n, k, method, tuple(a.tobytes() for a in axes))
+def _worker_grid(n, k, method, axes, ident=None):
+    """A fresh `Grid` (empty parts, zero stats) copied from a per-process template
+    (an `IdentifiedGrid` when ident gives identified axes)."""
+    key = (n, k, method, tuple(a.tobytes() for a in axes), ident)
     template = _GRIDS.get(key)
     if template is None:
         if len(_GRIDS) >= 4:
             _GRIDS.clear()
-        template = _GRIDS[key] = Grid(n, k, axes, method)
+        template = _GRIDS[key] = _new_grid(n, k, axes, method, ident)
     return template.empty_copy()
 
 
@@ -473,15 +502,17 @@ def _set_threads(per_host) -> None:
     numba.set_num_threads(max(1, min(cores // max(busy, 1), numba.config.NUMBA_NUM_THREADS)))  # this thread only
 
 
-def _block_task(n, k, method, axes, formula, data, lo, hi, threads) -> dict:
+def _block_task(n, k, method, axes, formula, data, lo, hi, threads, ident=None) -> dict:
     """One block of cubes lo..hi-1 on a worker: F's values, candidates, kernel."""
     _set_threads(threads)
-    grid = _worker_grid(n, k, method, axes)
+    grid = _worker_grid(n, k, method, axes, ident)
     t = time.perf_counter()
     system = None if formula is None else parse_system(formula[0], formula[1], params=formula[2])
     sampled = _sampled_array(data)
     if sampled is not None and not isinstance(data, tuple):  # a remote block's own slice
         values = sampled
+    elif ident is not None:  # a seam's values are copies from the other side (`IdentifiedGrid.block_values`)
+        values = grid.block_values(system, lo, hi)
     else:
         values = block_values(axes, system, sampled, lo, hi)
     grid.timings["evaluate"] += time.perf_counter() - t
@@ -490,10 +521,10 @@ def _block_task(n, k, method, axes, formula, data, lo, hi, threads) -> dict:
     return grid.packed_records()
 
 
-def _cubes_task(n, k, method, axes, formula, data, origins, threads) -> dict:
+def _cubes_task(n, k, method, axes, formula, data, origins, threads, ident=None) -> dict:
     """One chunk of a continuation wave on a worker."""
     _set_threads(threads)
-    grid = _worker_grid(n, k, method, axes)
+    grid = _worker_grid(n, k, method, axes, ident)
     system = None if formula is None else parse_system(formula[0], formula[1], params=formula[2])
     with _KERNEL_LOCK:
         masks, nonfinite = grid.process_cubes(origins, system, _sampled_array(data))

@@ -35,8 +35,12 @@ The full sweep (`IdentifiedGrid.sweep`) evaluates F in slabs along an axis no se
 reverses (an unglued one when there is one) and runs the candidate cubes through this
 grid; the interval-pruned sweep is not used for periodic runs.  Start points may be
 projected across a seam (`project_wrapped`).  Continuation crosses seams
-to the identified cube (`IdentifiedGrid.wrapped_neighbours`).  Distributed (Dask) runs
-refuse periodic axes for now.
+to the identified cube (`IdentifiedGrid.wrapped_neighbours`).  On a Dask cluster
+(`distributed`) every task builds the IdentifiedGrid from (spec, bounds); a block
+that ends on a seam copies that face's values from the vertices identified with it,
+wherever they lie (`IdentifiedGrid.block_values`), and the records keep each vertex's
+frame (`packed_records`), so the client's `assemble` picks the same positions in
+whatever order blocks and waves come back.
 """
 
 from __future__ import annotations
@@ -185,7 +189,9 @@ class IdentifiedGrid(Grid):
                                          np.int64) for dim in range(k, n + 1)}
         self._key_base = (n + 1) ** n
         self._frames = {}
-        self._frame_vk = []  # the vertex records that came from mirrored frames
+        # vertex records that came from a mirrored frame: id(array) -> (array, each row's frame
+        # pattern); the array is held so that ids stay unique (see assemble)
+        self._vk_frames: dict = {}
 
     # ------------------------------------------------------------------ vertices and frames
     def canonical(self, multi: np.ndarray) -> np.ndarray:
@@ -272,11 +278,38 @@ class IdentifiedGrid(Grid):
                 inc[sel, 2] = self._frame_keys(inc[sel, 2], int(r) - 1 + k, mirrored)
             for key, arr in zip(("vk", "vp", "e", "c", "i"), (vk, vp, e, c, inc)):
                 self.parts[key].append(arr)
-            self._frame_vk.append(vk)  # (kept, so that ids stay unique: see assemble)
+            self._vk_frames[id(vk)] = (vk, np.full(len(vk), sum(1 << b for b in mirrored), np.int64))
         for key, value in fg.stats.items():  # (every count the kernel run keeps, whatever it is)
             self.stats[key] = self.stats.get(key, 0) + value
         for key, value in fg.timings.items():
             self.timings[key] = self.timings.get(key, 0.0) + value
+
+    # ------------------------------------------------------------------ records (distributed runs)
+    def _vk_patterns(self) -> np.ndarray:
+        """The frame pattern (bit b: mirrored along b) of every vertex record, in parts' order."""
+        none = np.zeros(0, np.int64)
+        return np.concatenate([self._vk_frames.get(id(a), (None, np.zeros(len(a), np.int64)))[1]
+                               for a in self.parts["vk"]] or [none])
+
+    def empty_copy(self) -> IdentifiedGrid:
+        """`Grid.empty_copy`, with no frame records and frames of its own."""
+        grid = super().empty_copy()
+        grid._frames = {}
+        grid._vk_frames = {}
+        return grid
+
+    def packed_records(self) -> dict:
+        """`Grid.packed_records` and each vertex record's frame ("vk_frame"): the assembly
+        orders identified vertices by it."""
+        out = super().packed_records()
+        out["vk_frame"] = self._vk_patterns() if self.parts["vk"] else None
+        return out
+
+    def add_records(self, packed: dict) -> None:
+        super().add_records(packed)
+        vk = packed["parts"]["vk"]
+        if vk is not None and packed.get("vk_frame") is not None:
+            self._vk_frames[id(vk)] = (vk, packed["vk_frame"])
 
     # ------------------------------------------------------------------ keys
     def _decode(self, keys, dim):
@@ -336,15 +369,14 @@ class IdentifiedGrid(Grid):
         """Seam keys replaced by their images', then `Grid.assemble`.  Vertices computed
         on a seam go last, so an identified vertex keeps the position from the other side;
         before them, those computed in a mirrored frame (the same point, other last bits),
-        so the positions do not depend on the order in which cubes were processed."""
+        ordered by frame, so the positions do not depend on the order in which cubes, slabs,
+        blocks or waves were processed."""
         k = self.k
         t = time.perf_counter()
         cat = {key: np.concatenate(arrs) if arrs else None for key, arrs in self.parts.items()}
         if cat["vk"] is not None:
             vk, moved = self._seam_keys(cat["vk"], k)
-            framed = {id(a) for a in self._frame_vk}
-            mirrored = np.concatenate([np.full(len(a), id(a) in framed) for a in self.parts["vk"]])
-            order = np.lexsort((mirrored, moved))
+            order = np.lexsort((self._vk_patterns(), moved))
             self.parts["vk"] = [vk[order]]
             self.parts["vp"] = [cat["vp"][order]]
         if cat["e"] is not None:
@@ -372,6 +404,39 @@ class IdentifiedGrid(Grid):
         return cx
 
     # ------------------------------------------------------------------ the runs
+    def block_values(self, system, lo, hi) -> np.ndarray:
+        """F at the vertices of the block of cubes lo..hi-1, as `sweep` holds them: evaluated
+        below line d of every periodic axis, and on a seam (a block that ends at line d)
+        copied from the vertex identified with it (`canonical`), which may lie anywhere
+        in the grid.  Every value is `evaluate_grid`'s at an unglued vertex, so a block
+        of a Dask run sees the bytes the single-process sweep sees."""
+        n, k = self.n, self.k
+        lo = np.asarray(lo, np.int64)
+        hi = np.asarray(hi, np.int64)
+        top = hi.copy()
+        for p in self.periodic_axes:
+            top[p] = min(top[p], self.div[p] - 1)
+        values = np.empty((*(hi - lo + 1).tolist(), k))
+        values[tuple(slice(0, int(top[a] - lo[a]) + 1) for a in range(n))] = system.evaluate_grid(
+            [self.axes[a][lo[a] : top[a] + 1] for a in range(n)])
+        for p in self.periodic_axes:
+            if hi[p] != self.div[p]:
+                continue
+            # the block's face on line d of p (its vertices on other seams too: same copies)
+            ranges = [np.arange(lo[a], hi[a] + 1) for a in range(n)]
+            ranges[p] = np.array([self.div[p]])
+            face = np.stack(np.meshgrid(*ranges, indexing="ij"), axis=-1).reshape(-1, n)
+            canon = self.canonical(face)
+            # F on the product of the lines the images use: about the face's size
+            lines = [np.unique(canon[:, a]) for a in range(n)]
+            at = tuple(np.searchsorted(lines[a], canon[:, a]) for a in range(n))
+            image = system.evaluate_grid([self.axes[a][lines[a]] for a in range(n)])[at]
+            dst = [slice(None)] * n
+            dst[p] = -1
+            values[tuple(dst)] = image.reshape(*(len(r) for r in ranges), k)[tuple(
+                0 if a == p else slice(None) for a in range(n))]
+        return values
+
     def process_block(self, values, lo, hi, first_layer=None) -> np.ndarray:
         """`Grid.process_block` with each cube in its frame.  values: F at the block's
         vertices, line d of a periodic axis already holding line 0's (mirrored) values."""
