@@ -101,6 +101,11 @@ def _child(spec: dict, import_seconds: float = 0.0) -> dict:
         second = time.perf_counter() - t
         out.update(seconds=second, first_seconds=first, import_seconds=import_s,
                    overhead_seconds=import_s + first - second)
+    elif spec.get("peers"):
+        run(3 if isinstance(div, int) else [3] * len(div))
+        cx = run(div)
+        out.update(peak_mb=peak_mb())  # (GCMH's own, before the peers run)
+        out.update(_sphere_peers(ex, div, spec.get("repeat", 1), run))
     else:
         run(3 if isinstance(div, int) else [3] * len(div))  # loads the cached kernels, starts the threads
         best, cx = None, None
@@ -114,16 +119,18 @@ def _child(spec: dict, import_seconds: float = 0.0) -> dict:
         out.update(seconds=best)
     out.update(kernel_seconds=cx.meta["timings"]["kernel"], kernel_cubes=cx.meta.get("candidate_cubes", 0))
     out.update(counts=cx.counts(), euler=cx.euler_characteristic(), boundary=int(len(cx.boundary_facets())),
-               visited=cx.meta.get("visited_cubes", cx.meta.get("candidate_cubes")), peak_mb=peak_mb())
-    if spec.get("peers"):
-        out.update(_sphere_peers(ex, div, spec.get("repeat", 1), run))
+               visited=cx.meta.get("visited_cubes", cx.meta.get("candidate_cubes")))
+    out.setdefault("peak_mb", peak_mb())
     return out
 
 
 def _sphere_peers(ex, div, repeat, run) -> dict:
-    """GCMH's general path (as before the n = 3 marching pass: pruned sweep, kernel per cube,
-    global assembly), scikit-image's marching_cubes and VTK's flying edges on the same
-    function and grid, each from F's formula to its mesh (sampling included)."""
+    """GCMH (the marching pass for n = 3), its general path (as before that pass: pruned
+    sweep, kernel per cube, global assembly), scikit-image's marching_cubes and VTK's
+    flying edges on the same function and grid, each from F's formula to its mesh
+    (sampling included).  The four take turns, round after round (a shared machine's
+    load then falls on all of them alike); small grids get more rounds: repeat x 256 / div.
+    Returns each one's best and median seconds."""
     import numpy as np  # noqa: PLC0415
 
     from gcmh_core import sweep  # noqa: PLC0415
@@ -132,32 +139,19 @@ def _sphere_peers(ex, div, repeat, run) -> dict:
     system = parse_system(ex.formulas, ex.variables)
     axes = [np.linspace(lo, hi, div + 1) for lo, hi in ex.bounds]
     out = {}
-    sweep.MARCHING3 = False
-    try:
-        best = None
-        for _ in range(repeat):
-            t = time.perf_counter()
-            run(div)
-            dt = time.perf_counter() - t
-            best = dt if best is None else min(best, dt)
-        out.update(general_seconds=best)
-    finally:
-        sweep.MARCHING3 = None
 
-    def best_of(fn):
-        best = None
-        for _ in range(repeat):
-            t = time.perf_counter()
-            result = fn()
-            dt = time.perf_counter() - t
-            best = dt if best is None else min(best, dt)
-        return best, result
+    def general():
+        sweep.MARCHING3 = False
+        try:
+            return run(div)
+        finally:
+            sweep.MARCHING3 = None
 
+    cases = {"seconds": lambda: run(div), "general_seconds": general}
     try:
         from skimage.measure import marching_cubes  # noqa: PLC0415
 
-        secs, faces = best_of(lambda: marching_cubes(system.evaluate_grid(axes)[..., 0], 0.0)[1])
-        out.update(skimage_seconds=secs, skimage_triangles=len(faces))
+        cases["skimage_seconds"] = lambda: marching_cubes(system.evaluate_grid(axes)[..., 0], 0.0)[1]
     except ImportError:
         out.update(skimage_seconds=None)
     try:
@@ -173,11 +167,25 @@ def _sphere_peers(ex, div, repeat, run) -> dict:
             image.point_data["F"] = volume.reshape(-1)
             return image.contour([0.0], scalars="F", method="flying_edges")
 
-        secs, mesh = best_of(flying_edges)
-        out.update(vtk_seconds=secs, vtk_triangles=int(mesh.n_cells),
-                   vtk_smp=f"{vtk.vtkSMPTools.GetBackend()}, {vtk.vtkSMPTools.GetEstimatedNumberOfThreads()} thread(s)")
+        cases["vtk_seconds"] = flying_edges
+        out.update(vtk_smp=f"{vtk.vtkSMPTools.GetBackend()}, {vtk.vtkSMPTools.GetEstimatedNumberOfThreads()} thread(s)")
     except ImportError:
         out.update(vtk_seconds=None)
+    times: dict[str, list[float]] = {key: [] for key in cases}
+    results = {key: fn() for key, fn in cases.items()}  # (warm)
+    for _ in range(repeat * max(1, 256 // div)):
+        for key, fn in cases.items():
+            t = time.perf_counter()
+            fn()
+            times[key].append(time.perf_counter() - t)
+    for key, seconds in times.items():
+        out[key] = min(seconds)
+        out[key.replace("seconds", "median")] = float(np.median(seconds))
+    if "skimage_seconds" in results:
+        out.update(skimage_triangles=len(results["skimage_seconds"]))
+    if "vtk_seconds" in results:
+        out.update(vtk_triangles=int(results["vtk_seconds"].n_cells))
+    out.update(rounds=len(times["seconds"]))
     return out
 
 
@@ -317,8 +325,8 @@ def print_sphere(R: Runner) -> None:
     print("GCMH: the marching pass for n = 3 (the default); general: the path every other n and k "
           "takes (pruned sweep, kernel per cube, assembly), the same complex.\n")
     print("| div | GCMH | GCMH general path | skimage marching_cubes | VTK flying edges | GCMH / skimage "
-          "| GCMH / VTK | general / VTK | GCMH peak memory | cells by dim | Euler |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+          "| GCMH / VTK | general / VTK | GCMH / VTK, medians | GCMH peak memory | cells by dim | Euler |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     smp = None
     for div in SPHERE_DIVS_SMALL + SPHERE_DIVS:
         r = R.results.get(("sphere", "gcmh", div))
@@ -326,13 +334,17 @@ def print_sphere(R: Runner) -> None:
             continue
         sk, vt, gen = r.get("skimage_seconds"), r.get("vtk_seconds"), r.get("general_seconds")
         smp = r.get("vtk_smp", smp)
+        med, vmed = r.get("median"), r.get("vtk_median")  # (GCMH's and VTK's median seconds)
         f = lambda x: "-" if x is None else f"{x:.3f} s"  # noqa: E731
         q = lambda x, s=r["seconds"]: "-" if not x else f"{s / x:.2f}"  # noqa: E731
         print(f"| {div} | {_secs(r)} | {f(gen)} | {f(sk)} ({r.get('skimage_triangles', 0):,} triangles) "
               f"| {f(vt)} ({r.get('vtk_triangles', 0):,} triangles) | {q(sk)} | {q(vt)} "
-              f"| {'-' if not (gen and vt) else f'{gen / vt:.2f}'} | {_mem(r)} | {_cells(r)} | {r.get('euler', '-')} |")
+              f"| {'-' if not (gen and vt) else f'{gen / vt:.2f}'} "
+              f"| {'-' if not (med and vmed) else f'{med / vmed:.2f}'} "
+              f"| {_mem(r)} | {_cells(r)} | {r.get('euler', '-')} |")
     if smp:
-        print(f"\nVTK's SMP backend: {smp}.")
+        print(f"\nTimes: the best of the rounds (GCMH, general, skimage and VTK take turns; repeat x 256 / div "
+              f"rounds); medians in the JSON.  VTK's SMP backend: {smp}.")
     print()
 
 
