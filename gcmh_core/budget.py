@@ -528,8 +528,9 @@ def check_budget(estimate: Estimate, force: bool = False) -> None:
         what = f"this run would take about {_format_seconds(e.seconds)} (limit {_format_seconds(e.seconds_limit)})"
     hints = []
     if e.table_bytes >= 0.3 * e.peak_bytes or max(e.div) == 1:
+        simplices = f" and {factorial(e.k):,} Kuhn simplices in each {e.k}-face" if e.k >= 5 else ""
         hints.append(
-            f"in R^{e.n} a single cube has {3 ** e.n:,} faces (the cube tables alone take "
+            f"in R^{e.n} a single cube has {3 ** e.n:,} faces{simplices} (the cube tables alone take "
             f"{format_bytes(e.table_bytes)}): use fewer variables"
         )
     else:
