@@ -406,35 +406,39 @@ class IdentifiedGrid(Grid):
     # ------------------------------------------------------------------ the runs
     def block_values(self, system, lo, hi) -> np.ndarray:
         """F at the vertices of the block of cubes lo..hi-1, as `sweep` holds them: evaluated
-        below line d of every periodic axis, and on a seam (a block that ends at line d)
-        copied from the vertex identified with it (`canonical`), which may lie anywhere
-        in the grid.  Every value is `evaluate_grid`'s at an unglued vertex, so a block
-        of a Dask run sees the bytes the single-process sweep sees."""
+        below line d of every periodic axis; on a seam (a block that ends at line d) copied
+        from the vertices identified with it, wherever they lie.  Every value is then
+        `evaluate_grid`'s at an unglued vertex, so a block of a Dask run sees the bytes the
+        single-process sweep sees."""
+        return self._box_values(system, np.asarray(lo, np.int64), np.asarray(hi, np.int64))
+
+    def _box_values(self, system, lo, hi) -> np.ndarray:
+        """F at the grid vertices lo..hi (inclusive, per axis).  The face on line d of a
+        periodic axis p is the box on line 0 of p, its range along each axis p flips
+        mirrored (j -> d_b - j), read backwards; that box may reach line d of a flipped
+        axis in turn, which has no flips of its own (`as_periodic`), so this recursion
+        ends.  The faces are boxes: F on them by `evaluate_grid`, not vertex by vertex."""
         n, k = self.n, self.k
-        lo = np.asarray(lo, np.int64)
-        hi = np.asarray(hi, np.int64)
         top = hi.copy()
         for p in self.periodic_axes:
             top[p] = min(top[p], self.div[p] - 1)
         values = np.empty((*(hi - lo + 1).tolist(), k))
-        values[tuple(slice(0, int(top[a] - lo[a]) + 1) for a in range(n))] = system.evaluate_grid(
-            [self.axes[a][lo[a] : top[a] + 1] for a in range(n)])
-        for p in self.periodic_axes:
+        if np.all(top >= lo):
+            values[tuple(slice(0, int(top[a] - lo[a]) + 1) for a in range(n))] = system.evaluate_grid(
+                [self.axes[a][lo[a] : top[a] + 1] for a in range(n)])
+        for p, flips in self.spec:
             if hi[p] != self.div[p]:
                 continue
-            # the block's face on line d of p (its vertices on other seams too: same copies)
-            ranges = [np.arange(lo[a], hi[a] + 1) for a in range(n)]
-            ranges[p] = np.array([self.div[p]])
-            face = np.stack(np.meshgrid(*ranges, indexing="ij"), axis=-1).reshape(-1, n)
-            canon = self.canonical(face)
-            # F on the product of the lines the images use: about the face's size
-            lines = [np.unique(canon[:, a]) for a in range(n)]
-            at = tuple(np.searchsorted(lines[a], canon[:, a]) for a in range(n))
-            image = system.evaluate_grid([self.axes[a][lines[a]] for a in range(n)])[at]
+            ilo, ihi = lo.copy(), hi.copy()
+            ilo[p] = ihi[p] = 0
+            for b in flips:
+                ilo[b], ihi[b] = self.div[b] - hi[b], self.div[b] - lo[b]
+            image = self._box_values(system, ilo, ihi)
+            if flips:
+                image = np.flip(image, axis=flips)
             dst = [slice(None)] * n
-            dst[p] = -1
-            values[tuple(dst)] = image.reshape(*(len(r) for r in ranges), k)[tuple(
-                0 if a == p else slice(None) for a in range(n))]
+            dst[p] = slice(-1, None)
+            values[tuple(dst)] = image  # (a vertex on two seams: both write its one value)
         return values
 
     def process_block(self, values, lo, hi, first_layer=None) -> np.ndarray:
