@@ -80,21 +80,24 @@ def example_for(title: str, names: Sequence[str]) -> Example | None:
 
 def image_actor(rgba: np.ndarray):
     """A VTK 2D actor drawing an (h, w, 4) uint8 RGBA image at a pixel position (alpha-blended)."""
-    import vtk
-    from vtk.util import numpy_support
+    # (vtkmodules, not ``import vtk``: that loads every VTK module, 1.3 s on the GUI thread)
+    from vtkmodules.util import numpy_support
+    from vtkmodules.util.vtkConstants import VTK_UNSIGNED_CHAR
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+    from vtkmodules.vtkRenderingCore import vtkActor2D, vtkImageMapper
 
     h, w = rgba.shape[:2]
-    data = vtk.vtkImageData()
+    data = vtkImageData()
     data.SetDimensions(w, h, 1)
     flat = np.ascontiguousarray(rgba[::-1].reshape(-1, 4))      # VTK's rows go up
-    arr = numpy_support.numpy_to_vtk(flat, deep=True, array_type=vtk.VTK_UNSIGNED_CHAR)
+    arr = numpy_support.numpy_to_vtk(flat, deep=True, array_type=VTK_UNSIGNED_CHAR)
     arr.SetNumberOfComponents(4)
     data.GetPointData().SetScalars(arr)
-    mapper = vtk.vtkImageMapper()
+    mapper = vtkImageMapper()
     mapper.SetInputData(data)
     mapper.SetColorWindow(255.0)
     mapper.SetColorLevel(127.5)
-    actor = vtk.vtkActor2D()
+    actor = vtkActor2D()
     actor.SetMapper(mapper)
     actor.image_size = (w, h)
     return actor
@@ -102,9 +105,9 @@ def image_actor(rgba: np.ndarray):
 
 def _text_card(lines, font_size: int):
     """The card as plain text (when no image can be made): a VTK text actor, right-justified."""
-    import vtk
+    from vtkmodules.vtkRenderingCore import vtkTextActor
 
-    actor = vtk.vtkTextActor()
+    actor = vtkTextActor()
     actor.SetInput("\n".join(lines))
     prop = actor.GetTextProperty()
     prop.SetFontSize(font_size)
@@ -480,7 +483,7 @@ class QtPresentation(QObject):
 
     def _set_caption(self, text: str, error: bool = False) -> None:
         """A line of large type at the top right of the view (while presenting): what is happening."""
-        import vtk
+        from vtkmodules.vtkRenderingCore import vtkTextActor
 
         if not text:
             self._remove_actor(CAPTION_ACTOR)
@@ -488,7 +491,7 @@ class QtPresentation(QObject):
             self.window.viewer.render()
             return
         if self._caption is None:
-            a = vtk.vtkTextActor()
+            a = vtkTextActor()
             prop = a.GetTextProperty()
             prop.SetJustificationToRight()
             prop.SetVerticalJustificationToTop()
