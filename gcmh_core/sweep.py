@@ -14,6 +14,10 @@ size of M rather than with div^n, and the complex is the plain sweep's, bit for 
 a dropped block would have given the candidate pass nothing (no candidate, no
 non-finite vertex), and the others give the same values and the same records.
 
+n = 3, k = 1 (GCMH, no periodic axes): the marching pass (`_marching3`) instead, F in
+thin slabs, the complex written in its final order in one pass over the grid's layers;
+the same bytes as the general path, which it hands over to when a value is not finite.
+
 Periodic axes (an `identify.IdentifiedGrid`): the grid's own sweep, never pruned.
 """
 
