@@ -225,6 +225,7 @@ class QtPresentation(QObject):
             signal.connect(slot)
         window.viewer.widget.installEventFilter(self._keys)
         window.installEventFilter(self._keys)
+        window.viewer.picture_decorators.append(self.decorate)   # screenshots and animations show it too
         self._observer = window.plotter.ren_win.AddObserver("StartEvent", self._before_render)
 
     # ------------------------------------------------------------------ installing
@@ -272,6 +273,8 @@ class QtPresentation(QObject):
                 pass
         self.window.viewer.widget.removeEventFilter(self._keys)
         self.window.removeEventFilter(self._keys)
+        if self.decorate in self.window.viewer.picture_decorators:
+            self.window.viewer.picture_decorators.remove(self.decorate)
         try:
             self.window.plotter.ren_win.RemoveObserver(self._observer)
         except Exception:  # noqa: BLE001 - the render window is gone already

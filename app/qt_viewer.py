@@ -101,6 +101,9 @@ class QtViewer:
         self.scene = Scene(self.plotter, anti_aliasing="fxaa")
         warm_labels()
         self.renders = 0                     # full renders of the window (the benchmark counts them)
+        # what else the window draws in the view (the presentation's card and axes): f(plotter) draws it
+        # again on the off-screen copies that screenshots and animations render
+        self.picture_decorators: list = []
         self._mapping = None                 # the mapping the camera was fitted for
         self._settle = QTimer()
         self._settle.setSingleShot(True)
@@ -382,7 +385,11 @@ class QtViewer:
         size = tuple(int(s) for s in (size or self.size()))
         self._at_rest()
         return render_image(self.scene, path, size=size, transparent=transparent, camera=self.plotter.camera,
-                            fit=not self.keep_camera(), camera_size=self.size())
+                            fit=not self.keep_camera(), camera_size=self.size(), decorate=self._decorate)
+
+    def _decorate(self, plotter) -> None:
+        for draw in self.picture_decorators:
+            draw(plotter)
 
     def write_animation(self, path, frames, window, projection: ProjectionModel, size, fps: float,
                         progress=None, cancel=None) -> int:
@@ -396,4 +403,5 @@ class QtViewer:
             copy_camera(self.plotter.camera, sc.plotter.camera)
             if not self.keep_camera():   # the window's direction, framed for this picture's shape
                 refit_camera(sc.plotter)
+            self._decorate(sc.plotter)
             return write_frames(sc, projection, frames, window, [path], fps, progress=progress, cancel=cancel)

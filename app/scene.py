@@ -1026,14 +1026,15 @@ def animation_images(scene: Scene, model, frames, window=None, progress=None):
 
 
 def render_image(scene: Scene, path=None, size=(1600, 1200), transparent: bool = False, camera=None,
-                 fit: bool = True, camera_size=None):
+                 fit: bool = True, camera_size=None, decorate=None):
     """Render ``scene`` off screen at ``size`` (w, h), super-sampled, and write a PNG to ``path``.
 
     The mesh is shared, not rebuilt. ``camera``: a pyvista Camera to copy (the
     window's), else the default oblique view. ``fit``: frame the object for this
     picture's shape from the camera's direction, as the window frames it (a 3840x2160
     picture of a 4:3 window must not crop); else keep the camera and only widen it so
-    the picture shows what the window of ``camera_size`` showed. Returns the (h, w, 3 or 4) image.
+    the picture shows what the window of ``camera_size`` showed. ``decorate(plotter)``: draws what the
+    window adds to its view (the presentation's card) on this picture. Returns the (h, w, 3 or 4) image.
     """
     import copy
 
@@ -1050,6 +1051,8 @@ def render_image(scene: Scene, path=None, size=(1600, 1200), transparent: bool =
             pl.renderer.ResetCameraClippingRange()
         else:
             default_camera(pl)
+        if decorate is not None:
+            decorate(pl)
         if transparent:
             pl.renderer.GradientBackgroundOff()   # a gradient would paint every pixel opaque
         pl.render()

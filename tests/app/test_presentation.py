@@ -232,6 +232,27 @@ def test_decorate_draws_the_card_and_axes_on_an_off_screen_copy(qtbot, presentin
     p.leave()
 
 
+def test_screenshots_of_the_view_carry_the_card(qtbot, presenting, tmp_path):
+    from PIL import Image
+
+    window, p = presenting
+    p.enter()
+    window.screenshot_array()
+    p.set_formula_shown(False)
+    plain = window.viewer.save_screenshot(tmp_path / "plain.png", size=(800, 600))
+    p.set_formula_shown(True)
+    card = window.viewer.save_screenshot(tmp_path / "card.png", size=(800, 600))
+    assert Image.open(tmp_path / "card.png").size == (800, 600)
+    differs = np.any(card[..., :3] != plain[..., :3], axis=-1)
+    h, w = differs.shape
+    # the card sits in the bottom right corner of the picture, as in the view
+    assert differs[h // 2:, w // 2:].mean() > 0.05 and differs[: h // 2, : w // 2].mean() == 0.0
+    assert window.viewer.picture_decorators.count(p.decorate) == 1
+    p.leave()
+    p.uninstall()
+    assert p.decorate not in window.viewer.picture_decorators
+
+
 def test_a_card_that_cannot_be_drawn_is_plain_text(qtbot, presenting, monkeypatch):
     import app.qt_presentation as qp
 
