@@ -163,9 +163,6 @@ def test_grid_conditions_are_refused():
         extract(KLEIN.formulas, KLEIN.bounds, [8, 8, 4, 8, 9], variables=KLEIN.variables, periodic=KLEIN.periodic)
     with pytest.raises(InputError, match="needs at least 3 cubes around it, div is 2"):
         extract(KLEIN.formulas, KLEIN.bounds, [8, 8, 4, 2, 8], variables=KLEIN.variables, periodic=KLEIN.periodic)
-    with pytest.raises(InputError, match="not supported on a Dask scheduler"):
-        extract(KLEIN.formulas, KLEIN.bounds, 8, variables=KLEIN.variables, periodic=KLEIN.periodic,
-                scheduler="local")
     with pytest.raises(InputError, match="periodic axes need F as formulas"):
         extract(np.ones((5, 5, 1)), [[0, 1], [0, 1]], periodic=["x1"])
 
