@@ -13,8 +13,12 @@ from collections.abc import Callable, Iterator
 
 JIT = dict(nogil=True, cache=True, fastmath=False, error_model="numpy")
 PARALLEL_JIT = dict(JIT, parallel=True)
-# Small helpers called in a kernel's inner loops (_face_key, _face_in_face, ...) are
-# inlined and take scalars.  Array arguments of an inlined call get reference-count
+# Small helpers called in a kernel's inner loops take scalars.  Those that take only
+# scalars (_face_key, _face_in_face, _local_code) are plain JIT calls: LLVM inlines them
+# all the same (kernel time unchanged), and numba no longer types and lowers a copy per
+# call site on a first run (the cube kernel compiled a fifth faster).  Those with an
+# array (_find, simplex_crosses) are inlined by numba: as plain calls they cost 10% of
+# the kernel's time.  Array arguments of an inlined call get reference-count
 # updates (atomic, shared by all threads) that numba does not prune in functions
 # as large as the chunk kernels (LLVM's refprune gives up past 1,000 basic blocks):
 # they cost more than a cube's work.  (simplex_crosses takes arrays: it is called

@@ -191,13 +191,13 @@ def _find(parent, v):
     return v
 
 
-@nb.njit(**INLINE_JIT)
+@nb.njit(**JIT)
 def _face_in_face(g_free, g_fixed, f_free, f_fixed):
     """Is the cube face (g_free, g_fixed) contained in the face (f_free, f_fixed)?"""
     return (g_free & ~f_free) == 0 and (g_fixed & ~f_free) == f_fixed
 
 
-@nb.njit(**INLINE_JIT)
+@nb.njit(**JIT)
 def _local_code(f_free, g_free, g_fixed, perm, k, kfact, binom):
     """Code of the vertex (k-face g, permutation perm) inside the face f that holds g."""
     pos = 0
@@ -219,7 +219,7 @@ def _local_code(f_free, g_free, g_fixed, perm, k, kfact, binom):
     return (rank * (np.int64(1) << j) + bits) * kfact + perm
 
 
-@nb.njit(**INLINE_JIT)
+@nb.njit(**JIT)
 def _face_key(face_corner, n_subsets_dim, rank):
     """Global key of a cube face: its first corner's grid vertex, then its axes' rank."""
     return face_corner * n_subsets_dim + rank

@@ -176,10 +176,11 @@ ROWS = [  # (label, case, cold/warm, how the value is read)
     ("  first - second (beyond the work)", "klein", "warm", "extra"),
     ("gcmh extract div 8, cold: wall", "cli", "cold", "first_s"),
     ("  its CPU seconds", "cli", "cold", "first_cpu"),
-    ("  'compiling' notes on stderr", "cli", "cold", "notes"),
+    ("  'compiling' notes on stderr (should be 1)", "cli", "cold", "notes"),
     ("gcmh extract div 8, warm: wall", "cli", "warm", "first_s"),
     ("  its CPU seconds", "cli", "warm", "first_cpu"),
     ("  its JSON seconds", "cli", "warm", "first_meta_s"),
+    ("  'compiling' notes on stderr (should be 0)", "cli", "warm", "notes"),
 ]
 
 
