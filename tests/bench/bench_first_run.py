@@ -7,9 +7,11 @@ give a `git worktree` of an older commit too to compare before and after in one 
 its column first), with numba's cache (NUMBA_CACHE_DIR) in a new temporary folder:
 
 * cold: the first extraction on a new install, kernels compiled: the sphere in R^3
-  (div 32, gcmh), the Bagel Klein bottle (R^5, k = 3, continuation "gcch" from the
-  example's start point at its division) and `gcmh extract` of the sphere at div 8,
-  whose standard error must say once that the kernels compile;
+  (div 32, gcmh: the n = 3 marching pass), a 2-sphere in R^4 cut out by two equations
+  (div 16, gcmh: the general cube kernel), the Bagel Klein bottle (R^5, k = 3,
+  continuation "gcch" from the example's start point at its division) and `gcmh
+  extract` of the sphere at div 8, whose standard error must say once that the
+  kernels compile;
 * warm: a fresh process on the now filled cache: its first extraction (after
   `import gcmh_core`, so the engine's own lazy imports count), the second in the same
   process, and what the first costs beyond the work (first - second); and the wall time
@@ -43,8 +45,11 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 
 SPHERE = dict(F=["x^2 + y^2 + z^2 - 1"], bounds=[[-1.2, 1.2]] * 3, variables=["x", "y", "z"], method="gcmh")
+# n = 3, k = 1 sweeps take a pass of their own (`_marching3`); this takes the general cube kernel
+GENERAL = dict(F=["x1^2 + x2^2 + x3^2 + x4^2 - 1", "x1 - x2"], bounds=[[-1.2, 1.2]] * 4,
+               variables=["x1", "x2", "x3", "x4"], method="gcmh")
 CLI = ["extract", "--f", "x^2+y^2+z^2-1", "--vars", "x,y,z", "--bounds=-1.2:1.2", "--div", "8", "--json"]
-CASES = ("sphere", "klein", "cli")
+CASES = ("sphere", "general", "klein", "cli")
 COMPILING = "compiling the kernels"  # the CLI's one-line note on a cold cache
 
 # Prepended to a child's code with --plain-install.
@@ -64,8 +69,8 @@ def child(spec: dict) -> dict:
     import gcmh_core  # noqa: PLC0415
 
     out = dict(import_s=time.perf_counter() - t)
-    if spec["case"] == "sphere":
-        case = dict(SPHERE)
+    if spec["case"] in ("sphere", "general"):
+        case = dict(SPHERE if spec["case"] == "sphere" else GENERAL)
         F, bounds, variables = case.pop("F"), case.pop("bounds"), case.pop("variables")
         args, kw = (F, bounds, spec["div"]), dict(variables=variables, **case)
     else:  # the Klein bottle by continuation, from its start point at its division
@@ -129,7 +134,7 @@ def measure(tree: str, cases: list[str], repeat: int, plain: bool) -> dict:
                 results[case, "cold"] = run_cli(tree, cache, plain)
                 warm = [run_cli(tree, cache, plain) for _ in range(repeat)]
             else:
-                spec = dict(case=case, div=32)
+                spec = dict(case=case, div=16 if case == "general" else 32)
                 results[case, "cold"] = run_child(tree, cache, spec, plain)
                 warm = [run_child(tree, cache, spec, plain) for _ in range(repeat)]
             results[case, "warm"] = _median(warm)
@@ -169,6 +174,9 @@ ROWS = [  # (label, case, cold/warm, how the value is read)
     ("  first - second (beyond the work)", "sphere", "warm", "extra"),
     ("  the same in CPU seconds", "sphere", "warm", "extra_cpu"),
     ("  import gcmh_core", "sphere", "warm", "import_s"),
+    ("curve in R^4 (k = 2) div 16, cold: first extraction", "general", "cold", "first_s"),
+    ("  its CPU seconds", "general", "cold", "first_cpu"),
+    ("  warm: first - second (beyond the work)", "general", "warm", "extra"),
     ("Klein bottle gcch, cold: first extraction", "klein", "cold", "first_s"),
     ("  its CPU seconds", "klein", "cold", "first_cpu"),
     ("Klein bottle gcch, warm: first extraction", "klein", "warm", "first_s"),
