@@ -29,6 +29,7 @@ off screen by :mod:`app.headless`. Only the GUI thread touches VTK.
 
 from __future__ import annotations
 
+import copy
 import math
 import os
 import time
@@ -56,10 +57,10 @@ from .qt_actions import StudioActions, ask_big_run
 from .qt_animation_panel import QtAnimationPanel
 from .qt_formula_panel import QtFormulaPanel
 from .qt_parameters import format_value
+from .qt_presentation import QtPresentation
 from .qt_projection_panel import QtProjectionPanel
 from .qt_run_controller import QtRunController
 from .qt_viewer import QtViewer
-from .scene import view_subtitle
 from .worker import COMPILING, ENGINE, STOPPING
 
 # phases whose fraction means nothing: shown without a percentage
@@ -82,25 +83,6 @@ DEFAULT_EXAMPLE = "klein-bottle"
 COARSE_COMPUTE_SECONDS = 0.05
 COARSE_MIN_DIV = 6
 COARSE_MAX_CUBES = 300_000   # the first coarse grid's size at most (the Klein bottle: about 50 ms on 2 cores)
-
-
-class _Viewer(QtViewer):
-    """The 3D view, also labelled for a system typed in complex mode ("u = Re w"): the viewer itself finds
-    an example's labels only (by its title)."""
-
-    def style(self):
-        st = super().style()
-        labels = self.model.labels
-        if labels and not st.labels:
-            st.labels = dict(labels)
-            pp = self.panel
-            two = pp.two_sided_check.isChecked()
-            mapping = pp.model.mapping if pp.model.n >= 4 else "orthographic"
-            st.subtitle = view_subtitle(self.model.result, self.model.names, pp.color_by(), two, mapping, st.labels)
-        params = (self.model.result.meta.get("params") if self.model.result is not None else None) or {}
-        if params:   # the picture says at which values it was made (a class watching a slider reads them)
-            st.subtitle = "  ".join(f"{p} = {format_value(v)}" for p, v in params.items()) + " \u00b7 " + st.subtitle
-        return st
 
 
 def coarse_div(div, factor: float) -> list[int]:
@@ -210,7 +192,7 @@ class QtMainWindow(QMainWindow):
         side.setMinimumWidth(430)
 
         # --- viewer
-        self.viewer = _Viewer(self.model, self.projection_panel, self)
+        self.viewer = QtViewer(self.model, self.projection_panel, self)
         self.plotter, self.scene = self.viewer.plotter, self.viewer.scene
 
         split = QSplitter(Qt.Horizontal)
@@ -239,6 +221,8 @@ class QtMainWindow(QMainWindow):
         self._warm_timer.timeout.connect(self._show_warm_up)
         if self.warm_up is not None and self.warm_up.running():
             self._warm_timer.start()
+
+        self.presentation = QtPresentation(self)   # F11, the typeset formula, axes, next example
 
         if example:
             QTimer.singleShot(0, lambda: self.load_example(example, div=div, method=method))
@@ -271,6 +255,8 @@ class QtMainWindow(QMainWindow):
         fpp = self.formula_panel.parameters
         fpp.dragging.connect(lambda *_: self.parameter_step(coarse=True))
         fpp.committed.connect(lambda *_: self.parameter_step(coarse=False))
+        fpp.changed.connect(lambda: ap.set_parameters(fpp.state()))   # the Animate tab sweeps them
+        self.formula_panel.changed.connect(lambda: ap.set_parameters(fpp.state()))
         self.runFinished.connect(self._start_next_step)
         m.events.history.connect(self.menu_actions.set_history)
         self.runs.refined.connect(self._on_refined)
@@ -876,7 +862,7 @@ class QtMainWindow(QMainWindow):
                 pp.set_angles(clock.rotate_step(pp.model.angles, pp.model.planes.index(tuple(plane)), dt))
         elif mode == "tour":
             pp.set_angles(clock.tour_step(dt))
-        else:
+        elif mode == "slice":
             pp.set_slice_center(clock.sweep_step(dt))
 
     def animation_frames(self, n_frames: int, projection=None):
@@ -904,8 +890,10 @@ class QtMainWindow(QMainWindow):
         ap.set_playing(False)
         projection = ProjectionModel.from_dict(self.projection_panel.model.n, self.projection_panel.model.to_dict())
         projection._principal = self.projection_panel.model._principal
-        seq, window = self.animation_frames(n, projection)
         w, h = (int(s) // 2 * 2 for s in (size or self.viewer.size()))
+        if ap.mode() == "param":
+            return self._export_param_sweep(path, n, fps, projection, (w, h), show_progress)
+        seq, window = self.animation_frames(n, projection)
         dlg = None
         if show_progress:
             dlg = QProgressDialog(f"Rendering {os.path.basename(str(path))}\u2026", "Cancel", 0, n, self)
@@ -931,11 +919,55 @@ class QtMainWindow(QMainWindow):
         self.set_status(f"Animation saved to {path} ({n} frames, {w}\u00d7{h}, {ap.spec_text()})")
         return written
 
+    def _export_param_sweep(self, path, n: int, fps: float, projection, size, show_progress: bool) -> int:
+        """The Animate tab's parameter sweep: the last run's system extracted at ``n`` values, drawn with
+        this view's projection, colours and camera direction (app.headless.export_param_sweep)."""
+        from qtpy.QtWidgets import QApplication, QProgressDialog
+
+        from gcmh_core.errors import InputError
+
+        from .animation import parse_spec
+        from .headless import export_param_sweep
+
+        ap, job = self.animation_panel, self.model.job
+        if job is None:
+            raise ValueError("nothing to animate yet: run first")
+        names = self.result_names
+        spec = parse_spec(ap.spec_text(), names, params=list(ap.params))
+        dlg = None
+        if show_progress:
+            dlg = QProgressDialog(f"Extracting and rendering {os.path.basename(str(path))}\u2026", "Cancel", 0,
+                                  2 * n, self)
+            dlg.setWindowTitle("Export parameter sweep")
+            dlg.setWindowModality(Qt.WindowModal)
+            dlg.setMinimumDuration(0)
+
+        def progress(phase, k):
+            if dlg is not None:
+                dlg.setValue(k if phase == "extract" else n + k)
+            QApplication.processEvents()
+
+        try:
+            written, _ = export_param_sweep([path], job, spec, n, names, projection, copy.copy(self.scene.style),
+                                            size, fps, mapping=projection.mapping, camera=self.plotter.camera,
+                                            progress=progress,
+                                            cancel=(lambda: dlg.wasCanceled()) if dlg is not None else None)
+        except InputError as e:
+            raise ValueError(str(e)) from None
+        finally:
+            if dlg is not None:
+                dlg.close()
+        if written < n:
+            self.set_status(f"Export cancelled after {written} of {n} frames; nothing written.")
+            return 0
+        self.set_status(f"Parameter sweep saved to {path} ({n} frames, {size[0]}\u00d7{size[1]}, {ap.spec_text()})")
+        return written
+
     # ------------------------------------------------------------------ sessions and exports
     def session(self) -> dict:
         self.model.set_system(self.formula_panel.state())
         self._sync_view()
-        return studio_io.session_dict(self.model, studio_io.camera_state(self.plotter.camera))
+        return studio_io.session_dict(self.model, **self.viewer.camera_session())
 
     def save_session(self, path) -> None:
         path = studio_io.write_session(path, self.session())
@@ -950,7 +982,7 @@ class QtMainWindow(QMainWindow):
             return False
         self.formula_panel.set_state(d["system"])
         self.model.expect(d.get("title", ""), self.formula_panel.formulas(), self.formula_panel.variables())
-        self._session = (d.get("view") or {}, d.get("camera"))
+        self._session = (d.get("view") or {}, d["camera"], d["keep_camera"])
         if run and (self.formula_panel.is_valid() or self.formula_panel.checking()):
             self.runFinished.connect(self._apply_session_view)
             return self.run()
@@ -963,12 +995,9 @@ class QtMainWindow(QMainWindow):
             pass
         if how != "done":
             return
-        view, camera = self._session
+        view, camera, keep = self._session
         self.projection_panel.set_state(view)
-        if camera:
-            studio_io.apply_camera(self.plotter.camera, camera)
-            self.plotter.renderer.ResetCameraClippingRange()
-        self.plotter.render()
+        self.viewer.restore_camera(camera, keep)
 
     def export_complex(self, path) -> None:
         path = studio_io.export_complex(self.result, path)

@@ -393,6 +393,8 @@ class QtPresentation(QObject):
         cplx: tuple = (None, None)
         if ex is not None and ex.complex and ex.complex_variables:
             cplx = (tuple(ex.complex), tuple(ex.complex_variables))
+        elif ex is None and w.formula_panel.is_complex():   # typed in complex mode (the card checks the split)
+            cplx = (tuple(w.formula_panel.complex_equations()), tuple(w.formula_panel.complex_variables()))
         params = tuple(sorted((job.params or {}).items()))
         return (tuple(job.formulas), tuple(job.variables), params) + cplx
 

@@ -32,6 +32,7 @@ from qtpy.QtCore import QEvent, QObject, Qt, QTimer
 
 from .model import StudioModel, slice_params
 from .projection import ProjectionModel, turned_angles
+from .qt_parameters import format_value
 from .scene import (
     MARGIN_X,
     MARGIN_Y,
@@ -128,8 +129,12 @@ class QtViewer:
         pp = self.panel
         two = pp.two_sided_check.isChecked()
         mapping = pp.model.mapping if pp.model.n >= 4 else "orthographic"
-        labels = labels_for(self.model.title, self.model.names)
+        # an example's labels are found by its title; a system typed in complex mode brings its own ("u = Re w")
+        labels = labels_for(self.model.title, self.model.names) or dict(self.model.labels or {})
         sub = view_subtitle(self.model.result, self.model.names, pp.color_by(), two, mapping, labels)
+        params = (self.model.result.meta.get("params") if self.model.result is not None else None) or {}
+        if params:   # the picture says at which values it was made (a class watching a slider reads them)
+            sub = "  ".join(f"{p} = {format_value(v)}" for p, v in params.items()) + " \u00b7 " + sub
         return Style(color_by=pp.color_by(), opacity=pp.opacity(), show_edges=pp.show_edges(),
                      title=self.model.title, subtitle=sub, two_sided=two, labels=labels)
 

@@ -1,6 +1,7 @@
 """Live parameters in the window (issue 17): a slider per parameter, re-extraction as it moves."""
 
 import pytest
+
 from app_helpers import settle, wait_run
 
 

@@ -1,0 +1,94 @@
+"""The window's wiring of features built in their own modules: the presentation mode is installed, sessions
+keep the held camera, the Animate tab's parameter sweep exports from the window.  Runs under Xvfb."""
+
+import numpy as np
+import pytest
+
+from app_helpers import wait_run
+
+
+@pytest.fixture
+def window(qtbot):
+    from app.qt_main_window import QtMainWindow
+
+    w = QtMainWindow(example=None)
+    qtbot.addWidget(w)
+    w.resize(1100, 750)
+    w.show()
+    qtbot.waitExposed(w)
+    yield w
+
+
+def test_the_window_has_the_presentation_mode(window):
+    from app.qt_presentation import QtPresentation
+
+    assert isinstance(window.presentation, QtPresentation)
+    texts = [a.text() for a in window.actions()]
+    assert texts.count("&Presentation mode") == 1 and "&Next example" in texts
+    assert window.presentation.decorate in window.viewer.picture_decorators
+
+
+def test_a_session_saved_by_the_window_brings_the_held_camera_back(qtbot, window, tmp_path):
+    from app.qt_main_window import QtMainWindow
+
+    with qtbot.waitSignal(window.runFinished, timeout=60_000):
+        window.load_example("sphere", div=10)
+    window.viewer.panel.keep_camera_check.setChecked(True)
+    cam = window.plotter.camera
+    cam.position = tuple(np.asarray(cam.position) * 1.7)
+    saved = np.array(cam.position)
+    path = tmp_path / "s.json"
+    window.save_session(path)
+
+    w2 = QtMainWindow(example=None)
+    qtbot.addWidget(w2)
+    w2.resize(1100, 750)
+    w2.show()
+    qtbot.waitExposed(w2)
+    with qtbot.waitSignal(w2.runFinished, timeout=60_000):
+        assert w2.open_session(path)
+    qtbot.wait(50)
+    assert w2.viewer.keep_camera()
+    assert np.allclose(w2.plotter.camera.position, saved, rtol=1e-6)
+    w2.close()
+
+
+def test_the_animate_tabs_parameter_sweep_exports_from_the_window(qtbot, window, tmp_path):
+    from PIL import Image
+
+    with qtbot.waitSignal(window.runFinished, timeout=60_000):
+        window.load_example("hyperboloid", div=16)
+    ap = window.animation_panel
+    assert "a" in ap.params                       # the sliders' parameters reach the Animate tab
+    ap.set_mode("param")
+    assert ap.spec_text().startswith("param:a=")
+    path = tmp_path / "sweep.gif"
+    written = window.export_animation(path, frames=4, size=(320, 240), show_progress=False)
+    assert written == 4
+    with Image.open(path) as im:
+        assert im.n_frames == 4
+        frames = []
+        for i in range(4):
+            im.seek(i)
+            frames.append(np.asarray(im.convert("RGB")))
+    assert any(np.any(frames[0] != f) for f in frames[1:])     # the surface changes with a
+    assert "Parameter sweep saved" in window.last_status
+
+
+def test_a_sweep_before_any_run_is_refused_with_a_message(window):
+    ap = window.animation_panel
+    ap.set_parameters({"a": {"value": 0.5, "min": -1.0, "max": 1.0}})
+    ap.set_mode("param")
+    with pytest.raises(ValueError, match="run first"):
+        window.export_animation("never.gif", frames=3, show_progress=False)
+
+
+def test_a_parameter_step_keeps_the_window_responsive(qtbot, window):
+    """A slider step re-extracts and the window shows the new result (its subtitle names the value)."""
+    with qtbot.waitSignal(window.runFinished, timeout=60_000):
+        window.load_example("hyperboloid", div=16)
+    fpp = window.formula_panel.parameters
+    fpp.set_value("a", -0.5)
+    wait_run(qtbot, window)
+    assert window.result.meta["params"]["a"] == pytest.approx(-0.5)
+    assert window.viewer.style().subtitle.startswith("a = -0.5")
