@@ -3,6 +3,7 @@
 import json
 
 import numpy as np
+
 from app_helpers import run_and_wait, settle
 
 
