@@ -198,6 +198,11 @@ def check_start(text: str, n: int):
     return None, out
 
 
+def format_value(v: float) -> str:
+    """A parameter's value as the user reads it (six significant digits)."""
+    return f"{float(v):.6g}"
+
+
 # Sizes, durations and free memory are said the same way by the engine's budget and the app.
 human_bytes = format_bytes
 human_seconds = format_seconds

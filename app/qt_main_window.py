@@ -30,7 +30,6 @@ off screen by :mod:`app.headless`. Only the GUI thread touches VTK.
 from __future__ import annotations
 
 import copy
-import math
 import os
 import time
 
@@ -56,11 +55,11 @@ from .model import EMPTY_RESULT, StudioModel, animation_frames, telling_plane
 from .qt_actions import StudioActions, ask_big_run
 from .qt_animation_panel import QtAnimationPanel
 from .qt_formula_panel import QtFormulaPanel
-from .qt_parameters import format_value
 from .qt_presentation import QtPresentation
 from .qt_projection_panel import QtProjectionPanel
 from .qt_run_controller import QtRunController
 from .qt_viewer import QtViewer
+from .steps import CoarseAim, critical_notice, step_key
 from .worker import COMPILING, ENGINE, STOPPING
 
 # phases whose fraction means nothing: shown without a percentage
@@ -76,30 +75,6 @@ except ImportError:
     QtGallery = None
 
 DEFAULT_EXAMPLE = "klein-bottle"
-
-# a parameter step while a slider is held: its grid is coarsened until the step's computing (extraction, drawing
-# arrays, topology; before the render, which the grid hardly changes: ~0.1 s in software GL) takes about this
-# long; never below COARSE_MIN_DIV cubes an axis (nor above the full div)
-COARSE_COMPUTE_SECONDS = 0.05
-COARSE_MIN_DIV = 6
-COARSE_MAX_CUBES = 300_000   # the first coarse grid's size at most (the Klein bottle: about 50 ms on 2 cores)
-
-
-def coarse_div(div, factor: float) -> list[int]:
-    """The grid of a step while a slider is held: each axis' div times ``factor`` (even, for glued axes
-    that reverse another), at least COARSE_MIN_DIV, at most the full div, and at most COARSE_MAX_CUBES cubes."""
-    def scaled(d, f):
-        return min(d, max(COARSE_MIN_DIV, 2 * int(round(d * f / 2))))
-
-    full = [int(d) for d in div]
-    out = [scaled(d, factor) for d in full]
-    while math.prod(out) > COARSE_MAX_CUBES:
-        smaller = [scaled(d, 0.85) for d in out]
-        if smaller == out:
-            break
-        out = smaller
-    return out
-
 
 class QtMainWindow(QMainWindow):
     """The application window. ``example``: the example to open and run at start (None: nothing)."""
@@ -121,7 +96,7 @@ class QtMainWindow(QMainWindow):
         # coarse grid's scale for the system (key) being stepped, and when the step on its way started
         self._next_step = None
         self._superseded = False
-        self._coarse = (None, 0.5)
+        self._coarse = CoarseAim()
         self._step_t0 = 0.0
         self.last_step_seconds: float | None = None   # from a slider's change to the result drawn (the benchmark)
         self.model = StudioModel()
@@ -521,13 +496,10 @@ class QtMainWindow(QMainWindow):
             return False
         job = fp.job_unchecked()
         job.step = "coarse" if coarse else "full"
-        key = self._step_key(job)
         if coarse:
-            if self._coarse[0] != key:
-                self._coarse = (key, 0.5)
-            job.div = coarse_div(fp.div_list(), self._coarse[1])
+            job.div = self._coarse.div(job, fp.div_list())
         prev = self.model.job
-        same = prev is not None and self.result is not None and self._step_key(prev) == key
+        same = prev is not None and self.result is not None and step_key(prev) == step_key(job)
         if same and prev.force and not coarse:
             job.force = True   # the user agreed to this run's size already
         if same and fp.continuation() and not job.scheduler:
@@ -541,12 +513,6 @@ class QtMainWindow(QMainWindow):
             return True
         return self._start_next_step()
 
-    @staticmethod
-    def _step_key(job) -> tuple:
-        """What a parameter step keeps: the system but for its parameters' values and the grid."""
-        return (tuple(job.formulas), tuple(job.variables), tuple(map(tuple, job.bounds)), job.method,
-                tuple(job.periodic or ()), int(job.seed))
-
     def _start_next_step(self, *_) -> bool:
         """Start the parameter step waiting, if any (after the run in flight ended)."""
         job, self._next_step = self._next_step, None
@@ -557,23 +523,6 @@ class QtMainWindow(QMainWindow):
         self._step_t0 = time.perf_counter()
         self.model.job = job
         return self.runs.start(job)
-
-    def _critical_notice(self, cx) -> str:
-        """The notice of a result at (or very near) a critical value of its parameters, or ""."""
-        k = int(cx.meta.get("singular_vertices") or 0)
-        params = cx.meta.get("params") or {}
-        if not k or not params:
-            return ""
-        moved = self.formula_panel.parameters.last_moved
-        name = moved if moved in params else next(iter(params))
-        try:
-            chi = cx.euler_characteristic()
-        except Exception:  # noqa: BLE001
-            chi = "?"
-        return (f"{name} = {format_value(params[name])} is a critical value: F's Jacobian loses rank at {k} "
-                f"vertices, so M is singular there (a cone point, a pinch) and \u03c7 = {chi} describes the grid's "
-                f"picture of a singular set, not a manifold. Move the slider a little to either side to see the "
-                "topology on each side.")
 
     def _on_checked(self) -> None:
         """The formula checks are answered: a Run pressed meanwhile starts now (or is refused)."""
@@ -667,7 +616,7 @@ class QtMainWindow(QMainWindow):
             self.set_status(f"Could not draw the result: {type(e).__name__}: {e}", error=True)
             self.runFinished.emit("failed")
             return
-        notice = self._critical_notice(cx)
+        notice = critical_notice(cx, self.formula_panel.parameters.last_moved)
         self.formula_panel.parameters.set_notice(notice)
         if notice and self.topology_panel is not None:
             euler = self.topology_panel.values.get("euler")
@@ -682,13 +631,8 @@ class QtMainWindow(QMainWindow):
             self.set_status(cx.meta.get("start_note", "") if job.step is None else "")
         if job.step is not None:
             self.last_step_seconds = time.perf_counter() - self._step_t0
-            if job.step == "coarse" and self._coarse[0] == self._step_key(job):   # aim the next coarse grid
-                key, f = self._coarse
-                if computed > COARSE_COMPUTE_SECONDS:
-                    f = max(0.25, f * 0.85)   # (coarser than a quarter: a picture too rough to follow)
-                elif computed < 0.4 * COARSE_COMPUTE_SECONDS:
-                    f = min(0.5, f * 1.15)
-                self._coarse = (key, f)
+            if job.step == "coarse":
+                self._coarse.learn(job, computed)   # aim the next coarse grid
         self.runFinished.emit("done")
 
     def _on_failed(self, message: str) -> None:

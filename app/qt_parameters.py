@@ -23,6 +23,7 @@ from qtpy.QtCore import Qt, Signal
 from qtpy.QtWidgets import QGridLayout, QLabel, QLineEdit, QSlider, QVBoxLayout, QWidget
 
 from . import inputs
+from .inputs import format_value
 
 STEPS = 200            # slider positions over [min, max]: values are multiples of (max - min) / STEPS
 DEFAULT_VALUE = 1.0    # a new parameter's value (0 often makes a formula degenerate: a*x^2)
@@ -51,10 +52,6 @@ def step_value(lo: float, hi: float, i: int) -> float:
 
 def _number(v) -> float:
     return inputs.parse_number(v) if isinstance(v, str) else float(v)
-
-
-def format_value(v: float) -> str:
-    return f"{float(v):.6g}"
 
 
 def spec(value: float, lo: float | None = None, hi: float | None = None) -> dict:

@@ -30,9 +30,9 @@ import copy
 import numpy as np
 from qtpy.QtCore import QEvent, QObject, Qt, QTimer
 
+from .inputs import format_value
 from .model import StudioModel, slice_params
 from .projection import ProjectionModel, turned_angles
-from .qt_parameters import format_value
 from .scene import (
     MARGIN_X,
     MARGIN_Y,
