@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 # this import); a value the user set wins.
 os.environ.setdefault("GOMP_SPINCOUNT", "10000")
 
+from ._config import compile_notice  # noqa: E402
 from .analysis import boundary_components, orient_2cells, refine_vertices, topology_report  # noqa: E402
 from .complex import CellComplex  # noqa: E402
 from .errors import Cancelled, InputError, TooLargeError  # noqa: E402
@@ -38,6 +39,7 @@ __all__ = [
     "System",
     "TooLargeError",
     "boundary_components",
+    "compile_notice",
     "estimate_work",
     "evaluate_constant",
     "extract",

@@ -21,7 +21,7 @@ CHILD = r"""
 import json, sys
 from numba.core import event, types
 import gcmh_core
-from gcmh_core._config import compile_notice
+from gcmh_core import compile_notice
 
 compiled = []
 
