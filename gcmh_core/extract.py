@@ -146,8 +146,6 @@ def extract(
 
         if sampled is not None:
             raise InputError("periodic axes need F as formulas: sampled values can't be checked for periodicity")
-        if scheduler is not None:
-            raise InputError("periodic axes are not supported on a Dask scheduler yet: run without scheduler")
         check_invariance(system, bounds_, spec)
         axes = identified_axes(bounds_, div_, seed, amplitude, spec)
     else:
@@ -172,7 +170,7 @@ def extract(
         from .distributed import run_distributed  # noqa: PLC0415  (dask is imported only when asked for)
 
         result = run_distributed(method, n_, k_, axes, bounds_, system, sampled, starts, scheduler, block,
-                                 progress, cancel)
+                                 progress, cancel, spec=spec)
     elif continuation:
         result = run_continuation(n_, k_, axes, bounds_, system, sampled, starts, progress, cancel,
                                   grid=new_grid())

@@ -148,3 +148,14 @@ def test_sampled_values_with_glued_axes_are_refused():
     sampled = np.zeros((*(d + 1).tolist(), k))
     with pytest.raises(InputError, match="periodic axes need F as formulas"):
         gd.run_distributed("gcmh", n, k, axes, bounds, None, sampled, None, "local", None, None, None, spec=spec)
+
+
+def test_extract_with_a_scheduler_and_glued_axes(cluster):  # noqa: F811
+    """The public door: extract(..., periodic=, scheduler=) gives the single-process bytes (the closed Klein
+    bottle: chi 0, no boundary)."""
+    ex, div = DIVS["klein"]
+    single = _single(ex, div, "gcmh")
+    cx = extract(ex.formulas, ex.bounds, div, variables=ex.variables, periodic=ex.periodic,
+                 scheduler=cluster[0].scheduler_address, block=4)
+    _assert_identical(single, cx)
+    assert cx.meta["blocks"] > 1 and cx.euler_characteristic() == 0 and cx.boundary_facets().size == 0
