@@ -32,7 +32,6 @@ import signal
 import stat
 import sys
 from collections.abc import Sequence
-from pathlib import Path
 
 from ._validate import glued_axes, parse_params
 from .errors import InputError
@@ -479,21 +478,8 @@ class _Progress:
             self.bar = None
 
 
-def kernels_cached() -> bool:
-    """Whether numba's on-disk cache holds the cube kernel (index files `_kernels.cubes_chunk-*.nbi`
-    beside the package, or under $NUMBA_CACHE_DIR): if not, the first extraction compiles."""
-    here = Path(__file__).resolve().parent
-    places = [here / "__pycache__"]
-    cache_dir = os.environ.get("NUMBA_CACHE_DIR")
-    if cache_dir:
-        places = [Path(cache_dir)]
-    for place in places:
-        try:
-            if next(place.rglob("_kernels.cubes_chunk-*.nbi"), None) is not None:
-                return True
-        except OSError:
-            continue
-    return False
+COMPILE_NOTE = ("gcmh: first run: compiling the kernels, once per install (10-20 s; later runs load them "
+                "from numba's cache)")
 
 
 def _cmd_extract(args) -> int:
@@ -510,26 +496,28 @@ def _cmd_extract(args) -> int:
 
     import gcmh_core
 
-    if not args.quiet and not kernels_cached():
-        print("gcmh: first run: compiling the kernels, once per install (about a minute; later runs load "
-              "them from numba's cache)", file=sys.stderr, flush=True)
+    # said when numba really compiles one of the kernels this run needs (not by looking for cache files:
+    # which kernels a run needs depends on the run)
+    notice = contextlib.nullcontext() if args.quiet else gcmh_core.compile_notice(
+        lambda: print(COMPILE_NOTE, file=sys.stderr, flush=True))
     progress = _Progress(enabled=not args.quiet and _isatty(sys.stderr))
     try:
-        cx = gcmh_core.extract(
-            job["F"],
-            job["bounds"],
-            job["div"],
-            variables=job["variables"],
-            seed=job["seed"],
-            method=job["method"],
-            start=job["start"],
-            progress=progress,
-            scheduler=job["scheduler"],
-            block=job["block"],
-            force=args.force,
-            params=job["params"],
-            periodic=job["periodic"],
-        )
+        with notice:
+            cx = gcmh_core.extract(
+                job["F"],
+                job["bounds"],
+                job["div"],
+                variables=job["variables"],
+                seed=job["seed"],
+                method=job["method"],
+                start=job["start"],
+                progress=progress,
+                scheduler=job["scheduler"],
+                block=job["block"],
+                force=args.force,
+                params=job["params"],
+                periodic=job["periodic"],
+            )
     finally:
         progress.close()
 
