@@ -424,6 +424,21 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
                         out = True
                 if out:
                     continue
+            else:  # the same test over the face's 2^k corners: at k = 8 one test instead of 8! (n = 10: 2x faster)
+                free = face_free[kface0 + kf]
+                fixed = face_fixed[kface0 + kf]
+                any_pos = 0
+                all_pos = all_signs
+                sub = free
+                while True:  # every subset of the free axes
+                    p = corner_signs[fixed | sub]
+                    any_pos |= p
+                    all_pos &= p
+                    if sub == 0:
+                        break
+                    sub = (sub - 1) & free
+                if any_pos != all_signs or all_pos != 0:
+                    continue
             for s in range(kf * kfact, (kf + 1) * kfact):
                 if masked:
                     m = ksimplex_corner_mask[s]

@@ -1,0 +1,33 @@
+"""Issue 14 item 2, every k up to 10: k = 8 against the slow naive twin on a small case, and a torus in R^10
+(k = 8) closed with chi 0.  The tables' own twin is in test_tables; speed is in tests/bench/bench_high_k.py."""
+
+import numpy as np
+from test_kernels_vs_naive import compare
+
+import gcmh_core
+from gcmh_core import grid
+
+
+def test_k8_in_r9_matches_the_naive_twin():
+    """A circle in R^9 cut by seven tilted hyperplanes (each mixing two axes, so no Kuhn simplex is decided by
+    one sign flip): the engine's k = 8 vertices, edges and cells are the naive twin's.  (The twin solves all
+    8! simplices of each 8-face in Python: about 20 s.)"""
+    n, k = 9, 8
+    bounds = [(-1.5, 1.5), (-0.5, 0.5)] + [(-1, 1)] * 7
+    div = [2, 1] + [1] * 7
+    axes = grid.perturbed_axes(np.array(bounds, float), np.array(div, np.int64), 0)
+    X = np.stack(np.meshgrid(*axes, indexing="ij"), -1)
+    F = [X[..., 0] ** 2 + X[..., 1] ** 2 - 1]
+    F += [X[..., i] + 0.3 * X[..., (i + 1) % n] - 0.05 * i for i in range(2, n)]
+    ref, cx = compare(n, k, 0, values=np.stack(F, -1), bounds=bounds, div=div)
+    assert cx.count(0) == 4 and cx.count(1) == 2
+
+
+def test_a_torus_in_r10_is_closed():
+    """x1^2 + x2^2 = 1, x3^2 + x4^2 = 1, x5 = ... = x10 = 0: a torus, k = 8 (each 8-face has 40,320 Kuhn
+    simplices); on a coarse grid its two circles are polygons, and the product is closed with chi 0."""
+    F = ["x1^2 + x2^2 - 1", "x3^2 + x4^2 - 1"] + [f"x{i} - 0.01*x{i - 1}" for i in range(5, 11)]
+    cx = gcmh_core.extract(F, [(-1.5, 1.5)] * 4 + [(-1, 1)] * 6, [3] * 4 + [1] * 6, n=10, force=True)
+    assert cx.k == 8 and cx.dim == 2
+    assert cx.euler_characteristic() == 0 and len(cx.boundary_facets()) == 0
+    assert cx.connected_components() == 1
