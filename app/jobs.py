@@ -6,7 +6,7 @@ runs it synchronously (the headless path, and the worker threads of
 ``view_data`` prepares the drawing arrays and the topology report of a result off
 the GUI thread.
 
-The numba kernels compile once per install (cached on disk), 25-55 s on two cores
+The numba kernels compile once per install (cached on disk), about 22 s for all four methods on two cores
 the first time: :func:`start_warm_up` compiles (or loads) them in a background
 thread as the app starts, with a tiny extraction by each method, so the first
 Run rarely waits; a run started meanwhile waits for it (:class:`WarmUp`).
@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 # what the first run on a new install waits while the kernels compile (measured on 2 cores: gcmh 23 s quiet,
 # 43 s busy; then gcch 1.4 s, cms 9.5 s, ccs 0.01 s)
-COMPILE_NOTE = "half a minute to a minute"
+COMPILE_NOTE = "about 20 seconds"
 
 
 @dataclass
