@@ -820,9 +820,10 @@ class QtMainWindow(QMainWindow):
         """Render the Animate tab's animation off screen and write ``path`` (.gif or .mp4).
 
         The window's view is not changed. Returns the number of frames written
-        (0 when cancelled: the file is removed).
+        (0 when cancelled: the file is removed). A parameter sweep extracts the last run's
+        system at each frame's value (app.headless.export_param_sweep).
         """
-        from qtpy.QtWidgets import QApplication, QProgressDialog
+        from gcmh_core.errors import InputError
 
         from .projection import ProjectionModel
 
@@ -835,13 +836,48 @@ class QtMainWindow(QMainWindow):
         projection = ProjectionModel.from_dict(self.projection_panel.model.n, self.projection_panel.model.to_dict())
         projection._principal = self.projection_panel.model._principal
         w, h = (int(s) // 2 * 2 for s in (size or self.viewer.size()))
+        name = os.path.basename(str(path))
         if ap.mode() == "param":
-            return self._export_param_sweep(path, n, fps, projection, (w, h), show_progress)
-        seq, window = self.animation_frames(n, projection)
+            from .animation import parse_spec
+            from .headless import export_param_sweep
+
+            if self.model.job is None:   # (a complex opened from a file has no system to sweep)
+                raise ValueError("a parameter sweep needs a run of a system with parameters: run first")
+            names = self.result_names
+            spec = parse_spec(ap.spec_text(), names, params=list(ap.params))
+            what, steps = ("Parameter sweep", f"Extracting and rendering {name}\u2026"), 2 * n
+
+            def write(progress, cancel):   # progress by phase: the extractions, then the frames
+                written, _ = export_param_sweep(
+                    [path], self.model.job, spec, n, names, projection, copy.copy(self.scene.style), (w, h), fps,
+                    mapping=projection.mapping, camera=self.plotter.camera, cancel=cancel,
+                    progress=lambda phase, k: progress(k if phase == "extract" else n + k))
+                return written
+        else:
+            seq, window = self.animation_frames(n, projection)
+            what, steps = ("Animation", f"Rendering {name}\u2026"), n
+
+            def write(progress, cancel):
+                return self.viewer.write_animation(path, seq, window, projection, (w, h), fps, progress=progress,
+                                                   cancel=cancel)
+        try:
+            written = self._with_progress(f"Export {what[0].lower()}", what[1], steps, write, show_progress)
+        except InputError as e:   # (a sweep that won't fit, or an output that can't be written: said first)
+            raise ValueError(str(e)) from None
+        if written < n:
+            self.set_status(f"Export cancelled after {written} of {n} frames; nothing written.")
+            return 0
+        self.set_status(f"{what[0]} saved to {path} ({n} frames, {w}\u00d7{h}, {ap.spec_text()})")
+        return written
+
+    def _with_progress(self, title: str, text: str, steps: int, work, show: bool):
+        """``work(progress, cancel)`` under a window-modal progress dialog of ``steps`` steps (or none)."""
+        from qtpy.QtWidgets import QApplication, QProgressDialog
+
         dlg = None
-        if show_progress:
-            dlg = QProgressDialog(f"Rendering {os.path.basename(str(path))}\u2026", "Cancel", 0, n, self)
-            dlg.setWindowTitle("Export animation")
+        if show:
+            dlg = QProgressDialog(text, "Cancel", 0, steps, self)
+            dlg.setWindowTitle(title)
             dlg.setWindowModality(Qt.WindowModal)
             dlg.setMinimumDuration(0)
             dlg.setValue(0)
@@ -852,60 +888,10 @@ class QtMainWindow(QMainWindow):
             QApplication.processEvents()
 
         try:
-            written = self.viewer.write_animation(path, seq, window, projection, (w, h), fps, progress=progress,
-                                                  cancel=(lambda: dlg.wasCanceled()) if dlg is not None else None)
+            return work(progress, (lambda: dlg.wasCanceled()) if dlg is not None else None)
         finally:
             if dlg is not None:
                 dlg.close()
-        if written < n:
-            self.set_status(f"Export cancelled after {written} of {n} frames; nothing written.")
-            return 0
-        self.set_status(f"Animation saved to {path} ({n} frames, {w}\u00d7{h}, {ap.spec_text()})")
-        return written
-
-    def _export_param_sweep(self, path, n: int, fps: float, projection, size, show_progress: bool) -> int:
-        """The Animate tab's parameter sweep: the last run's system extracted at ``n`` values, drawn with
-        this view's projection, colours and camera direction (app.headless.export_param_sweep)."""
-        from qtpy.QtWidgets import QApplication, QProgressDialog
-
-        from gcmh_core.errors import InputError
-
-        from .animation import parse_spec
-        from .headless import export_param_sweep
-
-        ap, job = self.animation_panel, self.model.job
-        if job is None:
-            raise ValueError("nothing to animate yet: run first")
-        names = self.result_names
-        spec = parse_spec(ap.spec_text(), names, params=list(ap.params))
-        dlg = None
-        if show_progress:
-            dlg = QProgressDialog(f"Extracting and rendering {os.path.basename(str(path))}\u2026", "Cancel", 0,
-                                  2 * n, self)
-            dlg.setWindowTitle("Export parameter sweep")
-            dlg.setWindowModality(Qt.WindowModal)
-            dlg.setMinimumDuration(0)
-
-        def progress(phase, k):
-            if dlg is not None:
-                dlg.setValue(k if phase == "extract" else n + k)
-            QApplication.processEvents()
-
-        try:
-            written, _ = export_param_sweep([path], job, spec, n, names, projection, copy.copy(self.scene.style),
-                                            size, fps, mapping=projection.mapping, camera=self.plotter.camera,
-                                            progress=progress,
-                                            cancel=(lambda: dlg.wasCanceled()) if dlg is not None else None)
-        except InputError as e:
-            raise ValueError(str(e)) from None
-        finally:
-            if dlg is not None:
-                dlg.close()
-        if written < n:
-            self.set_status(f"Export cancelled after {written} of {n} frames; nothing written.")
-            return 0
-        self.set_status(f"Parameter sweep saved to {path} ({n} frames, {size[0]}\u00d7{size[1]}, {ap.spec_text()})")
-        return written
 
     # ------------------------------------------------------------------ sessions and exports
     def session(self) -> dict:

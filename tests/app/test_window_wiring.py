@@ -7,18 +7,6 @@ import pytest
 from app_helpers import wait_run
 
 
-@pytest.fixture
-def window(qtbot):
-    from app.qt_main_window import QtMainWindow
-
-    w = QtMainWindow(example=None)
-    qtbot.addWidget(w)
-    w.resize(1100, 750)
-    w.show()
-    qtbot.waitExposed(w)
-    yield w
-
-
 def test_the_window_has_the_presentation_mode(window):
     from app.qt_presentation import QtPresentation
 
@@ -42,7 +30,7 @@ def test_a_session_saved_by_the_window_brings_the_held_camera_back(qtbot, window
 
     w2 = QtMainWindow(example=None)
     qtbot.addWidget(w2)
-    w2.resize(1100, 750)
+    w2.resize(1200, 800)
     w2.show()
     qtbot.waitExposed(w2)
     with qtbot.waitSignal(w2.runFinished, timeout=60_000):
