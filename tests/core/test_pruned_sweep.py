@@ -130,9 +130,10 @@ def test_auto_start_finds_every_piece_the_full_sweep_finds(system):
 
 
 def test_pruning_is_the_default_for_large_grids_of_formulas_only():
-    big = extract("x^2 + y^2 + z^2 - 1", (-1.5, 1.5), 128, variables="x,y,z")
+    # (in R^4: GCMH sweeps in R^3 with k = 1 take the n = 3 marching pass, which is not pruned)
+    big = extract("x^2 + y^2 + z^2 + w^2 - 1", (-1.5, 1.5), 24, variables="x,y,z,w")
     assert big.meta["pruned_cubes"] > 0.5 * big.meta["cubes"]
-    small = extract("x^2 + y^2 + z^2 - 1", (-1.5, 1.5), 16, variables="x,y,z")
+    small = extract("x^2 + y^2 + z^2 + w^2 - 1", (-1.5, 1.5), 8, variables="x,y,z,w")
     assert "pruned_cubes" not in small.meta
     ax = np.linspace(-1.5, 1.5, 49)
     x, y, z = np.meshgrid(ax, ax, ax, indexing="ij")
