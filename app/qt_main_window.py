@@ -608,7 +608,7 @@ class QtMainWindow(QMainWindow):
         camera = studio_io.camera_state(self.plotter.camera) if keep else None
         try:
             self.show_result(cx, job.variables, view=view, title=title, geometry=geometry, report=report,
-                             keep_view=keep, labels=job.labels)
+                             keep_view=keep, labels=job.labels, moving=job.step == "coarse")
             if camera is not None:
                 studio_io.apply_camera(self.plotter.camera, camera)
                 self.plotter.renderer.ResetCameraClippingRange()
@@ -654,7 +654,8 @@ class QtMainWindow(QMainWindow):
 
     # ------------------------------------------------------------------ showing a result
     def show_result(self, cx, names, view: dict | None = None, title: str = "", geometry=None,
-                    report: dict | None = None, keep_view: bool = False, labels: dict | None = None) -> None:
+                    report: dict | None = None, keep_view: bool = False, labels: dict | None = None,
+                    moving: bool = False) -> None:
         """Put a CellComplex on screen (GUI thread). ``report``: its topology report if already made;
         ``keep_view``: the same system at other parameters (the View tab is left as it is); ``labels``: what
         the variables mean ({"u": "Re w"})."""
@@ -662,7 +663,7 @@ class QtMainWindow(QMainWindow):
         if keep_view and self.result is not None and names == self.model.names:
             self.model.set_result(cx, names, title, labels)
             self._sync_view()
-            self.viewer.show(geometry)
+            self.viewer.show(geometry, moving=moving)
             self.result_label.setText(self.model.summary())
             if self.topology_panel is not None:
                 self._show_topology(cx, report)

@@ -106,11 +106,12 @@ class QtViewer:
         # again on the off-screen copies that screenshots and animations render
         self.picture_decorators: list = []
         self._mapping = None                 # the mapping the camera was fitted for
-        self._settle = QTimer()
+        # timers owned by the view's widget: they die with it instead of firing on a closed window
+        self._settle = QTimer(self.widget)
         self._settle.setSingleShot(True)
         self._settle.setInterval(SETTLE_MS)
         self._settle.timeout.connect(self._at_rest)
-        self._resized = QTimer()
+        self._resized = QTimer(self.widget)
         self._resized.setSingleShot(True)
         self._resized.setInterval(60)
         self._resized.timeout.connect(self._on_resized)
@@ -147,11 +148,12 @@ class QtViewer:
     def keep_camera(self) -> bool:
         return bool(self.panel.keep_camera_check.isChecked())
 
-    def show(self, geometry=None) -> None:
+    def show(self, geometry=None, moving: bool = False) -> None:
         """Draw the model's result (its drawing arrays ``geometry`` if made beforehand), frame it, render once.
 
         The first result gets the default oblique view; later ones keep the camera's direction
-        (and, with "keep camera", the whole camera)."""
+        (and, with "keep camera", the whole camera). ``moving``: one of a stream of results (a parameter
+        slider held): drawn with the moving look, the still one coming back when the stream rests."""
         first = self.scene.mesh is None and self._mapping is None
         held = None if first or not self.keep_camera() else camera_state(self.plotter.camera)
         with self.scene.held_render(render=False):
@@ -167,8 +169,11 @@ class QtViewer:
             elif not self.keep_camera():
                 refit_camera(self.plotter)
             self.plotter.renderer.ResetCameraClippingRange()
+            self.scene.set_moving(moving)
         self._mapping = self.panel.model.view().mapping
         self.render()
+        if moving:
+            self._settle.start()
 
     def on_projection(self) -> None:
         """The angles, base or mapping changed: move the points in place (and re-slice a turning direction)."""

@@ -285,7 +285,9 @@ def test_a_see_through_view_moves_under_one_headlight_and_rests_as_the_same_pict
         pl.close()
 
 
-def test_an_opaque_surface_has_no_moving_look():
+def test_an_opaque_surface_moves_with_its_own_lights_and_only_fxaa_paused():
+    """An opaque surface keeps its lights and its full mesh while moving; only the FXAA pass pauses, and the
+    still picture comes back pixel for pixel."""
     import pyvista as pv
 
     from app.projection import ProjectionModel
@@ -294,13 +296,25 @@ def test_an_opaque_surface_has_no_moving_look():
     cx = torus_complex(30, 4)
     pl = pv.Plotter(off_screen=True, window_size=[200, 150])
     try:
-        sc = Scene(pl)
+        sc = Scene(pl, anti_aliasing="fxaa")
         m = ProjectionModel(n=4)
         sc.set_complex(cx, cx.point_names(), m.view(), Style(color_by="x4"))
+        pl.screenshot(return_img=True)   # (an off-screen plotter's first picture differs from every later one)
+        sc.set_projection(m.view(), render=True)
+        still = pl.screenshot(return_img=True)
         kit = _lights(pl)
-        assert not sc.moving_look_available()
+        assert sc.moving_look_available() and pl.renderer.GetUseFXAA()
         sc.set_projection(m.view(), render=False, moving=True)
-        assert not sc.moving_shown() and _lights(pl) == kit
+        assert sc.moving_shown() and _lights(pl) == kit and not sc.coarse_shown()
+        assert not pl.renderer.GetUseFXAA()
+        sc.set_moving(False)
+        assert not sc.moving_shown() and pl.renderer.GetUseFXAA()
+        pl.render()
+        assert np.array_equal(pl.screenshot(return_img=True), still)
+        plain = Scene(pv.Plotter(off_screen=True, window_size=[200, 150]), anti_aliasing=None)
+        plain.set_complex(cx, cx.point_names(), m.view(), Style(color_by="x4"))
+        assert not plain.moving_look_available()   # (no FXAA to pause, opaque, small: nothing cheaper)
+        plain.plotter.close()
     finally:
         pl.close()
 
