@@ -153,8 +153,8 @@ def extract(
 
     def new_grid():
         if spec:
-            return IdentifiedGrid(n_, k_, axes, method, cancel, spec=spec, bounds=bounds_)
-        return Grid(n_, k_, axes, method, cancel)
+            return IdentifiedGrid(n_, k_, axes, method, cancel, spec=spec, bounds=bounds_, progress=progress)
+        return Grid(n_, k_, axes, method, cancel, progress)
 
     continuation = method in CONTINUATION_METHODS
     if continuation:

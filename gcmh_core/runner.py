@@ -69,12 +69,14 @@ class Grid:
 
     method: "gcmh"/"gcch" run the hypercube kernel, "cms"/"ccs" the simplicial one.
     cancel: callable() -> bool, polled between kernel batches; True raises `Cancelled`.
+    progress: callable(phase, fraction), told how the cube tables' build goes (k >= 8 takes seconds);
+    cancel is polled there too.
     """
 
-    def __init__(self, n, k, axes, method="gcmh", cancel=None):
+    def __init__(self, n, k, axes, method="gcmh", cancel=None, progress=None):
         self.n, self.k, self.axes, self.cancel = n, k, axes, cancel
         self.simplicial = method in SIMPLICIAL_METHODS
-        self.tab = cube_tables(n, k)
+        self.tab = cube_tables(n, k, progress=progress, cancel=cancel)
         self.dims = np.array([len(a) for a in axes], np.int64)  # vertices per axis
         self.strides = np.ones(n, np.int64)
         for a in range(n - 2, -1, -1):

@@ -31,3 +31,21 @@ def test_a_torus_in_r10_is_closed():
     assert cx.k == 8 and cx.dim == 2
     assert cx.euler_characteristic() == 0 and len(cx.boundary_facets()) == 0
     assert cx.connected_components() == 1
+
+
+def test_the_tables_build_of_a_run_reports_progress_and_cancels():
+    """extract's progress hears the cube tables' build (seconds at k >= 8) and its cancel stops it there."""
+    import pytest
+
+    from gcmh_core import _tables
+    from gcmh_core.errors import Cancelled
+
+    F = ["x1^2 + x2^2 - 1", "x3^2 + x4^2 - 1"] + [f"x{i}" for i in range(5, 10)]
+    bounds, div = [(-1.5, 1.5)] * 4 + [(-1, 1)] * 5, [3] * 4 + [1] * 5
+    _tables.cube_tables.cache_clear()
+    seen = []
+    with pytest.raises(Cancelled):
+        gcmh_core.extract(F, bounds, div, n=9, force=True, progress=lambda p, f: seen.append((p, f)),
+                          cancel=lambda: any(p.startswith("cube tables") and f > 0.3 for p, f in seen))
+    phases = [p for p, _ in seen]
+    assert "cube tables: faces" in phases and not any(p == "extracting" for p in phases)
