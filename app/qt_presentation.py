@@ -491,9 +491,10 @@ class QtPresentation(QObject):
         from vtkmodules.vtkRenderingCore import vtkTextActor
 
         if not text:
-            self._remove_actor(CAPTION_ACTOR)
-            self._caption = None
-            self.window.viewer.render()
+            if self._caption is not None:   # (no caption: nothing to draw again, every run ends here)
+                self._remove_actor(CAPTION_ACTOR)
+                self._caption = None
+                self.window.viewer.render()
             return
         if self._caption is None:
             a = vtkTextActor()
