@@ -71,8 +71,9 @@ _RECORD_OVERHEAD = 3.2
 _K_FACTOR = {1: 1.0, 2: 1.2}
 _K_FACTOR_MORE = 1.6
 # GCMH's marching pass for n = 3, k = 1 (`_marching3`) writes the complex in its final form,
-# no records to sort: its peak is this fraction of the records' (measured 0.27-0.33, div 100-300)
-_MARCHING_RECORDS = 0.3
+# no records to sort: its peak is this fraction of the records' (0.27-0.33 measured at div 100-300 with
+# its work arrays new; kept between runs they are less: the estimate was 1.6-2.1x the peak at 0.3)
+_MARCHING_RECORDS = 0.2
 # CMS/CCS: the cells of the n! simplices of a cube instead of one cell: n!/2 times the records
 # (measured: 3 in R^3, 12 in R^4)
 # Seconds: per vertex and component of F (evaluation and candidate pass), per byte of records.
