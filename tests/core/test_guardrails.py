@@ -267,7 +267,10 @@ def test_signal_at_several_moments_one_line_old_output_intact(sig, status, tmp_p
         assert sorted(tmp_path.iterdir()) == sorted(old), ("a temporary file survived", delay, err)
         if all(files[p] != old[p] for p in old) and proc.returncode in (0, -sig):
             continue  # finished before the signal (or while the interpreter shut down)
-        assert proc.returncode == status, (delay, proc.returncode, err)
+        # 128 + N, or ended by the signal itself: a signal that lands while numba loads the kernels from its
+        # cache (llvmlite's ctypes callbacks) can end the interpreter with it after the message; a shell
+        # reports both as 128 + N, and what matters is one line and the old outputs intact
+        assert proc.returncode in (status, -sig), (delay, proc.returncode, err)
         assert len(err.splitlines()) == 1 and b"Traceback" not in err, err
         # the outputs are replaced as a set: all old, or (signal during the renames) all new
         assert all(files[p] == old[p] for p in old) or all(files[p] != old[p] for p in old)
