@@ -26,7 +26,9 @@ LONG = os.environ.get("GCMH_HYPOTHESIS_PROFILE") == "long"
 
 
 def sized(quick: int, long: int):
-    return settings(max_examples=long if LONG else quick, deadline=None,
+    # the quick profile draws the same examples every run (CI's time must not depend on the draw: a random
+    # n = 6 CCS case once kept the naive structure check busy for minutes); the long one explores
+    return settings(max_examples=long if LONG else quick, deadline=None, derandomize=not LONG,
                     suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
 
 
