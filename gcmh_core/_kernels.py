@@ -328,9 +328,9 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
     linear vertex index (corner c adds corner_vertex[c]; keys come from these, never from rows).
     grid_lines (n, max vertices per axis): the (perturbed) grid lines.  tables: `_tables.CubeTables`.
     Returns (vertex keys, vertex points, edges, cells, incidences) records in cube order,
-    each cube's crossed-facet mask, the number of degenerate events, and the number of
-    pieces of G_H that M_A joins through a face of the cube (`_joined_pieces`: cells that
-    are not balls; n <= 7).
+    each cube's crossed-facet mask, the number of degenerate events, and where M_A joins
+    pieces of G_H through a face of the cube (`_joined_pieces`: cells that are not balls;
+    n <= 7): rows (cube - lo, face, pieces joined).
     """
     n = tables.n
     k = tables.k
@@ -390,7 +390,8 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
     ksimplex_kuhn = tables.ksimplex_kuhn
     check_balls = ksimplex_kuhn.shape[0] > 0
     kuhn_parent = np.empty(kuhn.corners.shape[0], np.int64)
-    non_ball = 0
+    non_ball = np.empty((4, 3), np.int64)  # rows (cube - lo, face, pieces joined)
+    n_non_ball = 0
     for ci in range(lo, hi):
         o = cube_row[ci]
         g_vertex = cube_vertex[ci]
@@ -706,10 +707,17 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
                     c_out[row, 0] = r
                     c_out[row, 1] = cells[c, 2]
                 if n_here - first >= 2 and check_balls:  # several pieces: does M_A join them in f?
-                    non_ball += _joined_pieces(
+                    joined = _joined_pieces(
                         values, o, corner_row, corner_signs, all_signs, kuhn, ksimplex_kuhn, vertex_ksimplex,
                         face_free[f], face_fixed[f], cells, first, n_here, kuhn_parent, mat, rhs, lam,
                     )
+                    if joined:
+                        if n_non_ball >= non_ball.shape[0]:
+                            non_ball = _grown_rows(non_ball, n_non_ball)
+                        non_ball[n_non_ball, 0] = ci - lo
+                        non_ball[n_non_ball, 1] = f
+                        non_ball[n_non_ball, 2] = joined
+                        n_non_ball += 1
                 # its (r-1)-faces: each lower-level piece in a face g of f lies in one piece of f
                 for y in range(n_lower):
                     if not _face_in_face(face_free[lower[y, 0]], face_fixed[lower[y, 0]], face_free[f], face_fixed[f]):
@@ -736,7 +744,7 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
         used_i += n_incidences
     return (
         _records_upto(vk_out, vp_out, e_out, c_out, i_out, used_v, used_e, used_c, used_i), crossed_facets, degenerate,
-        non_ball,
+        non_ball[:n_non_ball].copy(),
     )
 
 
@@ -888,7 +896,7 @@ def simplices_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lin
                         used_i += 1
     return (
         _records_upto(vk_out, vp_out, e_out, c_out, i_out, used_v, used_e, used_c, used_i), crossed_facets, degenerate,
-        0,
+        np.zeros((0, 3), np.int64),  # (no pieces of G_H here: every cell is a convex polytope)
     )
 
 

@@ -132,7 +132,7 @@ class Grid:
                 self.parts[key].append(arr)
             self.stats["degenerate"] += int(degenerate)
             # (.get: identify's per-parity grids start from their own stats)
-            self.stats["non_ball_cells"] = self.stats.get("non_ball_cells", 0) + int(non_ball)
+            self.stats["non_ball_cells"] = self.stats.get("non_ball_cells", 0) + int(non_ball[:, 2].sum())
         self.stats["candidate_cubes"] += m
         self.timings["kernel"] += time.perf_counter() - t
         return results[0][1] if pieces == 1 else np.concatenate([result[1] for result in results])
