@@ -33,8 +33,11 @@ import numpy as np
 
 from .errors import Cancelled, InputError
 
-# Largest walk template we agree to build (entries of the (k+1)-simplex facet table).
-_MAX_TEMPLATE_ENTRIES = 40_000_000
+# From this n on the tables hold the faces only: `_kernels.cubes_chunk_lazy` finds a face's Kuhn
+# simplices by a pruned walk over their permutations instead of reading k! rows per k-face (at
+# n = 10, k = 8 those rows and the walk template took 0.9 GB and most of a run's time).  Below it
+# the tables' kernel keeps its bit masks (n <= 6) and the Kuhn triangulation (n = 7).
+LAZY_N = 8
 
 
 class CubeTables(NamedTuple):
@@ -54,7 +57,8 @@ class CubeTables(NamedTuple):
     binom: np.ndarray  # (n + 1, n + 1) int64 binomial coefficients
     n_codes: np.ndarray  # (n + 1,) int64 vertex codes inside a face of dim D: C(D, k) 2^(D-k) k!
     # The CFK k-simplices of the cube's k-faces, k! per face, face after face (a vertex of
-    # M_A is a k-simplex that M_A crosses, paper Section 3.1.1)
+    # M_A is a k-simplex that M_A crosses, paper Section 3.1.1).  For n >= LAZY_N the arrays
+    # from here to walk_boundary_simplex are empty (no rows): the lazy kernel needs none.
     simplices_per_kface: int  # k!
     ksimplex_corners: np.ndarray  # (NS, k+1) int64 corners in chain order
     ksimplex_face: np.ndarray  # (NS,) int64 its k-face, counted among the k-faces
@@ -109,8 +113,9 @@ def cube_tables(
     """The cube tables for (n, k), built once per process (the last 32 are kept).
 
     progress(phase, fraction) is called between the steps of a build (none when the tables
-    are cached); cancel() is polled there too, and True raises `Cancelled`: at k = 8 a build
-    takes about a second, at k = 9 several."""
+    are cached); cancel() is polled there too, and True raises `Cancelled`.  For n < LAZY_N
+    a build takes under 0.1 s (n = 7, k = 6: 5,040 Kuhn simplices per face); from LAZY_N on
+    the tables are the faces only, milliseconds at n = 12."""
     key = (int(n), int(k))
     with _cache_lock:
         if key in _cache:
@@ -118,8 +123,6 @@ def cube_tables(
             return _cache[key]
     if not (1 <= k < n):
         raise InputError(f"need 1 <= k < n, got n={n}, k={k}")
-    if factorial(k + 1) * (k + 2) > _MAX_TEMPLATE_ENTRIES:
-        raise InputError(f"k={k} is too large: a (k+1)-face has {factorial(k + 1):,} simplices")
 
     def step(phase: str, fraction: float) -> None:
         if cancel is not None and cancel():
@@ -252,7 +255,11 @@ def _walk_template(k: int):
     return corners.astype(np.int64), nodes, interior, nb
 
 
-def _build_cube_tables(n: int, k: int, step) -> CubeTables:
+def _build_cube_tables(n: int, k: int, step, lazy: bool | None = None) -> CubeTables:
+    """The tables; lazy (default: n >= LAZY_N) leaves the Kuhn simplices and the walk out
+    (tests build them for n >= LAZY_N too, to hold the lazy kernel to the tables' one)."""
+    if lazy is None:
+        lazy = n >= LAZY_N
     kfact = factorial(k)
     m = k + 1
     face_start = np.zeros(n + 2, np.int64)
@@ -269,37 +276,47 @@ def _build_cube_tables(n: int, k: int, step) -> CubeTables:
     face_start[n + 1] = count
     step("faces", 0.05)
 
-    # Kuhn k-simplices of the k-faces: face after face (subset-major, then anchor), k! each
     kfree, kfixed, ksubsets = _face_arrays(n, k)
     n_kfaces = kfixed.size
-    perms = _permutations(k)
-    ks_corners = np.empty((n_kfaces * kfact, k + 1), np.int64)
-    by_face = ks_corners.reshape(len(kfree), kfixed.shape[1], kfact, k + 1)
-    for s in range(len(kfree)):
-        np.bitwise_or(kfixed[s][:, None, None], _chains(perms, ksubsets[s])[None], out=by_face[s])
-        step("k-simplices", 0.05 + 0.45 * (s + 1) / len(kfree))
-    del perms
-
-    t_corners, t_nodes, interior, nb = _walk_template(k)
-    step("walk template", 0.8)
-
-    # the template on every (k+1)-face: local corner -> cube corner; boundary node (local
-    # k-face lf, permutation p) -> the cube k-face that lf maps to, same p (the map keeps
-    # the axes' order, so the permutation's rank)
     k1free, k1fixed, k1subsets = _face_arrays(n, m)
     k1free_f = np.repeat(k1free, k1fixed.shape[1])
     k1fixed_f = k1fixed.reshape(-1)
-    k1axes = np.repeat(k1subsets, k1fixed.shape[1], axis=0)  # (NK1, m)
-    local = np.arange(1 << m, dtype=np.int64)
-    cmap = k1fixed_f[:, None] | (((local[None, :, None] >> np.arange(m)) & 1) << k1axes[:, None, :]).sum(axis=2)
-    lf = np.arange(2 * m)
-    dropped = m - 1 - lf // 2  # local k-face lf: local axis `dropped` fixed at lf % 2
-    drop_axis = k1axes[:, dropped]  # (NK1, 2m)
-    kface = _face_index(n, k, k1free_f[:, None] & ~(np.int64(1) << drop_axis),
-                        k1fixed_f[:, None] | ((lf % 2) << drop_axis))
-    bsimp = (kface[:, :, None] * kfact + np.arange(kfact)).reshape(len(k1free_f), nb)
-    step("walk map", 0.9)
+    nb = 2 * m * kfact
+    if lazy:  # the lazy kernel finds its simplices itself
+        ks_corners = np.zeros((0, k + 1), np.int64)
+        ks_face = ks_perm = np.zeros(0, np.int64)
+        t_corners = t_nodes = np.zeros((0, m + 1), np.int64)
+        interior = np.zeros((0, k + 1), np.int64)
+        cmap = bsimp = np.zeros((0, 0), np.int64)
+    else:
+        # Kuhn k-simplices of the k-faces: face after face (subset-major, then anchor), k! each
+        perms = _permutations(k)
+        ks_corners = np.empty((n_kfaces * kfact, k + 1), np.int64)
+        by_face = ks_corners.reshape(len(kfree), kfixed.shape[1], kfact, k + 1)
+        for s in range(len(kfree)):
+            np.bitwise_or(kfixed[s][:, None, None], _chains(perms, ksubsets[s])[None], out=by_face[s])
+            step("k-simplices", 0.05 + 0.45 * (s + 1) / len(kfree))
+        del perms
 
+        t_corners, t_nodes, interior, _ = _walk_template(k)
+        step("walk template", 0.8)
+
+        # the template on every (k+1)-face: local corner -> cube corner; boundary node (local
+        # k-face lf, permutation p) -> the cube k-face that lf maps to, same p (the map keeps
+        # the axes' order, so the permutation's rank)
+        k1axes = np.repeat(k1subsets, k1fixed.shape[1], axis=0)  # (NK1, m)
+        local = np.arange(1 << m, dtype=np.int64)
+        cmap = k1fixed_f[:, None] | (((local[None, :, None] >> np.arange(m)) & 1) << k1axes[:, None, :]).sum(axis=2)
+        lf = np.arange(2 * m)
+        dropped = m - 1 - lf // 2  # local k-face lf: local axis `dropped` fixed at lf % 2
+        drop_axis = k1axes[:, dropped]  # (NK1, 2m)
+        kface = _face_index(n, k, k1free_f[:, None] & ~(np.int64(1) << drop_axis),
+                            k1fixed_f[:, None] | ((lf % 2) << drop_axis))
+        bsimp = (kface[:, :, None] * kfact + np.arange(kfact)).reshape(len(k1free_f), nb)
+        step("walk map", 0.9)
+
+        ks_face = np.repeat(np.arange(n_kfaces, dtype=np.int64), kfact)
+        ks_perm = np.tile(np.arange(kfact, dtype=np.int64), n_kfaces)
     if n <= 7:
         kuhn = simplex_tables(n, k)
         rows = kuhn.corners[kuhn.start[k] : kuhn.start[k + 1], : k + 1]
@@ -324,8 +341,8 @@ def _build_cube_tables(n: int, k: int, step) -> CubeTables:
         n_codes=np.array([comb(d, k) * 2 ** max(d - k, 0) * kfact for d in range(n + 1)], np.int64),
         simplices_per_kface=kfact,
         ksimplex_corners=ks_corners,
-        ksimplex_face=np.repeat(np.arange(n_kfaces, dtype=np.int64), kfact),
-        ksimplex_perm=np.tile(np.arange(kfact, dtype=np.int64), n_kfaces),
+        ksimplex_face=ks_face,
+        ksimplex_perm=ks_perm,
         walk_simplex_corners=t_corners,
         walk_simplex_nodes=t_nodes,
         walk_interior_corners=interior,

@@ -4,11 +4,12 @@
 and a probe of F on a coarse grid (a few thousand vertices, milliseconds):
 
 * the cube tables for (n, k) (`_tables`): int64 arrays counted exactly (faces of
-  dimension k..n, k! Kuhn simplices per k-face, the walk template of (k+1)! simplices
-  and its map onto every (k+1)-face; the Kuhn triangulation for n <= 7), plus the
-  numpy temporaries of their build;
-* the kernel's scratch: per thread, arrays of one entry per k-simplex and walk node
-  of the cube, written for every cube (hundreds of MB at k = 8);
+  dimension k..n; for n < LAZY_N also k! Kuhn simplices per k-face, the walk template of
+  (k+1)! simplices and its map onto every (k+1)-face, the Kuhn triangulation for n = 7),
+  plus the numpy temporaries of their build;
+* the kernel's scratch: per thread, for n < LAZY_N arrays of one entry per k-simplex and
+  walk node of the cube, written for every cube; from LAZY_N on the pruned walk's functionals
+  on the corners of one (k+1)-face;
 * the grid lines (n arrays of div + 1), and for the full sweep the slab buffer
   (`sweep.SLAB_VERTICES`, at least two layers), F's temporaries on it and the sign codes;
 * the records of the candidate cubes and their assembly.  The probe counts, per
@@ -37,7 +38,8 @@ from math import comb, factorial
 
 import numpy as np
 
-from ._memory import available_memory, format_bytes
+from ._memory import available_memory, format_bytes, format_seconds
+from ._tables import LAZY_N
 from .errors import InputError, TooLargeError
 
 __all__ = [
@@ -60,8 +62,8 @@ _PROBE_VERTICES = 600_000  # (9^6: div 8 probed exactly in R^6)
 _TABLE_SECONDS_PER_BYTE = 5e-9
 _KUHN_SECONDS_PER_ENTRY = 5e-9
 # Seconds per table entry the kernel reads for one candidate cube: every k-simplex's corners,
-# every (k+1)-face's boundary nodes and, where the walk runs, its (k+1)! simplices (R^10,
-# k = 8: 0.27 s per cube on 2 threads).
+# every (k+1)-face's boundary nodes and, where the walk runs, its (k+1)! simplices; from LAZY_N
+# on, per value the pruned walk computes (R^10, k = 8: about 1 ms per cube).
 _KERNEL_SECONDS_PER_ENTRY = 2e-9
 # Peak bytes per record the kernel emits for a crossed face, through the assembly
 # (records are grown by doubling, then concatenated and sorted).
@@ -138,7 +140,7 @@ class Estimate:
             f"peak memory about {format_bytes(self.peak_bytes)} "
             f"(tables {format_bytes(self.table_bytes)}, grid {format_bytes(self.grid_bytes)}, "
             f"cells {format_bytes(self.record_bytes)}) of {format_bytes(self.available_bytes)} available; "
-            f"about {_format_seconds(self.seconds)}"
+            f"about {format_seconds(self.seconds)}"
         )
 
 
@@ -148,16 +150,6 @@ def _threads() -> int:
         return max(1, int(os.environ.get("NUMBA_NUM_THREADS", "")))
     except ValueError:
         return os.cpu_count() or 1
-
-
-def _format_seconds(s: float) -> str:
-    if s < 60:
-        return f"{s:.2g} s"
-    if s < 3600:
-        return f"{s / 60:.2g} min"
-    if s < 86400 * 2:
-        return f"{s / 3600:.2g} h"
-    return f"{s / 86400:.3g} days"
 
 
 def _time_limit() -> float:
@@ -180,7 +172,8 @@ def table_cost(n: int, k: int) -> tuple[int, int, float]:
     The held bytes are its arrays to the byte (tests/core/test_budget.py compares); the
     build's temporaries add the largest of: the walk's Lehmer digits and ranks ((k+1)! rows of
     k+1 int64, about three such), an anchor table of the faces, the Kuhn triangulation's
-    label enumeration (n <= 7: two n (n+2)^n byte arrays)."""
+    label enumeration (n <= 7: two n (n+2)^n byte arrays).  From LAZY_N on the tables are
+    the faces only."""
     m = k + 1
     w = 8  # int64
     faces = sum(comb(n, r) << (n - r) for r in range(k, n + 1))
@@ -190,12 +183,14 @@ def table_cost(n: int, k: int) -> tuple[int, int, float]:
     walk = factorial(m)
     boundary = 2 * m * factorial(k)
     held = w * (3 * faces + (n + 2) + 2 * (n + 1) + (n + 1) ** 2)
-    held += w * simplices * (k + 3)  # corners, face, permutation
-    held += w * (2 * walk * (m + 1) + walk * k // 2 * (k + 1))  # simplex corners and nodes, interior nodes
-    held += w * k1faces * ((1 << m) + boundary)  # corner map, boundary simplices
+    temporary = 3 * w * faces + 16_384  # (+ the face lists' Python objects: all there is for small n, large k)
+    if n < LAZY_N:
+        held += w * simplices * (k + 3)  # corners, face, permutation
+        held += w * (2 * walk * (m + 1) + walk * k // 2 * (k + 1))  # simplex corners and nodes, interior nodes
+        held += w * k1faces * ((1 << m) + boundary)  # corner map, boundary simplices
+        temporary = max(temporary, 3 * w * walk * m)
     if n <= 6:  # corner masks
         held += w * (simplices + kfaces + k1faces)
-    temporary = max(3 * w * walk * m, 3 * w * faces)
     seconds = 1e-3
     if n <= 7:  # the Kuhn triangulation and each k-simplex's row in it
         rows = simplicial_rows(n, k)
@@ -208,19 +203,32 @@ def table_cost(n: int, k: int) -> tuple[int, int, float]:
     return int(held + temporary), int(held), float(seconds)
 
 
+def _functionals(k: int) -> int:
+    """Functionals of the lazy kernel's prune (`_kernels._face_functionals`): F, W F, differences."""
+    return 2 * k + k * (k - 1) // 2
+
+
 def kernel_entries(n: int, k: int) -> int:
     """Table entries `_kernels.cubes_chunk` reads for one candidate cube (at most): the corners of
-    every k-simplex, the boundary nodes of every (k+1)-face and its walk's simplices."""
+    every k-simplex, the boundary nodes of every (k+1)-face and its walk's simplices.  From LAZY_N
+    on (`cubes_chunk_lazy`): the sign prune over every k-face's corners, then the prune's
+    functionals (k + 2 operations per corner each) on the k-faces M crosses, 2^(n-k) as for a plane."""
     m = k + 1
-    simplices = (comb(n, k) << (n - k)) * factorial(k)
+    kfaces = comb(n, k) << (n - k)
+    if n >= LAZY_N:
+        return kfaces * (1 << k) + (1 << (n - k)) * _functionals(k) * (1 << k) * (k + 2)
+    simplices = kfaces * factorial(k)
     k1faces = comb(n, m) << (n - m)
     return simplices * (k + 2) + k1faces * (2 * m * factorial(k) + factorial(m) * (m + 2))
 
 
 def kernel_scratch(n: int, k: int) -> int:
     """Bytes one kernel thread writes whatever the cube: an entry per k-simplex (which vertex it
-    holds) and per walk node (two links, a flag)."""
+    holds) and per walk node (two links, a flag); from LAZY_N on a cube's corner signs and three
+    values of each functional per corner of a (k+1)-face."""
     m = k + 1
+    if n >= LAZY_N:
+        return 8 * (1 << n) + 3 * 8 * _functionals(k) * (1 << m)
     simplices = (comb(n, k) << (n - k)) * factorial(k)
     nodes = 2 * m * factorial(k) + factorial(m) * k // 2
     return 8 * simplices + 17 * nodes
@@ -526,10 +534,10 @@ def check_budget(estimate: Estimate, force: bool = False) -> None:
             f"error ({MEMORY_MARGIN:g}x) that is more than the {format_bytes(e.available_bytes)} available"
         )
     else:
-        what = f"this run would take about {_format_seconds(e.seconds)} (limit {_format_seconds(e.seconds_limit)})"
+        what = f"this run would take about {format_seconds(e.seconds)} (limit {format_seconds(e.seconds_limit)})"
     hints = []
     if e.table_bytes >= 0.3 * e.peak_bytes or max(e.div) == 1:
-        simplices = f" and {factorial(e.k):,} Kuhn simplices in each {e.k}-face" if e.k >= 5 else ""
+        simplices = f" and {factorial(e.k):,} Kuhn simplices in each {e.k}-face" if 5 <= e.k and e.n < LAZY_N else ""
         hints.append(
             f"in R^{e.n} a single cube has {3 ** e.n:,} faces{simplices} (the cube tables alone take "
             f"{format_bytes(e.table_bytes)}): use fewer variables"
