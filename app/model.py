@@ -290,9 +290,22 @@ def summarize(cx) -> str:
         nb = "?"
     secs = cx.meta.get("seconds")
     t = f" \u00b7 {secs:.2f} s" if isinstance(secs, (int, float)) else ""
+    t += _warnings(cx.meta)
     bword = "boundary vertices" if cx.dim == 1 else "boundary facets"
     return f"{', '.join(parts)} \u00b7 \u03c7 = {chi} \u00b7 {nb:,} {bword}{t}" if isinstance(nb, int) else \
         f"{', '.join(parts)} \u00b7 \u03c7 = {chi}{t}"
+
+
+def _warnings(meta: dict) -> str:
+    """What the engine could not resolve, as the CLI's summary says it (0 on a trustworthy complex)."""
+    out = ""
+    left = int(meta.get("non_ball_left", meta.get("non_ball_cells", 0)) or 0)
+    if left:
+        out += f" \u00b7 warning: {left} cells are not balls (try method cms or another div)"
+    degenerate = int(meta.get("degenerate", 0) or 0)
+    if degenerate:
+        out += f" \u00b7 warning: {degenerate} degenerate events (try another seed)"
+    return out
 
 
 def pick_text(info: dict, names, dim: int, rows_shown: int = 12) -> str:

@@ -11,13 +11,18 @@ face lose that face.
 
 A lens is left alone, and counted, when some other 2-cell has both of its edges
 (merging them would fold that cell onto itself); none has been seen in practice.
+
+Two edges with the same ends and no lens between them (a small closed curve of two
+edges, or the two edges of a loop that `_balls` split between two cells) are made
+distinct by `subdivide_double_edges`: a new vertex halves one of them, and every
+2-cell that had it has both halves.  One vertex and one edge more: chi is unchanged.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["collapse_lenses"]
+__all__ = ["collapse_lenses", "subdivide_double_edges"]
 
 
 def collapse_lenses(edges: np.ndarray, cells: dict) -> tuple[np.ndarray, dict, int, int]:
@@ -99,3 +104,43 @@ def _csr_subset(offsets: np.ndarray, faces: np.ndarray, keep: np.ndarray) -> tup
     off = np.zeros(int(keep.sum()) + 1, np.int64)
     np.cumsum(sizes[keep], out=off[1:])
     return off, np.ascontiguousarray(faces[row_of], np.int64)
+
+
+def subdivide_double_edges(vertices: np.ndarray, edges: np.ndarray, cells: dict):
+    """Halve every edge that has the same two ends as an edge before it (in id order).
+
+    vertices (V, n); edges (E, 2); cells {r: (offsets, faces)}.  The new vertex is the
+    edge's midpoint (the edge is drawn as that segment anyway); it and the second half
+    get the next ids, in the order of the halved edges.  Returns (vertices, edges,
+    cells, halved).
+    """
+    if len(edges) < 2:
+        return vertices, edges, cells, 0
+    ends = np.sort(edges, axis=1)
+    order = np.lexsort((np.arange(len(ends)), ends[:, 1], ends[:, 0]))
+    same = np.zeros(len(ends), bool)
+    same[order[1:]] = (ends[order[1:]] == ends[order[:-1]]).all(axis=1)
+    halved = np.flatnonzero(same)
+    if len(halved) == 0:
+        return vertices, edges, cells, 0
+    mid = len(vertices) + np.arange(len(halved), dtype=np.int64)
+    vertices = np.concatenate([vertices, 0.5 * (vertices[edges[halved, 0]] + vertices[edges[halved, 1]])])
+    second = len(edges) + np.arange(len(halved), dtype=np.int64)
+    edges = edges.copy()
+    tail = np.stack([mid, edges[halved, 1]], axis=1)
+    edges[halved, 1] = mid
+    edges = np.concatenate([edges, tail])
+    out = dict(cells)
+    if 2 in cells:
+        offsets, faces = cells[2]
+        other = np.full(len(ends), -1, np.int64)
+        other[halved] = second
+        extra = other[faces]
+        owner = np.repeat(np.arange(len(offsets) - 1, dtype=np.int64), np.diff(offsets))
+        grown = np.concatenate([faces, extra[extra >= 0]])
+        owner = np.concatenate([owner, owner[extra >= 0]])
+        rows = np.argsort(owner, kind="stable")
+        off = np.zeros(len(offsets), np.int64)
+        np.cumsum(np.bincount(owner, minlength=len(offsets) - 1), out=off[1:])
+        out[2] = (off, np.ascontiguousarray(grown[rows], np.int64))
+    return vertices, edges, out, len(halved)

@@ -630,8 +630,11 @@ def _summary(cx, job, outputs) -> dict:
         "nonfinite_vertices": int(meta.get("nonfinite_vertices", 0) or 0),
         # events the kernels could not resolve (meta["degenerate"]): 0 on a trustworthy complex
         "degenerate": int(meta.get("degenerate", 0) or 0),
-        # pieces of M_A that GCMH's cells split (not balls: a tube through a cube); cms is right there
-        "non_ball_cells": int(meta.get("non_ball_cells", 0) or 0),
+        # cells that are not balls (a tube through a cube gave GCMH one disc per end): split into
+        # discs with M_A's topology for surfaces (`_balls`); what is left is wrong there
+        "non_ball_cells": int(meta.get("non_ball_left", meta.get("non_ball_cells", 0)) or 0),
+        "non_ball_split": int(meta.get("non_ball_split", 0) or 0),
+        "halved_edges": int(meta.get("halved_edges", 0) or 0),
         "example": job["name"],
         "params": meta.get("params") or {},
         "singular_vertices": meta.get("singular_vertices"),
@@ -666,6 +669,9 @@ def _human(s: dict, job: dict) -> str:
     if s["non_ball_cells"]:
         lines.append(f"  warning: at {s['non_ball_cells']} places a piece of M inside a cube is not a ball, so the "
                      "topology is wrong there: use --method cms, or a finer --div")
+    if s["non_ball_split"]:
+        lines.append(f"  note: at {s['non_ball_split']} places M is a tube through a cube; GCMH's cells there were "
+                     "cut into discs, so the topology is right")
     if s["singular_vertices"]:
         lines.append(f"  notice: F's Jacobian nearly loses rank at {s['singular_vertices']} vertices: "
                      "M is singular there, the parameters are at or near a critical value")

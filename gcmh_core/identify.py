@@ -340,6 +340,14 @@ class IdentifiedGrid(Grid):
         anchor (the face's lowest corner) of a face with b free moves to its other end."""
         if not len(keys):
             return keys
+        cuts = keys < 0  # edges `_balls` cut through a cube: -(1 + K room + j), K a key of the cube
+        if cuts.any():
+            room = 2 * int(self._n_codes[self.n])
+            cell, j = np.divmod(-keys[cuts] - 1, room)
+            keys = keys.copy()
+            keys[cuts] = -(1 + self._frame_keys(cell, self.n, mirrored) * room + j)
+            keys[~cuts] = self._frame_keys(keys[~cuts], dim, mirrored)
+            return keys
         multi, free, rest = self._decode(keys, dim)
         for b in mirrored:
             multi[:, b] = self.div[b] - multi[:, b] - free[:, b]
@@ -349,6 +357,11 @@ class IdentifiedGrid(Grid):
         """Keys of faces on a seam replaced by their images' keys; and which were."""
         moved_any = np.zeros(len(keys), bool)
         if not len(keys):
+            return keys, moved_any
+        if (keys < 0).any():  # a cut's key names a cube, which is never on a seam's far side
+            keys = keys.copy()
+            inside = keys >= 0
+            keys[inside], moved_any[inside] = self._seam_keys(keys[inside], dim)
             return keys, moved_any
         multi, free, rest = self._decode(keys, dim)
         for _ in range(len(self.spec) + 1):

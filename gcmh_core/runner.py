@@ -23,10 +23,10 @@ from concurrent.futures import ThreadPoolExecutor
 import numba
 import numpy as np
 
-from . import _kernels
+from . import _balls, _kernels
 from ._hashtable import IntTable
 from ._methods import CONTINUATION_METHODS, METHODS, SIMPLICIAL_METHODS
-from ._regular import collapse_lenses
+from ._regular import collapse_lenses, subdivide_double_edges
 from ._tables import cube_tables, simplex_tables
 from .complex import CellComplex
 from .errors import Cancelled, InputError
@@ -97,7 +97,7 @@ class Grid:
             self.axes_arr[a, : self.dims[a]] = axes[a]
         self.timings = dict(evaluate=0.0, candidates=0.0, kernel=0.0, assemble=0.0)
         self.stats = dict(candidate_cubes=0, cubes=int(np.prod(self.dims - 1)), nonfinite_vertices=0, degenerate=0,
-                          non_ball_cells=0)
+                          non_ball_cells=0, non_ball_split=0)
         self.parts = dict(vk=[], vp=[], e=[], c=[], i=[])
         # the kernel's tables, one named tuple (`_tables.CubeTables` or `SimplexTables`)
         self.kernel_tables = self.stab if self.simplicial else self.tab
@@ -127,12 +127,14 @@ class Grid:
             results = [chunk(0, m, *common)]
         else:
             results = list(_kernel_pool().map(lambda lo, hi: chunk(lo, hi, *common), cuts[:-1], cuts[1:]))
-        for records, _, degenerate, non_ball in results:
+        for lo, (records, _, degenerate, non_ball) in zip(cuts, results):
+            if len(non_ball):
+                # (.get: identify's per-parity grids start from their own stats)
+                self.stats["non_ball_cells"] = self.stats.get("non_ball_cells", 0) + int(non_ball[:, 2].sum())
+                records = split_non_ball_cells(self, records, non_ball[:, 0] + lo, common)
             for key, arr in zip(self.parts, records):
                 self.parts[key].append(arr)
             self.stats["degenerate"] += int(degenerate)
-            # (.get: identify's per-parity grids start from their own stats)
-            self.stats["non_ball_cells"] = self.stats.get("non_ball_cells", 0) + int(non_ball[:, 2].sum())
         self.stats["candidate_cubes"] += m
         self.timings["kernel"] += time.perf_counter() - t
         return results[0][1] if pieces == 1 else np.concatenate([result[1] for result in results])
@@ -221,6 +223,7 @@ class Grid:
         cx = assemble_records(n, k, cat["vk"], cat["vp"], cat["e"], cat["c"], cat["i"])
         self.timings["assemble"] = time.perf_counter() - t
         cx.meta.update(self.stats)
+        cx.meta["non_ball_left"] = non_ball_left(self.stats)
         cx.meta["timings"] = self.timings
         return cx
 
@@ -249,6 +252,36 @@ class Grid:
                 self.stats[key] = self.stats.get(key, 0) + value
         for key, value in packed["timings"].items():
             self.timings[key] = self.timings.get(key, 0.0) + value
+
+
+def non_ball_left(stats: dict) -> int:
+    """Pieces M_A joins through a cube that are still cells that are not balls (not split)."""
+    return int(stats.get("non_ball_cells", 0)) - int(stats.get("non_ball_split", 0))
+
+
+def split_non_ball_cells(grid: Grid, records: tuple, cubes: np.ndarray, common: tuple) -> tuple:
+    """A kernel run's records with the 2-cells that are not balls split (`_balls`), for
+    surfaces; meta["non_ball_split"] counts the pieces joined that are now split.
+
+    cubes: the run's cubes where the kernel found joined pieces; common: the kernel's
+    arguments after (lo, hi), for the whole run.
+    """
+    if grid.simplicial or grid.n - grid.k != 2:
+        return records
+    values, cube_lin, origin, cube_key, axes_arr, value_off, corner_off, tab = common
+    vk, vp, e, c, inc = records
+    for i in np.unique(cubes):
+        one = slice(int(i), int(i) + 1)
+        split = _balls.split_joined_pieces(tab, values, cube_lin[one], origin[one], cube_key[one], axes_arr,
+                                           value_off, corner_off)
+        if split is None:
+            continue
+        drop, new_edges, new_inc, pieces = split
+        keep = ~((inc[:, 0] == 2) & np.isin(inc[:, 1], drop))
+        e = np.concatenate([e, new_edges])
+        inc = np.concatenate([inc[keep], new_inc])
+        grid.stats["non_ball_split"] = grid.stats.get("non_ball_split", 0) + pieces
+    return vk, vp, e, c, inc
 
 
 def block_values(axes, system, sampled, lo, hi) -> np.ndarray:
@@ -301,4 +334,6 @@ def complex_of(n, k, vertices, edges, cells) -> CellComplex:
     """The CellComplex of assembled cells (ids in key order), lens 2-cells collapsed
     (`_regular`); meta counts them.  (Also the end of `sweep`'s marching pass for n = 3.)"""
     edges, cells, collapsed, left = collapse_lenses(edges, cells)
-    return CellComplex(n, k, vertices, edges, cells, dict(collapsed_lenses=collapsed, lenses_left=left))
+    vertices, edges, cells, halved = subdivide_double_edges(vertices, edges, cells)
+    return CellComplex(n, k, vertices, edges, cells,
+                       dict(collapsed_lenses=collapsed, lenses_left=left, halved_edges=halved))

@@ -163,7 +163,8 @@ def _march(grid, axes, system, sampled, progress, cancel) -> CellComplex | None:
     row of values is computed alike, so the values are the same), each slab through
     `_marching3.march_layers`, which writes the complex in its final order.  None when a
     value is not finite or a difference overflows (the general path then runs: it
-    counts and skips such vertices)."""
+    counts and skips such vertices), and when M_A joins two pieces of G_H through a cube
+    (the general path splits those cells: rare, and found in the first slab that has one)."""
     from . import _marching3  # noqa: PLC0415  (compiled on first use only)
 
     cases = _marching3.cube_cases()
@@ -217,7 +218,7 @@ def _march(grid, axes, system, sampled, progress, cancel) -> CellComplex | None:
                 offsets = _grown(offsets, int(counts[2]) + last[2] + 1)
                 faces = _grown(faces, int(counts[3]) + last[3])
         grid.timings["kernel"] += time.perf_counter() - t2
-        if counts[6] != _marching3.OK:
+        if counts[6] != _marching3.OK or counts[5]:  # (a cell that is not a ball: `_balls` splits it there)
             return None
     if progress is not None:
         progress("assembling", 1.0)
@@ -228,6 +229,7 @@ def _march(grid, axes, system, sampled, progress, cancel) -> CellComplex | None:
     cx = complex_of(3, 1, vert[:nv], edges[:ne], {2: (offsets[: nc + 1], faces[:nf])})
     grid.timings["assemble"] = time.perf_counter() - t
     cx.meta.update(grid.stats)
+    cx.meta["non_ball_left"] = 0  # (the pass stops at the first: the general path splits them)
     cx.meta["timings"] = grid.timings
     return cx
 

@@ -352,17 +352,21 @@ def _describe(cells, verts, limit=4):
 
 
 def extract_as_gcmh(values, **kw):
-    """The engine's GCMH output as the paper (and the naive twin) define it: without the
-    lens collapse the assembly adds last (gcmh_core._regular, tested in test_regular)."""
+    """The engine's GCMH output as the paper (and the naive twin) define it: without what
+    the assembly adds to make cells regular (lens collapse and halved double edges,
+    gcmh_core._regular, tested in test_regular) and balls (the split of pieces M_A joins
+    through a cube, gcmh_core._balls, tested in test_balls)."""
     from gcmh_core import runner
 
     gcmh_core, _ = _engine()
-    keep = runner.collapse_lenses
+    keep = runner.collapse_lenses, runner.subdivide_double_edges, runner.split_non_ball_cells
     runner.collapse_lenses = lambda edges, cells: (edges, cells, 0, 0)
+    runner.subdivide_double_edges = lambda vertices, edges, cells: (vertices, edges, cells, 0)
+    runner.split_non_ball_cells = lambda grid, records, cubes, common: records
     try:
         return gcmh_core.extract(values, **kw)
     finally:
-        runner.collapse_lenses = keep
+        runner.collapse_lenses, runner.subdivide_double_edges, runner.split_non_ball_cells = keep
 
 
 def compare(n, k, seed, values=None, bounds=None, div=None):

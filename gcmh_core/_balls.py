@@ -1,0 +1,323 @@
+"""Cells that are balls (issue 13): split a surface's piece that M_A joins through the cube.
+
+GCMH makes one 2-cell per piece of the cube's vertex-edge graph G_H (paper 3.1.2).  Where M_A
+is a thin tube through the cube, G_H has one loop at each end, and GCMH makes two discs where
+M_A has one annulus: the complex's topology is wrong (the kernel finds these places with
+`_kernels._joined_pieces` and reports them).  For surfaces (n - k = 2, where the (k+2)-face is
+the cube itself and nothing else in the grid sees the cell) this module replaces those discs
+by cells with M_A's topology, keeping every vertex and edge the cube shares with its
+neighbours:
+
+1. March the cube's own Kuhn simplices (CMS, paper Section 4, `simplices_chunk` on the one
+   cube): a polygonal surface P with M_A's topology in the cube.  Its boundary on the cube's
+   facets is GCMH's loops: GCMH's vertices are P's vertices on the cube's k-faces, and each
+   GCMH edge is the path of P's boundary edges the walk follows in its (k+1)-face.
+2. Orient P's polygons consistently and read each loop's direction from that orientation.
+3. A piece of P with m loops, orientable and of genus 0 (chi = 2 - m), becomes m discs cut
+   by 2(m - 1) new edges between the loops' vertices: the first loop and the next one are
+   joined by two cuts, which split off one disc; what is left has one loop fewer.  Every
+   disc runs along its loops in their induced directions, so the cells glue into a surface
+   homeomorphic to P with the same boundary, hence into M_A's topology.  Each disc has at
+   least four edges and distinct vertices, and no cut joins two vertices an edge already
+   joins (the loops are different pieces of G_H).
+
+A piece that is not orientable or has a handle inside one cube (not seen in practice) is left
+as the kernel made it and stays counted in meta["non_ball_cells"] minus meta["non_ball_split"].
+
+Keys: a disc takes the key of one of the cells it replaces (the discs are as many as those
+cells), so keys stay in `_kernels`' scheme; a cut edge has the negative key
+-(1 + K * room + j), K the smallest replaced cell key, j < room its index, which no kernel
+key can meet (`identify` maps K for mirrored frames).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import _kernels
+
+__all__ = ["cut_key_room", "split_joined_pieces"]
+
+
+def cut_key_room(tab) -> int:
+    """Cut indices per replaced cell key (more than a cube's vertices can ask for)."""
+    return 2 * int(tab.n_codes[tab.n])
+
+
+def split_joined_pieces(tab, values, cube_row, origin, cube_key, axes_arr, value_off, corner_off):
+    """New records for one cube where the kernel reported joined pieces (n - k = 2).
+
+    The arguments are `cubes_chunk`'s for this one cube (arrays of length 1).  Returns
+    (old cell keys to drop from the incidence records, new edge rows, new incidence rows,
+    pieces joined that are now split), or None when nothing could be split.
+    """
+    n, k = tab.n, tab.k
+    if n - k != 2 or tab.kuhn.corners.shape[0] == 0:
+        return None
+    args = (values, cube_row, origin, cube_key, axes_arr, value_off, corner_off)
+    (g_vk, g_vp, g_edges, g_cells, g_inc), _, _, _ = _kernels.cubes_chunk(0, 1, *args, tab)
+    (c_vk, _, c_edges, _, c_inc), _, degenerate, _ = _kernels.simplices_chunk(0, 1, *args, tab.kuhn)
+    if degenerate:
+        return None
+    g_vertex = int(cube_key[0])
+    surface = _Surface.of(tab, g_vertex, corner_off, c_vk, c_edges, c_inc)
+    if surface is None:
+        return None
+    loops = _Loops(tab, g_vertex, corner_off, surface, g_edges, g_inc)
+    position = {int(key): x for key, x in zip(g_vk, g_vp)}
+    room = cut_key_room(tab)
+    drop, new_edges, new_inc, split = [], [], [], 0
+    cell_keys = sorted(int(x) for x in g_cells[g_cells[:, 0] == 2, 1])
+    by_piece: dict[int, list[int]] = {}
+    for key in cell_keys:
+        piece = loops.piece_of(key)
+        if piece is not None:
+            by_piece.setdefault(piece, []).append(key)
+    for piece, keys in sorted(by_piece.items()):
+        m = len(keys)
+        if m < 2:
+            continue
+        if not surface.orientable[piece] or surface.euler[piece] != 2 - m:
+            continue
+        ordered = [loops.loop(key) for key in keys]
+        if any(loop is None for loop in ordered) or keys[0] > (2**62 - room) // room:
+            continue
+        cut = _cut_into_discs(ordered, position, tab.simplices_per_kface)
+        if cut is None:
+            continue
+        discs, cuts = cut
+        for j, (a, b) in enumerate(cuts):
+            new_edges.append((-(1 + keys[0] * room + j), a, b))
+        for key, disc in zip(keys, discs):
+            for edge in disc:
+                edge_key = -(1 + keys[0] * room + edge[1]) if edge[0] == "cut" else edge[1]
+                new_inc.append((2, key, edge_key))
+        drop.extend(keys)
+        split += m - 1
+    if not split:
+        return None
+    return (np.array(drop, np.int64), np.array(new_edges, np.int64).reshape(-1, 3),
+            np.array(new_inc, np.int64).reshape(-1, 3), split)
+
+
+class _Surface:
+    """P: the CMS polygons of one cube, their pieces, orientation and boundary."""
+
+    @classmethod
+    def of(cls, tab, g_vertex, corner_off, c_vk, c_edges, c_inc):
+        self = cls()
+        kuhn = tab.kuhn
+        k = tab.k
+        simplex_key = (g_vertex + corner_off[kuhn.c0]) * kuhn.key_base + kuhn.code
+        row_of = {int(x): s for s, x in enumerate(simplex_key) if s >= kuhn.start[k]}
+        # GCMH's vertices: P's vertices on the cube's k-faces, with GCMH's keys
+        kface0 = tab.face_start[k]
+        gcmh_key = {}
+        for g, s in enumerate(tab.ksimplex_kuhn):
+            f = kface0 + tab.ksimplex_face[g]
+            anchor = g_vertex + int(corner_off[tab.face_fixed[f]])
+            gcmh_key[int(s)] = (anchor * int(tab.n_subsets[k]) + int(tab.face_rank[f])) * tab.simplices_per_kface \
+                + int(tab.ksimplex_perm[g])
+        self.gcmh = {}  # CMS vertex key -> GCMH vertex key
+        for v in c_vk:
+            s = row_of[int(v)]
+            if s in gcmh_key:
+                self.gcmh[int(v)] = gcmh_key[s]
+        self.ends = {int(e[0]): (int(e[1]), int(e[2])) for e in c_edges}
+        self.facet = {key: int(kuhn.cube_facets[row_of[key]]) for key in self.ends}
+        polygons: dict[int, list[int]] = {}
+        for _, x, y in c_inc[c_inc[:, 0] == 2]:
+            polygons.setdefault(int(x), []).append(int(y))
+        users: dict[int, list[int]] = {}
+        for p, edges in polygons.items():
+            for e in edges:
+                users.setdefault(e, []).append(p)
+        # each polygon's cycle of vertices, in the order of its edges
+        cycles = {}
+        for p, edges in polygons.items():
+            cycle = _cycle([self.ends[e] for e in edges])
+            if cycle is None:
+                return None
+            cycles[p] = cycle
+        for e, ps in users.items():  # boundary edges lie on the cube's facets, the others in two polygons
+            if len(ps) != (1 if self.facet[e] else 2):
+                return None
+        # pieces and a consistent orientation (+1: the cycle as listed, -1: reversed)
+        self.piece_of_polygon, sign = {}, {}
+        self.orientable, self.euler = {}, {}
+        for p0 in sorted(polygons):
+            if p0 in sign:
+                continue
+            piece = len(self.orientable)
+            sign[p0] = 1
+            stack, members, ok = [p0], [], True
+            while stack:
+                p = stack.pop()
+                members.append(p)
+                self.piece_of_polygon[p] = piece
+                for e in polygons[p]:
+                    for q in users[e]:
+                        if q == p:
+                            continue
+                        want = -sign[p] * _direction(cycles[p], self.ends[e]) * _direction(cycles[q], self.ends[e])
+                        if q not in sign:
+                            sign[q] = want
+                            stack.append(q)
+                        elif sign[q] != want:
+                            ok = False
+            verts = {v for p in members for v in cycles[p]}
+            edges = {e for p in members for e in polygons[p]}
+            self.orientable[piece] = ok
+            self.euler[piece] = len(verts) - len(edges) + len(members)
+        # the boundary, directed as the orientation induces: next vertex and the facet on the way
+        self.next = {}
+        self.piece_of_vertex = {}
+        for p, edges in polygons.items():
+            for v in cycles[p]:
+                self.piece_of_vertex[v] = self.piece_of_polygon[p]
+            for e in edges:
+                if self.facet[e]:
+                    a, b = self.ends[e]
+                    if _direction(cycles[p], (a, b)) * sign[p] < 0:
+                        a, b = b, a
+                    if a in self.next:
+                        return None
+                    self.next[a] = (b, self.facet[e])
+        self.cms_of = {g: c for c, g in self.gcmh.items()}
+        return self
+
+
+class _Loops:
+    """GCMH's loops (the boundaries of its 2-cells in the cube), directed as P induces."""
+
+    def __init__(self, tab, g_vertex, corner_off, surface, g_edges, g_inc):
+        self.tab, self.g_vertex, self.surface = tab, g_vertex, surface
+        self.ends = {int(e[0]): (int(e[1]), int(e[2])) for e in g_edges}
+        self.edges_of: dict[int, set] = {}
+        for _, x, y in g_inc[g_inc[:, 0] == 2]:
+            self.edges_of.setdefault(int(x), set()).add(int(y))
+        k1 = tab.k + 1
+        self.facet_key = {}  # facet bit -> the global key of that (k+1)-face, as edge keys carry it
+        for f in range(tab.face_start[k1], tab.face_start[k1 + 1]):
+            free, fixed = int(tab.face_free[f]), int(tab.face_fixed[f])
+            axis = (~free & ((1 << tab.n) - 1)).bit_length() - 1
+            bit = 1 << (2 * axis + ((fixed >> axis) & 1))
+            anchor = g_vertex + int(corner_off[fixed])
+            self.facet_key[bit] = anchor * int(tab.n_subsets[k1]) + int(tab.face_rank[f])
+
+    def piece_of(self, cell):
+        edges = self.edges_of.get(cell)
+        if not edges:
+            return None
+        v = self.ends[next(iter(edges))][0]
+        return self.surface.piece_of_vertex.get(self.surface.cms_of.get(v))
+
+    def loop(self, cell):
+        """[(vertex, edge to the next vertex)] around the cell, or None if P's boundary disagrees."""
+        s = self.surface
+        edges = self.edges_of[cell]
+        start = min(v for e in edges for v in self.ends[e])
+        out, at = [], start
+        n_codes = int(self.tab.n_codes[self.tab.k + 1])
+        for _ in range(len(edges)):
+            c = s.cms_of.get(at)
+            facet = None
+            while True:  # P's boundary path from `at` to the next GCMH vertex, in one facet
+                if c not in s.next:
+                    return None
+                c, facet_here = s.next[c]
+                if facet not in (None, facet_here):
+                    return None
+                facet = facet_here
+                if c in s.gcmh:
+                    break
+            b = s.gcmh[c]
+            match = [e for e in edges if set(self.ends[e]) == {at, b} and e // n_codes == self.facet_key.get(facet)]
+            if len(match) != 1:
+                return None
+            out.append((at, match[0]))
+            at = b
+            if at == start:
+                break
+        if at != start or {e for _, e in out} != edges:
+            return None
+        return out
+
+
+def _cycle(edge_ends):
+    """The vertices of a polygon in cyclic order from its edges' ends; None if not one cycle."""
+    nbrs: dict[int, list[int]] = {}
+    for a, b in edge_ends:
+        nbrs.setdefault(a, []).append(b)
+        nbrs.setdefault(b, []).append(a)
+    if any(len(x) != 2 for x in nbrs.values()):
+        return None
+    start = min(nbrs)
+    cycle, prev, at = [start], None, start
+    while True:
+        a, b = nbrs[at]
+        nxt = a if a != prev else b
+        if nxt == start:
+            break
+        cycle.append(nxt)
+        prev, at = at, nxt
+        if len(cycle) > len(nbrs):
+            return None
+    return cycle if len(cycle) == len(nbrs) else None
+
+
+def _direction(cycle, edge):
+    """+1 if the cycle runs a -> b along the edge (a, b), -1 if b -> a."""
+    a, b = edge
+    i = cycle.index(a)
+    return 1 if cycle[(i + 1) % len(cycle)] == b else -1
+
+
+def _cut_into_discs(loops, position, kfact):
+    """Discs (lists of ("edge", key) / ("cut", j)) and cuts [(vertex a, vertex b)] for one piece.
+
+    loops: each [(vertex, edge to the next)] in the direction P induces.  The current outer
+    loop C (at first the first loop) is joined to the next loop L by cuts p-s and q-t; the
+    disc C[p..q] + (q, t) + L[t..s] + (s, p) is split off and C becomes
+    C[q..p] + (p, s) + L[s..t] + (t, q).  Every loop is followed forwards.  (Any p != q and
+    s != t give the topology; p and s nearest each other, q half-way round C and t nearest
+    q give discs that look like the strips of the tube they are.)  A cut's ends lie on
+    different k-faces (kfact: vertex key // kfact is the k-face), or None.
+    """
+    cuts: list[tuple[int, int]] = []
+    discs = []
+    outer = [(v, ("edge", e)) for v, e in loops[0]]
+    for loop in loops[1:]:
+        inner = [(v, ("edge", e)) for v, e in loop]
+        # (a cut never joins two vertices on one k-face: an edge of another cube could join them)
+        gap = np.array([[float(np.sum((position[v] - position[w]) ** 2)) if v // kfact != w // kfact else np.inf
+                         for w, _ in inner] for v, _ in outer])
+        if not np.isfinite(gap).any():
+            return None
+        ip, il = divmod(int(np.argmin(gap)), len(inner))
+        half = len(outer) / 2
+        options = [(abs((iq - ip) % len(outer) - half), gap[iq, it], iq, it)
+                   for iq in range(len(outer)) for it in range(len(inner))
+                   if iq != ip and it != il and np.isfinite(gap[iq, it])]
+        if not options:
+            return None
+        _, _, iq, it = min(options)
+        p, q = outer[ip][0], outer[iq][0]
+        s, t = inner[il][0], inner[it][0]
+        ps, qt = len(cuts), len(cuts) + 1
+        cuts += [(p, s), (q, t)]
+        disc = [e for _, e in _arc(outer, ip, iq)] + [("cut", qt)] + [e for _, e in _arc(inner, it, il)] \
+            + [("cut", ps)]
+        discs.append(disc)
+        outer = _arc(outer, iq, ip) + [(p, ("cut", ps))] + _arc(inner, il, it) + [(t, ("cut", qt))]
+    discs.append([e for _, e in outer])
+    return discs, cuts
+
+
+def _arc(loop, i, j):
+    """The steps of a loop from position i forwards to position j (j itself not included)."""
+    out = []
+    while i != j:
+        out.append(loop[i])
+        i = (i + 1) % len(loop)
+    return out
