@@ -1,19 +1,20 @@
 """Benchmark: the cube tables and whole extractions for large k (issue 14, item 2).
 
-    python tests/bench/bench_high_k.py [--cases 6-4,8-6,9-7,10-8,10-9] [--old-max-n 9] [--no-extract]
+    python tests/bench/bench_high_k.py [--cases 6-4,8-6,9-7,10-8,10-9,11-10,12-10] [--old-max-n 9] [--no-extract]
 
 Run from the repository root.  The cases are flat 2-tori in R^n (k = n - 2):
 x1^2 + x2^2 = 1, x3^2 + x4^2 = 1, x5 = ... = xn = 0, div 10 on the first four axes
-and 1 on the others (10-8 is the issue's torus in R^10), and 10-9, a circle in R^10
-(k = 9: x1^2 + x2^2 = 1, x3 = ... = x10 = 0, div 10 on two axes).
+and 1 on the others (10-8 is the issue's torus in R^10, 12-10 the same in R^12), and circles
+(k = n - 1: x1^2 + x2^2 = 1, x3 = ... = xn = 0, div 10 on two axes): 10-9 and 11-10.
 
 Each measurement is a fresh child process; its peak is the resident high-water mark
 above what the process held just before (VmHWM reset through /proc/self/clear_refs):
 * "old": the loop builder the tables had up to issue 14 (`loop_cube_tables`, kept in
   tests/core/test_tables.py as the twin); R^10 takes minutes and about 12 GB, so it
   runs only for n <= --old-max-n (default 9);
-* "new": `_tables.cube_tables`;
-* "extract": the kernels loaded on tiny grids first (R^4 and R^7), then the tables
+* "new": `_tables.cube_tables` (from n = LAZY_N = 8 on, the faces only: the lazy kernel finds
+  the Kuhn simplices it needs);
+* "extract": the kernels loaded on tiny grids first (R^4, R^7 and R^8), then the tables
   (timed alone) and `extract` (its phases from meta['timings']), chi and boundary facets.
 
 Times of large tables depend on how fresh the memory is: on this VM the first touch of
@@ -33,7 +34,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 
-CASES = ["6-4", "8-6", "9-7", "10-8", "10-9"]
+CASES = ["6-4", "8-6", "9-7", "10-8", "10-9", "11-10", "12-10"]
 
 
 def system(n: int, k: int):
@@ -74,10 +75,11 @@ def child(spec: dict) -> dict:
     out = dict(n=n, k=k, what=what)
     if what == "extract":  # load the compiled kernels first: their time is not the case's
         # (n = 3, k = 1 takes the marching pass: the general kernel needs a case of its own;
-        # R^7 the candidate pass without corner masks)
+        # R^7 the candidate pass without corner masks, R^8 the lazy kernel)
         gcmh_core.extract(["x1^2+x2^2+x3^2+x4^2-1", "x4-0.1"], bounds=(-1.5, 1.5), div=3)
-        F, bounds, div = system(7, 5)
-        gcmh_core.extract(F, bounds=bounds, div=[2] * 7, n=7)
+        for m in (7, 8):
+            F, bounds, div = system(m, m - 2)
+            gcmh_core.extract(F, bounds=bounds, div=[2] * m, n=m)
         _tables.cube_tables.cache_clear()
         _tables.simplex_tables.cache_clear()
     if what == "old":
@@ -94,7 +96,7 @@ def child(spec: dict) -> dict:
     if what == "extract":
         F, bounds, div = system(n, k)
         t = time.perf_counter()
-        cx = gcmh_core.extract(F, bounds=bounds, div=div, n=n)
+        cx = gcmh_core.extract(F, bounds=bounds, div=div, n=n, force=True)
         out["extract_s"] = time.perf_counter() - t
         out["peak_mb"] = (_status("VmHWM:") - base) / 1e6
         out["phases"] = {key: round(v, 3) for key, v in cx.meta["timings"].items()}

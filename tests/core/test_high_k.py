@@ -1,7 +1,9 @@
-"""Issue 14 item 2, every k up to 10: k = 8 against the slow naive twin on a small case, and a torus in R^10
-(k = 8) closed with chi 0.  The tables' own twin is in test_tables; speed is in tests/bench/bench_high_k.py."""
+"""Issue 14 item 2, every k up to 10: k = 8 against the slow naive twin on a small case, and tori in R^10
+(k = 8) and R^12 (k = 10) closed with chi 0.  The tables' own twin is in test_tables, the lazy kernel's
+(n >= 8) against the tables' kernel in test_lazy_kernel; speed is in tests/bench/bench_high_k.py."""
 
 import numpy as np
+import pytest
 from test_kernels_vs_naive import compare
 
 import gcmh_core
@@ -33,10 +35,23 @@ def test_a_torus_in_r10_is_closed():
     assert cx.connected_components() == 1
 
 
-def test_the_tables_build_of_a_run_reports_progress_and_cancels():
-    """extract's progress hears the cube tables' build (seconds at k >= 8) and its cancel stops it there."""
-    import pytest
+@pytest.mark.parametrize("n", [11, 12])
+def test_k9_and_k10(n):
+    """A torus in R^11 (k = 9) and in R^12 (k = 10: 3.6M Kuhn simplices per 10-face, 40M in an 11-face's walk),
+    its flat axes tilted as above: closed, chi 0; and a circle in R^11 (k = 10), one loop."""
+    F = ["x1^2 + x2^2 - 1", "x3^2 + x4^2 - 1"] + [f"x{i} - 0.01*x{i - 1}" for i in range(5, n + 1)]
+    cx = gcmh_core.extract(F, [(-1.5, 1.5)] * 4 + [(-1, 1)] * (n - 4), [3] * 4 + [1] * (n - 4), n=n, force=True)
+    assert cx.k == n - 2 and cx.dim == 2
+    assert cx.euler_characteristic() == 0 and len(cx.boundary_facets()) == 0 and cx.connected_components() == 1
+    if n == 11:
+        F = ["x1^2 + x2^2 - 1"] + [f"x{i} - 0.01*x{i - 1}" for i in range(3, 12)]
+        cx = gcmh_core.extract(F, [(-1.5, 1.5)] * 2 + [(-1, 1)] * 9, [5] * 2 + [1] * 9, n=11, force=True)
+        assert cx.k == 10 and cx.counts()[0] == cx.counts()[1] > 0
+        assert cx.euler_characteristic() == 0 and len(cx.boundary_facets()) == 0 and cx.connected_components() == 1
 
+
+def test_the_tables_build_of_a_run_reports_progress_and_cancels():
+    """extract's progress hears the cube tables' build and its cancel stops it there."""
     from gcmh_core import _tables
     from gcmh_core.errors import Cancelled
 
