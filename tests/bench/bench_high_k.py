@@ -96,7 +96,7 @@ def child(spec: dict) -> dict:
     if what == "extract":
         F, bounds, div = system(n, k)
         t = time.perf_counter()
-        cx = gcmh_core.extract(F, bounds=bounds, div=div, n=n, force=True)
+        cx = gcmh_core.extract(F, bounds=bounds, div=div, n=n)
         out["extract_s"] = time.perf_counter() - t
         out["peak_mb"] = (_status("VmHWM:") - base) / 1e6
         out["phases"] = {key: round(v, 3) for key, v in cx.meta["timings"].items()}
