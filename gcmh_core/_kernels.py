@@ -756,9 +756,9 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
 # j + 1 corners and the corners above its last one (the sub-cube over the remaining axes).  Zero
 # in a simplex is a convex combination of F at its corners, so h(F) takes both signs there:
 # * h = F_j, with the sign prune's rule (a value 0 counts as +epsilon): exact;
-# * h = rows of W F and their differences, W the inverse of F's mean slope on the face: F ~ F(c0)
-#   + J x gives W F ~ x - t, so the differences order the coordinates as the simplex does, and
-#   one chain of k! survives where M is flat.  These prune only with a margin far above the
+# * h = differences of rows of W F, W the inverse of F's mean slope on the face: F ~ F(c0) + J x
+#   gives W F ~ x - t, so the differences order the coordinates as the simplex does, and one
+#   chain of k! survives where M is flat.  These prune only with a margin far above the
 #   rounding of the solve (`simplex_crosses` accepts lam_i >= -1e-9): a simplex it would accept
 #   is never dropped.
 # The chains that survive are solved as the tables' kernel solves them, corners in the same order:
@@ -766,6 +766,9 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
 
 # Margin of the model functionals, relative to sum_j |w_j| max |F_j| on the face.
 _MODEL_MARGIN = 1e-6
+# Differences of W F's rows i and i' whose model coordinates are at most this far apart in order
+# (1 orders a flat M's chain alone; 2 prunes more where F bends; all k(k-1)/2 pairs cost 2x at k = 10)
+_MODEL_NEIGHBOURS = 2
 
 
 @nb.njit(**JIT)
@@ -776,7 +779,7 @@ def _face_functionals(values, o, corner_row, fixed, axes, dim, k, model, cc, jac
     Fills cc[c] (cube corner of local corner c, bit a: +1 along axes[a]), hv[h, c] (functional h
     at local corner c), up_lo/up_hi[h, c] (its min/max over the corners above c) and the
     thresholds: prune where min >= pos_thr[h] or max < neg_thr[h].  h < k are F's components;
-    with `model`, k more (W F) and their pairwise differences.  Returns the number of functionals.
+    with `model`, differences of the rows of W F follow.  Returns the number of functionals.
     """
     n_local = 1 << dim
     for c in range(n_local):
@@ -865,8 +868,9 @@ def _det_or_inverse(sub, k, inv, want_inverse):
 def _model_functionals(dim, k, jac, sub, inv, hv, pos_thr, neg_thr):
     """`_face_functionals`' model part: rows k.. of hv.  F's mean slope J (k x dim) along each
     local axis; on a (k+1)-face the axis whose column leaves the best k x k part is left out.
-    W = that part's inverse: the rows of W F, then their differences.  Returns the count (k if
-    the slope is singular)."""
+    W = that part's inverse; W F ~ x - x*, and the differences of its rows for coordinates near
+    one another in x*'s order (the rows alone never prune: every subtree reaches corner 0 and the
+    far corner).  Returns the count (k if the slope is singular)."""
     n_local = 1 << dim
     half = n_local // 2
     for j in range(k):
@@ -906,16 +910,36 @@ def _model_functionals(dim, k, jac, sub, inv, hv, pos_thr, neg_thr):
             if not np.isfinite(inv[i, j]):
                 return k
     maxabs = np.zeros(k)
+    mean = np.zeros(k)
     for j in range(k):
         for c in range(n_local):
             maxabs[j] = max(maxabs[j], abs(hv[j, c]))
+            mean[j] += hv[j, c]
+        mean[j] /= n_local
+    # W F ~ x - x*: x* the model's zero (the dropped axis at 1/2), its coordinates in order
+    order = np.empty(k, np.int64)
+    zero = np.empty(k)
+    for i in range(k):
+        x = 0.5
+        for j in range(k):
+            x -= inv[i, j] * mean[j]
+        zero[i] = x
+        q = i
+        while q > 0 and zero[order[q - 1]] > x:
+            order[q] = order[q - 1]
+            q -= 1
+        order[q] = i
     w = np.empty(k)
     h = k
-    for a in range(k):
-        for b in range(a, k):  # b = a: W's row a; b > a: row a minus row b
+    for p in range(k):
+        for step in range(1, _MODEL_NEIGHBOURS + 1):
+            if p + step >= k:
+                break
+            a = order[p]
+            b = order[p + step]
             size = 0.0
             for j in range(k):
-                w[j] = inv[a, j] - inv[b, j] if b > a else inv[a, j]
+                w[j] = inv[a, j] - inv[b, j]
                 size += abs(w[j]) * maxabs[j]
             for c in range(n_local):
                 x = 0.0
@@ -1028,7 +1052,7 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
     fact = np.ones(k1 + 1, np.int64)
     for i in range(1, k1 + 1):
         fact[i] = fact[i - 1] * i
-    nh_max = 2 * k + k * (k - 1) // 2
+    nh_max = k + _MODEL_NEIGHBOURS * k
     model = k >= 3
     cc = np.empty(1 << k1, np.int64)
     jac = np.empty((k, k1), np.float64)

@@ -204,8 +204,9 @@ def table_cost(n: int, k: int) -> tuple[int, int, float]:
 
 
 def _functionals(k: int) -> int:
-    """Functionals of the lazy kernel's prune (`_kernels._face_functionals`): F, W F, differences."""
-    return 2 * k + k * (k - 1) // 2
+    """Rows the lazy kernel keeps for its prune's functionals (`_kernels._face_functionals`: F's
+    components and up to 2k differences of W F's rows, _MODEL_NEIGHBOURS = 2)."""
+    return 3 * k
 
 
 def kernel_entries(n: int, k: int) -> int:
