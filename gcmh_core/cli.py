@@ -23,6 +23,7 @@ an interrupted run leaves the old files as they were and no temporary file.
 
 from __future__ import annotations
 
+import _thread
 import argparse
 import contextlib
 import json
@@ -31,6 +32,7 @@ import os
 import signal
 import stat
 import sys
+import threading
 from collections.abc import Sequence
 
 from ._validate import glued_axes, parse_params
@@ -502,7 +504,7 @@ def _cmd_extract(args) -> int:
         lambda: print(COMPILE_NOTE, file=sys.stderr, flush=True))
     progress = _Progress(enabled=not args.quiet and _isatty(sys.stderr))
     try:
-        with notice:
+        with notice, _signals.held_while_numba_loads():
             cx = gcmh_core.extract(
                 job["F"],
                 job["bounds"],
@@ -737,6 +739,38 @@ class _Signals:
         except ValueError:  # not the main thread: leave the handlers alone
             pass
         return previous
+
+    @contextlib.contextmanager
+    def held_while_numba_loads(self):
+        """Hold signals while numba holds its compiler lock (it loads a cached kernel or compiles
+        one there): llvmlite calls back into Python through ctypes then, and a KeyboardInterrupt
+        raised inside such a callback is printed and dropped, so the run went on to the end."""
+        if "numba" not in sys.modules:  # (nothing can load kernels before the engine imports numba)
+            import numba  # noqa: F401, PLC0415
+        from numba.core import event  # noqa: PLC0415
+
+        signals = self
+        lock = threading.Lock()
+
+        class _Listener(event.Listener):
+            def on_start(self, ev) -> None:
+                with lock:
+                    signals.hold += 1
+
+            def on_end(self, ev) -> None:
+                with lock:
+                    signals.hold -= 1
+                    signum = signals.pending if not signals.hold and not signals.raised else None
+                    signals.pending = None if signum is not None else signals.pending
+                if signum is not None:  # raised in the main thread, at its next step outside numba
+                    _thread.interrupt_main(signum)
+
+        listener = _Listener()
+        event.register("numba:compiler_lock", listener)
+        try:
+            yield
+        finally:
+            event.unregister("numba:compiler_lock", listener)
 
 
 _signals = _Signals()
