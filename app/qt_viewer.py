@@ -29,6 +29,8 @@ import copy
 
 import numpy as np
 from qtpy.QtCore import QEvent, QObject, Qt, QTimer
+from qtpy.QtGui import QImage, QPixmap
+from qtpy.QtWidgets import QLabel
 
 from .inputs import format_value
 from .model import StudioModel, slice_params
@@ -39,7 +41,9 @@ from .scene import (
     PICK_COLOR,
     TITLE_BOTTOM,
     Scene,
+    StillJob,
     Style,
+    camera_values,
     copy_camera,
     default_camera,
     draw_overlays,
@@ -48,11 +52,13 @@ from .scene import (
     render_image,
     screen_coordinates,
     view_subtitle,
+    warm_background,
     warm_labels,
 )
 from .studio_io import apply_camera, camera_state, valid_camera
 
 SETTLE_MS = 250          # a view at rest this long is drawn in full again
+STILL_POLL_MS = 15       # how often the GUI looks whether the still picture drawn in a thread is there
 DRAG_DEGREES = 0.4       # per pixel of a Shift-drag
 
 
@@ -117,6 +123,21 @@ class QtViewer:
         self._resized.timeout.connect(self._on_resized)
         self._drag = _DragFilter(self)
         self.widget.installEventFilter(self._drag)
+        # a see-through result's still picture is drawn in a thread and shown over the view until the
+        # view renders again (:class:`app.scene.StillJob`)
+        self.still_off_thread = True
+        self._still_job: StillJob | None = None
+        self.still_image: np.ndarray | None = None    # the last one shown
+        self._settling = False
+        self._still_label = QLabel(self.widget)
+        self._still_label.setAttribute(Qt.WA_TransparentForMouseEvents)   # the view under it gets the mouse
+        self._still_label.hide()
+        self._still_poll = QTimer(self.widget)
+        self._still_poll.setInterval(STILL_POLL_MS)
+        self._still_poll.timeout.connect(self._still_arrived)
+        self.plotter.ren_win.AddObserver("StartEvent", lambda *a: self._drop_still())
+        if self.still_off_thread:
+            warm_background()
         try:   # turning the camera with the mouse draws the moving look too, the still one when let go
             style = self.plotter.iren.interactor.GetInteractorStyle()
             style.AddObserver("StartInteractionEvent", lambda *a: self._camera_moving(True))
@@ -143,7 +164,97 @@ class QtViewer:
         """Ask for one render of the window: Qt paints it once, however many changes came before
         (``plotter.render()`` renders now and then once more in the paint it schedules)."""
         self.renders += 1
+        self._drop_still()
         self.widget.update()
+
+    # ------------------------------------------------------------ the still picture off the GUI thread
+    def _still_in_thread(self) -> bool:
+        """Draw the still picture in a thread: a see-through result (0.3 s of software GL for the three-torus)
+        in a view on screen with nothing of the window's own drawn over it (the presentation's card)."""
+        aa = self.scene.anti_aliasing   # (FXAA as asked: an EGL build falls back to super-sampling)
+        return (self.still_off_thread and self.scene.see_through() and self.widget.isVisible()
+                and min(self.size()) > 0 and (aa != "fxaa" or bool(self.plotter.renderer.GetUseFXAA())))
+
+    def _render_still(self) -> None:
+        """The still look of the scene as it is, drawn in a thread, shown when it arrives (else one render)."""
+        if not self._still_in_thread():
+            self.render()
+            return
+        self._drop_still()
+        self.renders += 1
+        try:
+            job = StillJob(self.scene, self.plotter.ren_win.GetSize(), camera_values(self.plotter.camera),
+                           anti_aliasing=self.scene.anti_aliasing, decorate=self._decorate)
+        except Exception:  # noqa: BLE001 - the window draws it itself
+            job = None
+        if job is None or job.declined:   # (the presentation draws over the view: the window's own render)
+            self.renders -= 1
+            self.render()
+            return
+        self._still_job = job
+        self._still_poll.start()
+
+    def _drop_still(self) -> None:
+        """The view renders itself (or changed): a still picture on its way or on screen is no longer it."""
+        if self._settling:
+            return
+        if self._still_job is not None:
+            self._still_job.stale = True
+            self._still_job = None
+        if self._still_label.isVisible():
+            self._still_label.hide()
+            self._still_label.clear()
+
+    def _still_arrived(self) -> None:
+        job = self._still_job
+        if job is None:
+            self._still_poll.stop()
+            return
+        if not job.done():
+            return
+        self._still_poll.stop()
+        self._still_job = None
+        w, h = self.plotter.ren_win.GetSize()
+        img = job.image
+        if job.stale or img is None or img.shape[:2] != (h, w):   # failed, or the view changed size
+            if not job.stale:
+                self.render()
+            return
+        self.still_image = img
+        qimg = QImage(img.data, w, h, 3 * w, QImage.Format_RGB888)
+        pix = QPixmap.fromImage(qimg)    # (a copy: the array may go)
+        pix.setDevicePixelRatio(w / max(self.widget.width(), 1))
+        self._still_label.setGeometry(self.widget.rect())
+        self._still_label.setPixmap(pix)
+        self._still_label.show()
+        self._still_label.raise_()
+
+    def _settle_window(self) -> None:
+        """One cheap render of a new result, not shown, with the complex shrunk to a point: the colour bar lays
+        its labels out from the frame before, and the window's first frame of a new result put them over the
+        bar (the picture a result opened with, until the next render)."""
+        actor = self.scene.actor
+        if actor is None or not self.widget.isVisible():
+            return
+        rw = self.plotter.ren_win
+        self._settling = True
+        try:
+            actor.SetScale(1e-6, 1e-6, 1e-6)
+            rw.SwapBuffersOff()     # (a frame not to be shown: the widget schedules no paint for it)
+            rw.Render()
+        except Exception:  # noqa: BLE001 - only the labels' first frame is at stake
+            pass
+        finally:
+            rw.SwapBuffersOn()
+            actor.SetScale(1.0, 1.0, 1.0)
+            self._settling = False
+
+    def still_shown(self) -> bool:
+        """The view shows a still picture drawn in a thread (tests and the benchmark ask)."""
+        return self._still_label.isVisible()
+
+    def still_pending(self) -> bool:
+        return self._still_job is not None
 
     def keep_camera(self) -> bool:
         return bool(self.panel.keep_camera_check.isChecked())
@@ -171,9 +282,12 @@ class QtViewer:
             self.plotter.renderer.ResetCameraClippingRange()
             self.scene.set_moving(moving)
         self._mapping = self.panel.model.view().mapping
-        self.render()
         if moving:
+            self.render()
             self._settle.start()
+        else:
+            self._settle_window()
+            self._render_still()
 
     def on_projection(self) -> None:
         """The angles, base or mapping changed: move the points in place (and re-slice a turning direction)."""

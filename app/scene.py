@@ -23,6 +23,8 @@ into an off-screen ``pyvista.Plotter`` for headless screenshots and animations.
 
 from __future__ import annotations
 
+import copy
+import threading
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 
@@ -136,6 +138,10 @@ class Scene:
         plotter.set_background(BACKGROUND, top=BACKGROUND_TOP)
         self.anti_aliasing = None
         self.set_anti_aliasing(anti_aliasing)
+        try:   # a render here waits for a still picture drawing in the background (:class:`StillJob`)
+            plotter.ren_win.AddObserver("StartEvent", lambda *a: wait_background())
+        except AttributeError:  # (a plotter without a render window)
+            pass
 
     def set_anti_aliasing(self, kind: str | None) -> None:
         """"fxaa" (cheap: the window), "ssaa" (four times the pixels: screenshots) or None.
@@ -263,6 +269,26 @@ class Scene:
         self._normals = mesh.point_data["Normals"] if self._normal_field is not None else None
         self._write_normals()
         self._add_actor()
+
+    def detached(self) -> Scene:
+        """A copy for another thread to draw with :meth:`adopt`: its meshes deep copies, sharing no VTK object
+        with this scene (the GUI thread goes on moving this one's points), and no plotter of its own."""
+        other = copy.copy(self)
+        other.plotter = other.actor = None
+        other._axes_actor = other._title_actor = other._subtitle_actor = other._legend_actor = None
+        other._bar_title = None
+        other._coarse, other._coarse_on, other._still_lights, other._fxaa_paused = None, False, None, False
+        other.style = copy.copy(self.style)
+        other._P = None if self._P is None else np.array(self._P)
+        if self.mesh is not None:
+            other.mesh = self.mesh.copy(deep=True)
+            other._pts = other.mesh.points
+            other._normals = other.mesh.point_data["Normals"] if self._normals is not None else None
+        other._ghost = None if self._ghost is None else (self._ghost[0].copy(deep=True), None)
+        other.overlays = {name: [geo, None if mesh is None else mesh.copy(deep=True), None, color, width]
+                          for name, (geo, mesh, _actor, color, width) in self.overlays.items()}
+        other._overlay_src = dict(self._overlay_src)
+        return other
 
     def adopt(self, other: Scene, style: Style | None = None) -> None:
         """Show the mesh of another scene (shared, not copied) with its projection."""
@@ -1047,8 +1073,6 @@ def render_image(scene: Scene, path=None, size=(1600, 1200), transparent: bool =
     the picture shows what the window of ``camera_size`` showed. ``decorate(plotter)``: draws what the
     window adds to its view (the presentation's card) on this picture. Returns the (h, w, 3 or 4) image.
     """
-    import copy
-
     pl = pv.Plotter(off_screen=True, window_size=[int(size[0]), int(size[1])])
     try:
         other = Scene(pl, anti_aliasing="ssaa")
@@ -1072,3 +1096,192 @@ def render_image(scene: Scene, path=None, size=(1600, 1200), transparent: bool =
     finally:
         pl.close()
     return img
+
+
+# ------------------------------------------------------------------ the still picture off the GUI thread
+# A see-through result's still render takes about 0.3 s in software GL (every layer of every pixel shaded
+# under five lights), and the GUI cannot tick while VTK draws on its thread. A StillJob draws that picture
+# on an off-screen plotter of its own in a thread (VTK lets go of the GIL while it renders) from deep copies
+# of the scene's meshes; the window shows the image until it renders again. VTK's text rendering is one
+# unguarded singleton, so there is only ever one job at a time and every other render of a Scene's plotter
+# waits for it (the StartEvent observer every Scene installs).
+_tls = threading.local()
+_background: StillJob | None = None
+SETTLE_RENDERS = 1          # cheap renders before the picture (see StillJob._run)
+
+
+def wait_background() -> None:
+    """Block until the still picture drawing in the background (if any) is done (a no-op on its thread)."""
+    job = _background
+    if job is not None and not getattr(_tls, "worker", False):
+        job.thread.join()
+
+
+def camera_values(camera) -> dict:
+    """A pyvista camera as plain values (to copy onto another thread's camera)."""
+    return dict(position=tuple(camera.position), focal_point=tuple(camera.focal_point), up=tuple(camera.up),
+                view_angle=float(camera.view_angle), parallel_projection=bool(camera.parallel_projection),
+                parallel_scale=float(camera.parallel_scale))
+
+
+class StillJob:
+    """The still picture of ``scene`` at ``size`` (w, h) under ``camera`` (:func:`camera_values`), rendered
+    in a thread on an off-screen plotter set up as the window's (``anti_aliasing``, no multi-sampling).
+
+    Made on the GUI thread: the copies are taken and the off-screen scene is built there (no GL yet), with
+    ``decorate(plotter)`` (what the window draws over its view); when that adds anything the job is
+    ``declined`` (the window draws its own picture). Then ``done()``, and ``image`` ((h, w, 3) uint8) or
+    ``error``. ``stale`` is the caller's: set it when the picture is no longer wanted."""
+
+    def __init__(self, scene: Scene, size, camera: dict, anti_aliasing: str | None = "fxaa", decorate=None):
+        global _background
+        self.size = (int(size[0]), int(size[1]))
+        self.image: np.ndarray | None = None
+        self.error: BaseException | None = None
+        self.stale = False
+        self.declined = False
+        self.seconds = 0.0
+        pl = _take_spare()
+        if pl is None:
+            pl = _new_plotter()
+        try:
+            pl.window_size = list(self.size)
+            sc = Scene(pl, anti_aliasing=None)
+            if anti_aliasing == "fxaa":    # (as pyvista would, without its 20 ms check for EGL: the caller's)
+                pl.renderer.SetUseFXAA(True)
+                sc.anti_aliasing = "fxaa"
+            else:
+                sc.set_anti_aliasing(anti_aliasing)
+            src = scene.detached()
+            sc.adopt(src, src.style)
+            for key, value in camera.items():
+                setattr(pl.camera, key, value)
+            pl.renderer.ResetCameraClippingRange()
+            if decorate is not None:
+                before = len(pl.renderer.actors)
+                decorate(pl)
+                self.declined = len(pl.renderer.actors) != before
+        except BaseException:
+            pl.close()
+            raise
+        if self.declined:
+            pl.close()
+            self.thread = None
+            return
+        self._plotter, self._scene = pl, sc
+        self._previous = _background
+        if _background is None:   # a job still drawing when Python exits would draw into a finalised VTK
+            import atexit
+
+            atexit.register(wait_background)
+        self.thread = threading.Thread(target=self._run, name="gcmh-still-picture", daemon=True)
+        _background = self
+        self.thread.start()
+
+    def done(self) -> bool:
+        return self.thread is None or not self.thread.is_alive()
+
+    def _run(self) -> None:
+        import time
+
+        _tls.worker = True
+        t0 = time.perf_counter()
+        pl = self._plotter
+        try:
+            if self._previous is not None:   # one job at a time
+                self._previous.thread.join()
+            self._previous = None
+            # first a cheap render, the complex shrunk to a point (its colours mapped, no pixels): the colour bar
+            # lays its labels out from what the frame before drew (in a first frame they sit over the bar)
+            actor = self._scene.actor
+            if actor is not None:
+                actor.SetScale(1e-6, 1e-6, 1e-6)
+                for _ in range(SETTLE_RENDERS):
+                    pl.ren_win.Render()
+                actor.SetScale(1.0, 1.0, 1.0)
+            pl.ren_win.Render()                    # (VTK lets go of the GIL while it draws)
+            self.image = window_pixels(pl.ren_win)
+        except BaseException as e:  # noqa: BLE001 - told to the GUI thread, which draws the picture itself
+            self.error = e
+        finally:
+            try:
+                pl.close()
+            except Exception:  # noqa: BLE001
+                pass
+            self._plotter = self._scene = None
+            self.seconds = time.perf_counter() - t0
+            _make_spare()
+
+
+_spare = None      # an off-screen plotter made in the background for the next job (its making holds the GIL)
+
+
+def _new_plotter():
+    pl = pv.Plotter(off_screen=True, window_size=[16, 16])
+    pl.ren_win.SetMultiSamples(0)      # as the window: FXAA, no multi-sampling
+    return pl
+
+
+def _make_spare() -> None:
+    global _spare
+    if _spare is None:
+        try:
+            _spare = _new_plotter()
+        except Exception:  # noqa: BLE001 - the job makes its own
+            _spare = None
+
+
+def _take_spare():
+    global _spare
+    pl, _spare = _spare, None
+    return pl
+
+
+def window_pixels(ren_win) -> np.ndarray:
+    """The (h, w, 3) uint8 picture a render window holds now (no new render)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
+
+    f = vtkWindowToImageFilter()
+    f.SetInput(ren_win)
+    f.SetInputBufferTypeToRGB()
+    f.ReadFrontBufferOff()
+    f.ShouldRerenderOff()
+    f.Update()
+    out = f.GetOutput()
+    w, h, _ = out.GetDimensions()
+    return np.ascontiguousarray(vtk_to_numpy(out.GetPointData().GetScalars()).reshape(h, w, 3)[::-1])
+
+
+def warm_background() -> None:
+    """Draw a small off-screen picture in the background now (the window calls this when it opens): the first
+    one of a process loads modules holding the GIL for about a second, which would fall on the first result's
+    picture. The window's renders wait for it as for any job."""
+    global _background
+
+    class _Warm:
+        def run(self):
+            _tls.worker = True
+            try:
+                pl = pv.Plotter(off_screen=True, window_size=[160, 120])
+                try:
+                    m = pv.Plane(i_resolution=2, j_resolution=2)
+                    m.point_data["t"] = np.arange(m.n_points, dtype=float)
+                    pl.add_mesh(m, scalars="t", scalar_bar_args=dict(title="t", vertical=True))
+                    pl.add_text("warm", font_size=10)
+                    pl.ren_win.Render()
+                finally:
+                    pl.close()
+            except Exception:  # noqa: BLE001 - the first job will say
+                pass
+            _make_spare()
+
+    if _background is not None:
+        return
+    job = _Warm()
+    job.thread = threading.Thread(target=job.run, name="gcmh-still-warm-up", daemon=True)
+    import atexit
+
+    atexit.register(wait_background)
+    _background = job
+    job.thread.start()
