@@ -1,4 +1,4 @@
-"""Helpers for the app tests (a module name that cannot clash with tests/core); no Qt here.
+"""Helpers for the app tests (a module name that cannot clash with tests/core); no Qt imported at module level.
 
 ``torus_complex`` is also the test surface of ``tests/bench/bench_view.py``.
 """
@@ -36,6 +36,23 @@ def run_and_wait(qtbot, window, timeout=120_000):
     with qtbot.waitSignal(window.runFinished, timeout=timeout) as blocker:
         assert window.run(), window.last_status
     return blocker.args[0]
+
+
+def app_in_process(capsys, monkeypatch, *args):
+    """``gcmh-app ARGS`` in this process (the command line's own code, without a new interpreter that loads
+    VTK and numba's kernels again): (exit status, stdout, stderr).  For refusals, which come before any
+    work; other tests run the real ``python -m app``."""
+    import app.qt_main_window
+    from app.__main__ import _main
+
+    def no_window(*a, **kw):
+        raise AssertionError("gcmh-app would open its window here, not refuse")
+
+    monkeypatch.setattr(app.qt_main_window, "QtMainWindow", no_window)
+    capsys.readouterr()
+    code = _main(list(args))
+    out, err = capsys.readouterr()
+    return code, out, err
 
 
 def picture_stats(img):

@@ -14,6 +14,8 @@ from PIL import Image, ImageSequence
 
 from app.animation import critical_note, param_caption, param_frames, parse_spec
 
+from app_helpers import app_in_process
+
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 NAMES = ["x", "y", "z"]
 
@@ -155,11 +157,11 @@ def test_a_sweep_gif_has_the_frames_asked_for_and_they_differ(tmp_path):
     (["--animate", "param:a=0:1", "--param", "a"], "--param: expected NAME=VALUE"),
     (["--animate", "param:a=0:1", "--frames", "3000"], "above the limit"),
 ])
-def test_bad_sweeps_are_one_line_and_exit_2(tmp_path, args, message):
+def test_bad_sweeps_are_one_line_and_exit_2(tmp_path, args, message, capsys, monkeypatch):
     gif = tmp_path / "x.gif"
-    r = _app("--example", "hyperboloid", "--gif", str(gif), *args)
-    lines = [line for line in r.stderr.splitlines() if line.strip()]
-    assert r.returncode == 2 and len(lines) == 1 and "Traceback" not in r.stderr, r.stderr
+    code, _, err = app_in_process(capsys, monkeypatch, "--example", "hyperboloid", "--gif", str(gif), *args)
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert code == 2 and len(lines) == 1 and "Traceback" not in err, err
     assert message in lines[0]
     assert not gif.exists()
 
@@ -206,12 +208,13 @@ def test_the_animate_tab_offers_a_parameter_sweep_and_exports_it(qtbot, tmp_path
     assert panel.mode_combo.findData(PARAM_MODE[0]) < 0 and panel.mode() == "rotate"
 
 
-def test_param_sets_a_screenshot_parameter_and_needs_a_headless_mode(tmp_path):
+def test_param_sets_a_screenshot_parameter_and_needs_a_headless_mode(tmp_path, capsys, monkeypatch):
     png = tmp_path / "two-sheets.png"
     r = _app("--example", "hyperboloid", "--div", "20", "--param", "a=-0.3", "--screenshot", str(png),
              "--size", "160x120")
     assert r.returncode == 0, r.stderr
     assert "chi = 2" in r.stdout and Image.open(png).size == (160, 120)
-    r = _app("--example", "hyperboloid", "--param", "a=-0.3")   # (the window takes it from its slider)
-    lines = [line for line in r.stderr.splitlines() if line.strip()]
-    assert r.returncode == 2 and len(lines) == 1 and "--param goes with --screenshot or --animate" in lines[0]
+    # no headless mode: the window would take the value from its slider
+    code, _, err = app_in_process(capsys, monkeypatch, "--example", "hyperboloid", "--param", "a=-0.3")
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert code == 2 and len(lines) == 1 and "--param goes with --screenshot or --animate" in lines[0]
