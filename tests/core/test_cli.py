@@ -271,17 +271,17 @@ def test_bad_cluster_options_one_line_exit_2_no_file(case, capsys, tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_python_m_extract_on_a_local_cluster(tmp_path):
+def test_python_m_extract_on_a_local_cluster(tmp_path, capsys):
     pytest.importorskip("distributed")
-    common = ["-m", "gcmh_core.cli", "extract", "--example", "complex-cosine", "--div", "8", "--json"]
-    single = subprocess.run([sys.executable, *common, "-o", str(tmp_path / "one.npz")],
-                            capture_output=True, text=True, cwd=REPO, env=_module_env(), timeout=600)
-    dist = subprocess.run([sys.executable, *common, "--scheduler", "local", "--block", "4,8,2,8",
-                           "-o", str(tmp_path / "dask.npz")],
+    common = ["extract", "--example", "complex-cosine", "--div", "8", "--json"]
+    code, single, err = run(capsys, *common, "-o", str(tmp_path / "one.npz"))   # the reference, in process
+    assert code == 0, err
+    dist = subprocess.run([sys.executable, "-m", "gcmh_core.cli", *common, "--scheduler", "local",
+                           "--block", "4,8,2,8", "-o", str(tmp_path / "dask.npz")],
                           capture_output=True, text=True, cwd=REPO, env=_module_env(), timeout=600)
-    assert single.returncode == 0 and dist.returncode == 0, dist.stderr
+    assert dist.returncode == 0, dist.stderr
     assert dist.stderr == ""  # no dask log lines, no progress bar off a terminal
-    a, b = json.loads(single.stdout), json.loads(dist.stdout)
+    a, b = json.loads(single), json.loads(dist.stdout)
     assert (b["scheduler"], b["blocks"]) == ("local", 2 * 1 * 4 * 1)
     assert {k: a[k] for k in JSON_KEYS - {"seconds"}} == {k: b[k] for k in JSON_KEYS - {"seconds"}}
     with np.load(tmp_path / "one.npz") as x, np.load(tmp_path / "dask.npz") as y:
