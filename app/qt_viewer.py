@@ -52,6 +52,7 @@ from .scene import (
     render_image,
     screen_coordinates,
     view_subtitle,
+    wait_background,
     warm_background,
     warm_labels,
 )
@@ -76,6 +77,10 @@ class _DragFilter(QObject):
         v = self.viewer
         if t == QEvent.Resize:     # another shape: frame again (after the resize settles)
             v._resized.start()
+            return False
+        if t == QEvent.Hide:       # (a closing window: its picture's thread ends before the display may go)
+            v._drop_still()
+            wait_background()
             return False
         if t == QEvent.MouseButtonPress and ev.modifiers() & Qt.ShiftModifier and v.can_turn():
             nxt = bool(ev.modifiers() & Qt.ControlModifier) or ev.button() == Qt.RightButton

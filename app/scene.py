@@ -1141,11 +1141,11 @@ class StillJob:
         self.stale = False
         self.declined = False
         self.seconds = 0.0
-        pl = _take_spare()
-        if pl is None:
-            pl = _new_plotter()
+        # (made here, not in the thread: ``decorate`` is the window's; a plotter kept for the next job would
+        # outlive the X server in a test run, and Xlib ends a process whose display went away)
+        pl = pv.Plotter(off_screen=True, window_size=list(self.size))
         try:
-            pl.window_size = list(self.size)
+            pl.ren_win.SetMultiSamples(0)      # as the window: FXAA, no multi-sampling
             sc = Scene(pl, anti_aliasing=None)
             if anti_aliasing == "fxaa":    # (as pyvista would, without its 20 ms check for EGL: the caller's)
                 pl.renderer.SetUseFXAA(True)
@@ -1210,31 +1210,6 @@ class StillJob:
                 pass
             self._plotter = self._scene = None
             self.seconds = time.perf_counter() - t0
-            _make_spare()
-
-
-_spare = None      # an off-screen plotter made in the background for the next job (its making holds the GIL)
-
-
-def _new_plotter():
-    pl = pv.Plotter(off_screen=True, window_size=[16, 16])
-    pl.ren_win.SetMultiSamples(0)      # as the window: FXAA, no multi-sampling
-    return pl
-
-
-def _make_spare() -> None:
-    global _spare
-    if _spare is None:
-        try:
-            _spare = _new_plotter()
-        except Exception:  # noqa: BLE001 - the job makes its own
-            _spare = None
-
-
-def _take_spare():
-    global _spare
-    pl, _spare = _spare, None
-    return pl
 
 
 def window_pixels(ren_win) -> np.ndarray:
@@ -1274,7 +1249,6 @@ def warm_background() -> None:
                     pl.close()
             except Exception:  # noqa: BLE001 - the first job will say
                 pass
-            _make_spare()
 
     if _background is not None:
         return
