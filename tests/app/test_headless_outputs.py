@@ -12,6 +12,8 @@ import sys
 import pytest
 from PIL import Image
 
+from app_helpers import app_in_process
+
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
@@ -30,11 +32,18 @@ def _one_line_refusal(r):
 
 
 @pytest.mark.parametrize("flag", ["--screenshot", "--gif", "--mp4"])
-def test_missing_folder_is_refused_before_the_run(tmp_path, flag):
+def test_missing_folder_is_refused_before_the_run(tmp_path, flag, capsys, monkeypatch):
+    from app import jobs
+
+    def no_run(*args, **kwargs):
+        raise AssertionError("extracted before the refusal")
+
+    monkeypatch.setattr(jobs, "run_job", no_run)
     target = tmp_path / "nodir" / ("x.png" if flag == "--screenshot" else "x" + flag.replace("--", "."))
     extra = [] if flag == "--screenshot" else ["--animate", "tour", "--frames", "2"]
-    r = _app("--example", "sphere", "--div", "6", flag, str(target), *extra)
-    assert "does not exist" in _one_line_refusal(r)
+    code, _, err = app_in_process(capsys, monkeypatch, "--example", "sphere", "--div", "6", flag, str(target),
+                                  *extra)
+    assert "does not exist" in _one_line_refusal(subprocess.CompletedProcess([], code, "", err))
     assert not (tmp_path / "nodir").exists()
 
 
