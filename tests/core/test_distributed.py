@@ -16,14 +16,7 @@ distributed = pytest.importorskip("distributed")
 
 from gcmh_core import distributed as gd  # noqa: E402
 
-
-@pytest.fixture(scope="module")
-def cluster():
-    """Two single-threaded worker processes, shared by the module (starting one costs ~1 s)."""
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as lc:
-        with distributed.Client(lc, set_as_default=False) as client:
-            client.wait_for_workers(2, timeout=60)
-            yield lc, client
+# (`cluster`: tests/core/conftest.py, two worker processes shared by the session)
 
 
 def _assert_identical(a, b):

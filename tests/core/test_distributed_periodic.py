@@ -18,7 +18,7 @@ from gcmh_core.identify import IdentifiedGrid, identified_axes
 
 distributed = pytest.importorskip("distributed")
 
-from test_distributed import _assert_identical, cluster  # noqa: E402, F401  (rootdir-style import: the same cluster fixture)
+from test_distributed import _assert_identical  # noqa: E402  (rootdir-style import; `cluster`: conftest.py)
 
 from gcmh_core import distributed as gd  # noqa: E402
 
@@ -119,7 +119,7 @@ def test_seam_values_are_copies_of_the_identified_vertices():
     ("moebius", [[6, 6, 6, 6, 2], [5, 12, 6, 5, 3]]),
     ("torus", [[5, 5, 4, 3, 4], [4, 10, 4, 4, 3]]),
 ])
-def test_blocks_through_the_cluster(cluster, name, blocks):  # noqa: F811
+def test_blocks_through_the_cluster(cluster, name, blocks):
     address = cluster[0].scheduler_address
     ex, div = DIVS[name]
     for method, some in (("gcmh", blocks), ("cms", blocks[1:])):  # (cms: its frames as gcmh's, one size)
@@ -132,7 +132,7 @@ def test_blocks_through_the_cluster(cluster, name, blocks):  # noqa: F811
 
 @pytest.mark.parametrize("name, method", [("klein", "gcch"), ("moebius", "gcch"), ("torus", "gcch"),
                                           ("moebius", "ccs")])
-def test_continuation_waves_through_the_cluster(cluster, monkeypatch, name, method):  # noqa: F811
+def test_continuation_waves_through_the_cluster(cluster, monkeypatch, name, method):
     monkeypatch.setattr(gd, "LOCAL_WAVE", 8)  # send the waves of these small runs to the workers
     monkeypatch.setattr(gd, "MIN_CHUNK", 4)
     ex, div = DIVS[name]
@@ -150,7 +150,7 @@ def test_sampled_values_with_glued_axes_are_refused():
         gd.run_distributed("gcmh", n, k, axes, bounds, None, sampled, None, "local", None, None, None, spec=spec)
 
 
-def test_extract_with_a_scheduler_and_glued_axes(cluster):  # noqa: F811
+def test_extract_with_a_scheduler_and_glued_axes(cluster):
     """The public door: extract(..., periodic=, scheduler=) gives the single-process bytes (the closed Klein
     bottle: chi 0, no boundary)."""
     ex, div = DIVS["klein"]

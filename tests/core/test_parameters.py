@@ -107,15 +107,13 @@ def test_params_through_the_pruned_sweep_and_the_budget(monkeypatch):
     assert cost.cubes == 24 ** 3
 
 
-def test_params_on_a_dask_cluster():
-    distributed = pytest.importorskip("distributed")
+def test_params_on_a_dask_cluster(cluster):
     kw = dict(variables="x,y,z", params={"a": 0.3})
     single = {m: extract(HYPERBOLOID, BOX, 12, method=m, **kw) for m in ("gcmh", "gcch")}
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as lc:
-        for method, cx in single.items():  # (the worker process parses the texts with the values)
-            on_dask = extract(HYPERBOLOID, BOX, 12, method=method, scheduler=lc.scheduler_address,
-                              block=None if method == "gcch" else 4, **kw)
-            assert same_complex(on_dask, cx) and on_dask.meta["params"] == {"a": 0.3}
+    for method, cx in single.items():  # (the worker processes parse the texts with the values)
+        on_dask = extract(HYPERBOLOID, BOX, 12, method=method, scheduler=cluster[0].scheduler_address,
+                          block=None if method == "gcch" else 4, **kw)
+        assert same_complex(on_dask, cx) and on_dask.meta["params"] == {"a": 0.3}
 
 
 def test_the_hyperboloid_changes_topology_at_its_critical_value():
