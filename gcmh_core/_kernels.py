@@ -391,7 +391,7 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
     check_balls = ksimplex_kuhn.shape[0] > 0
     kuhn_parent = np.empty(kuhn.corners.shape[0], np.int64)
     non_ball = np.empty((4, 3), np.int64)  # rows (cube - lo, face, pieces joined)
-    n_non_ball = 0
+    n_non_ball = np.int64(0)  # (int64 from the start: see _config)
     for ci in range(lo, hi):
         o = cube_row[ci]
         g_vertex = cube_vertex[ci]
