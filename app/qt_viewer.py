@@ -140,6 +140,11 @@ class QtViewer:
         self._still_poll = QTimer(self.widget)
         self._still_poll.setInterval(STILL_POLL_MS)
         self._still_poll.timeout.connect(self._still_arrived)
+        self._still_steps: list = []
+        self._still_step = QTimer(self.widget)
+        self._still_step.setSingleShot(True)
+        self._still_step.setInterval(0)
+        self._still_step.timeout.connect(self._next_still_step)
         self.plotter.ren_win.AddObserver("StartEvent", lambda *a: self._drop_still())
         if self.still_off_thread:
             warm_background()
@@ -181,28 +186,36 @@ class QtViewer:
                 and min(self.size()) > 0 and (aa != "fxaa" or bool(self.plotter.renderer.GetUseFXAA())))
 
     def _render_still(self) -> None:
-        """The still look of the scene as it is, drawn in a thread, shown when it arrives (else one render)."""
-        if not self._still_in_thread():
-            self.render()
-            return
+        """The still look of the scene as it is, drawn in a thread, shown when it arrives (else the window
+        renders it); the render was counted when it was asked for."""
         self._drop_still()
-        self.renders += 1
+        if not self._still_in_thread():
+            self.widget.update()
+            return
         try:
             job = StillJob(self.scene, self.plotter.ren_win.GetSize(), camera_values(self.plotter.camera),
                            anti_aliasing=self.scene.anti_aliasing, decorate=self._decorate)
         except Exception:  # noqa: BLE001 - the window draws it itself
             job = None
         if job is None or job.declined:   # (the presentation draws over the view: the window's own render)
-            self.renders -= 1
-            self.render()
+            self.widget.update()
             return
         self._still_job = job
         self._still_poll.start()
+
+    def _next_still_step(self) -> None:
+        if self._still_steps:
+            step = self._still_steps.pop(0)
+            if self._still_steps:
+                self._still_step.start()
+            step()
 
     def _drop_still(self) -> None:
         """The view renders itself (or changed): a still picture on its way or on screen is no longer it."""
         if self._settling:
             return
+        self._still_steps = []
+        self._still_step.stop()
         if self._still_job is not None:
             self._still_job.stale = True
             self._still_job = None
@@ -259,7 +272,8 @@ class QtViewer:
         return self._still_label.isVisible()
 
     def still_pending(self) -> bool:
-        return self._still_job is not None
+        """A new result's picture is on its way (its steps, or its thread)."""
+        return bool(self._still_steps) or self._still_job is not None
 
     def keep_camera(self) -> bool:
         return bool(self.panel.keep_camera_check.isChecked())
@@ -290,9 +304,11 @@ class QtViewer:
         if moving:
             self.render()
             self._settle.start()
-        else:
-            self._settle_window()
-            self._render_still()
+        else:   # in steps of their own, each short: the unshown render, then the picture (one render asked)
+            self._drop_still()
+            self.renders += 1
+            self._still_steps = [self._settle_window, self._render_still]
+            self._still_step.start()
 
     def on_projection(self) -> None:
         """The angles, base or mapping changed: move the points in place (and re-slice a turning direction)."""
@@ -505,6 +521,8 @@ class QtViewer:
 
     def screenshot_array(self) -> np.ndarray:
         """The current view as an (h, w, 3) uint8 array."""
+        if self._still_steps:    # a new result not drawn yet: its unshown render first (the colour bar)
+            self._settle_window()
         self._at_rest()
         self.plotter.render()
         return self.plotter.screenshot(return_img=True)
