@@ -749,12 +749,12 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
 
 
 # ----------------------------------------------------------------------------- large n: simplices found, not listed
-# For n >= LAZY_N a k-face's k! Kuhn simplices (40,320 at k = 8, 3.6M at k = 10) are not in the
-# tables: `cubes_chunk_lazy` walks the permutations of the face's axes depth first, in the tables'
-# order (lexicographic), and drops a whole subtree when some linear functional h(F) has one sign
-# on every corner the subtree's simplices can use.  Prefix (p_1..p_j) reaches the chain's first
-# j + 1 corners and the corners above its last one (the sub-cube over the remaining axes).  Zero
-# in a simplex is a convex combination of F at its corners, so h(F) takes both signs there:
+# Where `_tables.lazy_tables` (n >= 8, large k) a k-face's k! Kuhn simplices (40,320 at k = 8, 3.6M
+# at k = 10) are not in the tables: `cubes_chunk_lazy` walks the permutations of the face's axes
+# depth first, in the tables' order (lexicographic), and drops a whole subtree when some linear
+# functional h(F) has one sign on every corner the subtree's simplices can use.  Prefix (p_1..p_j)
+# reaches the chain's first j + 1 corners and the corners above its last one (the sub-cube over
+# the remaining axes).  Zero in a simplex is a convex combination of F at its corners, so h(F) takes both signs there:
 # * h = F_j, with the sign prune's rule (a value 0 counts as +epsilon): exact;
 # * h = differences of rows of W F, W the inverse of F's mean slope on the face: F ~ F(c0) + J x
 #   gives W F ~ x - t, so the differences order the coordinates as the simplex does, and one
@@ -1023,17 +1023,27 @@ def _kuhn_chains(dim, nh, hv, up_lo, up_hi, pos_thr, neg_thr, fact, corner, nxt,
 
 
 @nb.njit(**JIT)
-def _node_index(node_id, n_nodes, node):
-    for i in range(n_nodes):
-        if node_id[i] == node:
-            return i
-    return -1
+def _node_slot(slot_key, node):
+    """The slot of `node` in the open-addressing table slot_key (a power of two long, -1 free):
+    where it is, or the free slot where it goes."""
+    mask = slot_key.shape[0] - 1
+    i = (node * np.int64(0x9E3779B1)) & mask
+    while slot_key[i] != -1 and slot_key[i] != node:
+        i = (i + 1) & mask
+    return i
+
+
+@nb.njit(**JIT)
+def _node_index(slot_key, slot_node, node):
+    """The walk node's row, -1 if it has none yet."""
+    i = _node_slot(slot_key, node)
+    return slot_node[i] if slot_key[i] == node else -1
 
 
 @nb.njit(**JIT)
 def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex,
                      tables):
-    """`cubes_chunk` for n >= LAZY_N, whose tables hold faces only (no k-simplices, no walk
+    """`cubes_chunk` for tables that hold faces only (`_tables.lazy_tables`) (no k-simplices, no walk
     template): the same records, bit for bit.  A k-face's Kuhn simplices and, where a walk runs,
     a (k+1)-face's come from `_kuhn_chains`; a vertex carries its permutation's rank itself.
     (No check of joined pieces: `cubes_chunk` has none for n > 7 either.)"""
@@ -1088,6 +1098,9 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
     found_vertex = np.empty(16, np.int64)
     walked = np.empty(16, np.int8)
     node_id = np.empty(64, np.int64)
+    node_slot = np.empty(64, np.int64)
+    slot_key = np.full(256, -1, np.int64)  # node -> row (a walk through a curved face meets 10^5 nodes)
+    slot_node = np.empty(256, np.int64)
     node_crossed = np.empty(64, np.int8)
     next0 = np.empty(64, np.int64)
     next1 = np.empty(64, np.int64)
@@ -1267,7 +1280,7 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
                             perm_copy[j] = leaf_perm[leaf, j - 1]
                             rank = _perm_rank(perm_copy, 0, k1, fact)
                         node = n_boundary + rank * k + (j - 1)
-                    at = _node_index(node_id, n_nodes, node)
+                    at = _node_index(slot_key, slot_node, node)
                     if at < 0:
                         if node < n_boundary:
                             crossed = False
@@ -1291,10 +1304,23 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
                             crossed = hit == 1
                         if n_nodes >= node_id.shape[0]:
                             node_id = _grown_keys(node_id, n_nodes)
+                            node_slot = _grown_keys(node_slot, n_nodes)
                             next0 = _grown_keys(next0, n_nodes)
                             next1 = _grown_keys(next1, n_nodes)
                             node_crossed = _grown_keys(node_crossed, n_nodes)
+                        if 2 * (n_nodes + 1) > slot_key.shape[0]:  # at most half full: rehash twice as long
+                            slot_key = np.full(2 * slot_key.shape[0], -1, np.int64)
+                            slot_node = np.empty(slot_key.shape[0], np.int64)
+                            for i in range(n_nodes):
+                                sl = _node_slot(slot_key, node_id[i])
+                                slot_key[sl] = node_id[i]
+                                slot_node[sl] = i
+                                node_slot[i] = sl
                         at = n_nodes
+                        sl = _node_slot(slot_key, node)
+                        slot_key[sl] = node
+                        slot_node[sl] = at
+                        node_slot[at] = sl
                         node_id[at] = node
                         node_crossed[at] = 1 if crossed else 0
                         next0[at] = -1
@@ -1323,7 +1349,7 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
             for q in range(n_found):
                 if walked[q]:
                     continue
-                start = _node_index(node_id, n_nodes, found_node[q])
+                start = _node_index(slot_key, slot_node, found_node[q])
                 before = -1
                 at = start
                 end = -1
@@ -1349,6 +1375,8 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
                 edge_a[ne] = found_vertex[q]
                 edge_face[ne] = f1
                 ne += 1
+            for i in range(n_nodes):  # the table empty for the next walk
+                slot_key[node_slot[i]] = -1
 
         # 3. Cells (paper 3.1.2), as in `cubes_chunk`
         if parent.shape[0] < nv:
@@ -1488,7 +1516,7 @@ _cubes_chunk_tables = cubes_chunk
 def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex,  # noqa: F811
                 tables):
     """GCMH on candidate cubes lo..hi-1: the tables' kernel (`_cubes_chunk_tables`), or
-    `cubes_chunk_lazy` where the tables hold no Kuhn simplices (n >= LAZY_N)."""
+    `cubes_chunk_lazy` where the tables hold no Kuhn simplices (`_tables.lazy_tables`)."""
     kernel = cubes_chunk_lazy if tables.ksimplex_corners.shape[0] == 0 else _cubes_chunk_tables
     return kernel(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex, tables)
 

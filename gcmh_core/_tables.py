@@ -33,11 +33,20 @@ import numpy as np
 
 from .errors import Cancelled, InputError
 
-# From this n on the tables hold the faces only: `_kernels.cubes_chunk_lazy` finds a face's Kuhn
-# simplices by a pruned walk over their permutations instead of reading k! rows per k-face (at
-# n = 10, k = 8 those rows and the walk template took 0.9 GB and most of a run's time).  Below it
-# the tables' kernel keeps its bit masks (n <= 6) and the Kuhn triangulation (n = 7).
+# Where the tables hold the faces only (`lazy_tables`): `_kernels.cubes_chunk_lazy` finds a face's
+# Kuhn simplices by a pruned walk over their permutations instead of reading k! rows per k-face
+# (at n = 10, k = 8 those rows and the walk template took 0.9 GB and most of a run's time).  From
+# LAZY_N on, for k >= LAZY_K or more than LAZY_SIMPLICES k-simplices in a cube: below, the tables'
+# kernel keeps its bit masks (n <= 6) and the Kuhn triangulation (n = 7), and with up to 5! simplices
+# a face it reads them 10-45% faster than the lazy kernel finds them where M bends in a cube.
 LAZY_N = 8
+LAZY_K = 6
+LAZY_SIMPLICES = 1_000_000
+
+
+def lazy_tables(n: int, k: int) -> bool:
+    """Whether `cube_tables(n, k)` leaves the Kuhn simplices and the walk out (see LAZY_N)."""
+    return n >= LAZY_N and (k >= LAZY_K or (comb(n, k) << (n - k)) * factorial(k) > LAZY_SIMPLICES)
 
 
 class CubeTables(NamedTuple):
@@ -57,7 +66,7 @@ class CubeTables(NamedTuple):
     binom: np.ndarray  # (n + 1, n + 1) int64 binomial coefficients
     n_codes: np.ndarray  # (n + 1,) int64 vertex codes inside a face of dim D: C(D, k) 2^(D-k) k!
     # The CFK k-simplices of the cube's k-faces, k! per face, face after face (a vertex of
-    # M_A is a k-simplex that M_A crosses, paper Section 3.1.1).  For n >= LAZY_N the arrays
+    # M_A is a k-simplex that M_A crosses, paper Section 3.1.1).  Where `lazy_tables`, the arrays
     # from here to walk_boundary_simplex are empty (no rows): the lazy kernel needs none.
     simplices_per_kface: int  # k!
     ksimplex_corners: np.ndarray  # (NS, k+1) int64 corners in chain order
@@ -113,9 +122,9 @@ def cube_tables(
     """The cube tables for (n, k), built once per process (the last 32 are kept).
 
     progress(phase, fraction) is called between the steps of a build (none when the tables
-    are cached); cancel() is polled there too, and True raises `Cancelled`.  For n < LAZY_N
-    a build takes under 0.1 s (n = 7, k = 6: 5,040 Kuhn simplices per face); from LAZY_N on
-    the tables are the faces only, milliseconds at n = 12."""
+    are cached); cancel() is polled there too, and True raises `Cancelled`.  Tables with Kuhn
+    simplices take up to a second (at most LAZY_SIMPLICES of them); lazy ones are the faces
+    only, milliseconds at n = 12."""
     key = (int(n), int(k))
     with _cache_lock:
         if key in _cache:
@@ -256,10 +265,10 @@ def _walk_template(k: int):
 
 
 def _build_cube_tables(n: int, k: int, step, lazy: bool | None = None) -> CubeTables:
-    """The tables; lazy (default: n >= LAZY_N) leaves the Kuhn simplices and the walk out
-    (tests build them for n >= LAZY_N too, to hold the lazy kernel to the tables' one)."""
+    """The tables; lazy (default: `lazy_tables`) leaves the Kuhn simplices and the walk out
+    (tests build both ways, to hold the lazy kernel to the tables' one)."""
     if lazy is None:
-        lazy = n >= LAZY_N
+        lazy = lazy_tables(n, k)
     kfact = factorial(k)
     m = k + 1
     face_start = np.zeros(n + 2, np.int64)

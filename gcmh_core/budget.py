@@ -4,11 +4,11 @@
 and a probe of F on a coarse grid (a few thousand vertices, milliseconds):
 
 * the cube tables for (n, k) (`_tables`): int64 arrays counted exactly (faces of
-  dimension k..n; for n < LAZY_N also k! Kuhn simplices per k-face, the walk template of
+  dimension k..n; unless `_tables.lazy_tables` also k! Kuhn simplices per k-face, the walk template of
   (k+1)! simplices and its map onto every (k+1)-face, the Kuhn triangulation for n = 7),
   plus the numpy temporaries of their build;
-* the kernel's scratch: per thread, for n < LAZY_N arrays of one entry per k-simplex and
-  walk node of the cube, written for every cube; from LAZY_N on the pruned walk's functionals
+* the kernel's scratch: per thread, with Kuhn simplices in the tables arrays of one entry per k-simplex and
+  walk node of the cube, written for every cube; for lazy tables the pruned walk's functionals
   on the corners of one (k+1)-face;
 * the grid lines (n arrays of div + 1), and for the full sweep the slab buffer
   (`sweep.SLAB_VERTICES`, at least two layers), F's temporaries on it and the sign codes;
@@ -39,7 +39,7 @@ from math import comb, factorial
 import numpy as np
 
 from ._memory import available_memory, format_bytes, format_seconds
-from ._tables import LAZY_N
+from ._tables import lazy_tables
 from .errors import InputError, TooLargeError
 
 __all__ = [
@@ -62,8 +62,8 @@ _PROBE_VERTICES = 600_000  # (9^6: div 8 probed exactly in R^6)
 _TABLE_SECONDS_PER_BYTE = 5e-9
 _KUHN_SECONDS_PER_ENTRY = 5e-9
 # Seconds per table entry the kernel reads for one candidate cube: every k-simplex's corners,
-# every (k+1)-face's boundary nodes and, where the walk runs, its (k+1)! simplices; from LAZY_N
-# on, per value the pruned walk computes (R^10, k = 8: about 1 ms per cube).
+# every (k+1)-face's boundary nodes and, where the walk runs, its (k+1)! simplices; for lazy
+# tables, per value the pruned walk computes (R^10, k = 8: about 1 ms per cube).
 _KERNEL_SECONDS_PER_ENTRY = 2e-9
 # Peak bytes per record the kernel emits for a crossed face, through the assembly
 # (records are grown by doubling, then concatenated and sorted).
@@ -172,8 +172,8 @@ def table_cost(n: int, k: int) -> tuple[int, int, float]:
     The held bytes are its arrays to the byte (tests/core/test_budget.py compares); the
     build's temporaries add the largest of: the walk's Lehmer digits and ranks ((k+1)! rows of
     k+1 int64, about three such), an anchor table of the faces, the Kuhn triangulation's
-    label enumeration (n <= 7: two n (n+2)^n byte arrays).  From LAZY_N on the tables are
-    the faces only."""
+    label enumeration (n <= 7: two n (n+2)^n byte arrays).  Lazy tables (`_tables.lazy_tables`)
+    are the faces only."""
     m = k + 1
     w = 8  # int64
     faces = sum(comb(n, r) << (n - r) for r in range(k, n + 1))
@@ -184,7 +184,7 @@ def table_cost(n: int, k: int) -> tuple[int, int, float]:
     boundary = 2 * m * factorial(k)
     held = w * (3 * faces + (n + 2) + 2 * (n + 1) + (n + 1) ** 2)
     temporary = 3 * w * faces + 16_384  # (+ the face lists' Python objects: all there is for small n, large k)
-    if n < LAZY_N:
+    if not lazy_tables(n, k):
         held += w * simplices * (k + 3)  # corners, face, permutation
         held += w * (2 * walk * (m + 1) + walk * k // 2 * (k + 1))  # simplex corners and nodes, interior nodes
         held += w * k1faces * ((1 << m) + boundary)  # corner map, boundary simplices
@@ -211,12 +211,12 @@ def _functionals(k: int) -> int:
 
 def kernel_entries(n: int, k: int) -> int:
     """Table entries `_kernels.cubes_chunk` reads for one candidate cube (at most): the corners of
-    every k-simplex, the boundary nodes of every (k+1)-face and its walk's simplices.  From LAZY_N
-    on (`cubes_chunk_lazy`): the sign prune over every k-face's corners, then the prune's
+    every k-simplex, the boundary nodes of every (k+1)-face and its walk's simplices.  For lazy
+    tables (`cubes_chunk_lazy`): the sign prune over every k-face's corners, then the prune's
     functionals (k + 2 operations per corner each) on the k-faces M crosses, 2^(n-k) as for a plane."""
     m = k + 1
     kfaces = comb(n, k) << (n - k)
-    if n >= LAZY_N:
+    if lazy_tables(n, k):
         return kfaces * (1 << k) + (1 << (n - k)) * _functionals(k) * (1 << k) * (k + 2)
     simplices = kfaces * factorial(k)
     k1faces = comb(n, m) << (n - m)
@@ -225,10 +225,10 @@ def kernel_entries(n: int, k: int) -> int:
 
 def kernel_scratch(n: int, k: int) -> int:
     """Bytes one kernel thread writes whatever the cube: an entry per k-simplex (which vertex it
-    holds) and per walk node (two links, a flag); from LAZY_N on a cube's corner signs and three
+    holds) and per walk node (two links, a flag); for lazy tables a cube's corner signs and three
     values of each functional per corner of a (k+1)-face."""
     m = k + 1
-    if n >= LAZY_N:
+    if lazy_tables(n, k):
         return 8 * (1 << n) + 3 * 8 * _functionals(k) * (1 << m)
     simplices = (comb(n, k) << (n - k)) * factorial(k)
     nodes = 2 * m * factorial(k) + factorial(m) * k // 2
@@ -538,7 +538,8 @@ def check_budget(estimate: Estimate, force: bool = False) -> None:
         what = f"this run would take about {format_seconds(e.seconds)} (limit {format_seconds(e.seconds_limit)})"
     hints = []
     if e.table_bytes >= 0.3 * e.peak_bytes or max(e.div) == 1:
-        simplices = f" and {factorial(e.k):,} Kuhn simplices in each {e.k}-face" if 5 <= e.k and e.n < LAZY_N else ""
+        listed = 5 <= e.k and not lazy_tables(e.n, e.k)
+        simplices = f" and {factorial(e.k):,} Kuhn simplices in each {e.k}-face" if listed else ""
         hints.append(
             f"in R^{e.n} a single cube has {3 ** e.n:,} faces{simplices} (the cube tables alone take "
             f"{format_bytes(e.table_bytes)}): use fewer variables"

@@ -213,11 +213,11 @@ def test_image_and_frame_limits_accept_the_usual(monkeypatch):
 
 
 def test_factorial_growth_of_k_tables_is_counted():
-    # below LAZY_N, k! Kuhn simplices per k-face and (k+1)! in the walk: the kernel's scratch (an entry
-    # per simplex and walk node) grows with them
+    # tables with Kuhn simplices (n <= 7, or k <= 5): k! Kuhn simplices per k-face and (k+1)! in the walk:
+    # the kernel's scratch (an entry per simplex and walk node) grows with them
     assert budget.kernel_scratch(7, 6) > 10 * budget.kernel_scratch(7, 3)
     assert budget.kernel_entries(7, 6) > budget.kernel_entries(7, 3)
-    # from LAZY_N on no table grows with k!: the faces only, and the lazy kernel's functionals
+    # lazy tables: none grows with k!: the faces only, and the lazy kernel's functionals
     assert budget.table_cost(12, 10)[1] < 100_000 and budget.kernel_scratch(12, 10) < 5_000_000
     assert budget.kernel_entries(10, 8) < 2 * budget.kernel_entries(10, 7)
 
@@ -227,8 +227,8 @@ TORUS_R10 = (["x1^2+x2^2-1", "x3^2+x4^2-1"] + [f"x{i}" for i in range(5, 11)],
 
 
 def test_the_torus_in_r10_fits_and_so_do_larger_k(monkeypatch):
-    # issue 14: k = 8 in R^10 held 0.92 GB of tables (the loop builder peaked at 11.7 GB); from LAZY_N
-    # on the tables are the faces only, and the run peaks at about 0.3 GB
+    # issue 14: k = 8 in R^10 held 0.92 GB of tables (the loop builder peaked at 11.7 GB); now
+    # the tables are the faces only, and the run peaks at about 0.3 GB
     monkeypatch.setenv("GCMH_MEMORY_LIMIT", "1G")
     F, bounds, div = TORUS_R10
     est = budget.estimate_run(10, 8, div, bounds=bounds, system=parse_system(F, n=10), probe=True)

@@ -1,5 +1,5 @@
-"""The lazy kernel (n >= LAZY_N: Kuhn simplices found by a pruned walk over permutations, not read
-from tables) against the tables' kernel on the same arrays: the same records bit for bit, vertex
+"""The lazy kernel (`_tables.lazy_tables`, n >= 8 and large k: Kuhn simplices found by a pruned walk over
+permutations, not read from tables) against the tables' kernel on the same arrays: the same records bit for bit, vertex
 positions included, the same crossed facets and degenerate events.  Both run on any n (the
 tables' kernel gets full tables for n >= 8 from `_build_cube_tables(lazy=False)`), so the prune's
 margin is held to the solve on smooth systems, on random corner values (walks through (k+1)-faces

@@ -5,7 +5,7 @@ obviously correct twin: faces, Kuhn chains and the walk built by Python loops, s
 found by their corner sets in dicts.  The new builder must give the same arrays in the
 same order (the kernels and every global key depend on them) for every (n, k) up to R^7
 and a few larger; the largest twins take a minute and run with GCMH_TABLES_PROFILE=long.
-From LAZY_N on the tables hold the faces only (the lazy kernel needs no more): the same
+Where `lazy_tables` (n >= 8, large k) the tables hold the faces only (the lazy kernel needs no more): the same
 faces, the Kuhn simplices and the walk left out, and built in full on request.
 """
 
@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from gcmh_core import _tables
-from gcmh_core._tables import LAZY_N, MASKED_N, CubeTables, SimplexTables, _faces, cube_tables, simplex_tables
+from gcmh_core._tables import MASKED_N, CubeTables, SimplexTables, _faces, cube_tables, simplex_tables
 from gcmh_core.errors import Cancelled, InputError
 
 LONG = os.environ.get("GCMH_TABLES_PROFILE") == "long"
@@ -217,7 +217,7 @@ def assert_same_tables(new, old):
 
 SMALL = [(n, k) for n in range(2, 8) for k in range(1, n)]
 LARGER = [(8, 1), (8, 4), (9, 2), (10, 1)]
-SLOW = [(8, 6), (8, 7), (9, 7)]  # the twin takes 5 s to a minute
+SLOW = [(8, 6), (8, 7), (9, 7)]  # the twin takes 5 s to a minute (lazy tables)
 
 
 def _quiet(*_):
@@ -225,7 +225,7 @@ def _quiet(*_):
 
 
 def faces_only(tables: CubeTables) -> CubeTables:
-    """The tables as LAZY_N and above have them: no Kuhn simplices, no walk (empty, same dtypes)."""
+    """The tables as `lazy_tables` has them: no Kuhn simplices, no walk (empty, same dtypes)."""
     k = tables.k
     none = np.zeros(0, np.int64)
     return tables._replace(
@@ -240,14 +240,18 @@ def faces_only(tables: CubeTables) -> CubeTables:
 def test_tables_equal_the_loop_builder(n, k):
     cube_tables.cache_clear()
     twin = loop_cube_tables(n, k)
-    assert_same_tables(cube_tables(n, k), faces_only(twin) if n >= LAZY_N else twin)
-    if n >= LAZY_N:  # in full on request (test_lazy_kernel holds the lazy kernel to the tables' one)
+    lazy = _tables.lazy_tables(n, k)
+    assert_same_tables(cube_tables(n, k), faces_only(twin) if lazy else twin)
+    if lazy:  # in full on request (test_lazy_kernel holds the lazy kernel to the tables' one)
         assert_same_tables(_tables._build_cube_tables(n, k, _quiet, lazy=False), twin)
 
 
 @pytest.mark.parametrize("n, k", [(8, 6), (10, 8), (11, 9), (12, 10)])
 def test_from_lazy_n_on_the_tables_are_the_faces_only(n, k):
-    """k! Kuhn simplices per k-face are not listed: R^12 with k = 10 is kilobytes."""
+    """k! Kuhn simplices per k-face are not listed: R^12 with k = 10 is kilobytes.  With k <= 5 only
+    where a cube would have over LAZY_SIMPLICES k-simplices."""
+    assert not _tables.lazy_tables(7, 6) and not _tables.lazy_tables(8, 5) and not _tables.lazy_tables(10, 5)
+    assert _tables.lazy_tables(11, 5) and _tables.lazy_tables(12, 4)
     tables = cube_tables(n, k)
     assert tables.ksimplex_corners.shape == (0, k + 1) and tables.walk_corner_map.size == 0
     assert tables.simplices_per_kface == factorial(k) and tables.walk_boundary_nodes == 2 * (k + 1) * factorial(k)
