@@ -134,6 +134,7 @@ class QtViewer:
         self._still_job: StillJob | None = None
         self.still_image: np.ndarray | None = None    # the last one shown
         self._settling = False
+        self._fresh = False        # a new result the window has not drawn yet (its picture drawn in a thread)
         self._still_label = QLabel(self.widget)
         self._still_label.setAttribute(Qt.WA_TransparentForMouseEvents)   # the view under it gets the mouse
         self._still_label.hide()
@@ -175,6 +176,8 @@ class QtViewer:
         (``plotter.render()`` renders now and then once more in the paint it schedules)."""
         self.renders += 1
         self._drop_still()
+        if self._fresh:
+            self._settle_window()
         self.widget.update()
 
     # ------------------------------------------------------------ the still picture off the GUI thread
@@ -205,10 +208,9 @@ class QtViewer:
 
     def _next_still_step(self) -> None:
         if self._still_steps:
-            step = self._still_steps.pop(0)
-            if self._still_steps:
-                self._still_step.start()
-            step()
+            self._still_steps.pop(0)()
+        if self._still_steps:     # (started after the step: a timer due meanwhile, the GUI's, goes first)
+            self._still_step.start()
 
     def _drop_still(self) -> None:
         """The view renders itself (or changed): a still picture on its way or on screen is no longer it."""
@@ -251,19 +253,24 @@ class QtViewer:
         """One cheap render of a new result, not shown, with the complex shrunk to a point: the colour bar lays
         its labels out from the frame before, and the window's first frame of a new result put them over the
         bar (the picture a result opened with, until the next render)."""
+        self._fresh = False
         actor = self.scene.actor
         if actor is None or not self.widget.isVisible():
             return
         rw = self.plotter.ren_win
+        ren = self.plotter.renderer
+        fxaa = bool(ren.GetUseFXAA())
         self._settling = True
         try:
             actor.SetScale(1e-6, 1e-6, 1e-6)
+            ren.SetUseFXAA(False)   # (nothing of it is seen)
             rw.SwapBuffersOff()     # (a frame not to be shown: the widget schedules no paint for it)
             rw.Render()
         except Exception:  # noqa: BLE001 - only the labels' first frame is at stake
             pass
         finally:
             rw.SwapBuffersOn()
+            ren.SetUseFXAA(fxaa)
             actor.SetScale(1.0, 1.0, 1.0)
             self._settling = False
 
@@ -304,10 +311,12 @@ class QtViewer:
         if moving:
             self.render()
             self._settle.start()
-        else:   # in steps of their own, each short: the unshown render, then the picture (one render asked)
+        else:   # in short steps of their own (one render asked): the picture drawn in a thread, or the
+            # window's unshown render and then its own
             self._drop_still()
             self.renders += 1
-            self._still_steps = [self._settle_window, self._render_still]
+            self._fresh = self._still_in_thread()   # (the unshown render comes before the window's first)
+            self._still_steps = [self._render_still] if self._fresh else [self._settle_window, self._render_still]
             self._still_step.start()
 
     def on_projection(self) -> None:
@@ -339,6 +348,8 @@ class QtViewer:
             return
         if on:
             self._settle.stop()
+            if self._fresh:
+                self._settle_window()
             self.scene.set_moving(True)
         else:
             self._settle.start()
@@ -521,7 +532,7 @@ class QtViewer:
 
     def screenshot_array(self) -> np.ndarray:
         """The current view as an (h, w, 3) uint8 array."""
-        if self._still_steps:    # a new result not drawn yet: its unshown render first (the colour bar)
+        if self._still_steps or self._fresh:   # a new result not drawn yet: its unshown render first
             self._settle_window()
         self._at_rest()
         self.plotter.render()
