@@ -8,7 +8,10 @@ the camera, and pictures of the view. Only the GUI thread touches it; problems
 go to the model's status line.
 
 Never frozen: a new result is drawn with one render (pyvista would render after
-every actor it adds), the window anti-aliases with FXAA (super-sampling only for
+every actor it adds) in short GUI steps of their own; a see-through result's still
+picture (0.3 s of software GL for the three-torus) is drawn in a thread on an
+off-screen copy (:class:`app.scene.StillJob`) and shown over the view until the view
+renders again. The window anti-aliases with FXAA (super-sampling only for
 screenshots), and while a slider or a drag moves the view it is drawn in a cheaper
 moving look (:meth:`app.scene.Scene.set_moving`: a very large result at a coarse
 level of detail, a see-through one under one headlight), the still look coming

@@ -18,7 +18,8 @@ Nonlinear views get their normals from the projected mesh
 (:class:`app.geometry.MeshNormals`), linear ones from the bivectors.
 
 The same class renders into the Qt window (a ``pyvistaqt.QtInteractor``) and
-into an off-screen ``pyvista.Plotter`` for headless screenshots and animations.
+into an off-screen ``pyvista.Plotter`` for headless screenshots and animations,
+and (:class:`StillJob`) into one in a thread for the window's still picture.
 """
 
 from __future__ import annotations
