@@ -49,6 +49,7 @@ __all__ = [
     "estimate",
     "estimate_run",
     "check_budget",
+    "kernel_batch_cubes",
     "check_image_size",
     "check_frames",
     "format_bytes",
@@ -221,6 +222,14 @@ def kernel_entries(n: int, k: int) -> int:
     simplices = kfaces * factorial(k)
     k1faces = comb(n, m) << (n - m)
     return simplices * (k + 2) + k1faces * (2 * m * factorial(k) + factorial(m) * (m + 2))
+
+
+def kernel_batch_cubes(n: int, k: int, seconds: float = 0.25, most: int = 4096) -> int:
+    """Candidate cubes a kernel run can take and still end within about `seconds` on one thread
+    (between 16 and `most`): a run's cancel is polled between runs, and at k = 10 in R^12 a cube
+    takes some 3 ms (4096 of them: 12 s)."""
+    per_cube = kernel_entries(n, k) * _KERNEL_SECONDS_PER_ENTRY
+    return int(max(16, min(most, seconds // per_cube)))
 
 
 def kernel_scratch(n: int, k: int) -> int:
