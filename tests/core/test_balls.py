@@ -160,3 +160,16 @@ def test_cut_keys_follow_a_mirrored_frame():
     assert ((-mapped - 1) // room).tolist() == grid._frame_keys(cell, 3, [0]).tolist() * 2
     assert grid._frame_keys(mapped, 2, [0]).tolist() == cuts.tolist()
     assert grid._seam_keys(cuts, 2)[0].tolist() == cuts.tolist()
+
+
+@pytest.mark.parametrize("method", ["gcmh", "gcch"])
+def test_split_on_a_cluster_gives_the_single_process_bytes(cluster, method):
+    """Blocks and waves run on Dask workers split their cubes as one process does."""
+    block = [3, 3, 3] if method == "gcmh" else None
+    start = "auto" if method == "gcch" else None
+    kw = dict(variables="x,y,z", method=method, start=start)
+    on = extract([TUBE], BOX, 8, scheduler=cluster[0].scheduler_address, block=block, **kw)
+    one = extract([TUBE], BOX, 8, **kw)
+    assert on.meta["non_ball_split"] == 8 and topology(on) == (0, 1, True, 2)
+    assert np.array_equal(on.vertices, one.vertices) and np.array_equal(on.edges, one.edges)
+    assert all(np.array_equal(a, b) for a, b in zip(on.cells[2], one.cells[2]))
