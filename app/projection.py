@@ -334,6 +334,7 @@ class ProjectionModel:
     mapping: str = "orthographic"
     distance: float = 3.0
     _principal: np.ndarray | None = field(default=None, repr=False)
+    _principal_vertices: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self):
         if self.kind not in KINDS:
@@ -356,17 +357,30 @@ class ProjectionModel:
         return planes(self.n)
 
     def set_vertices(self, vertices: np.ndarray) -> None:
-        """Recompute the principal axes (used by the ``principal`` kind)."""
-        self._principal = principal_basis(vertices) if len(vertices) else None
+        """The vertices of the principal axes (the ``principal`` kind): their SVD runs when that base is
+        first used, not for every result that arrives (35-90 ms on the GUI thread for a large one)."""
+        self._principal = None
+        self._principal_vertices = vertices if len(vertices) else None
+
+    def share_principal(self, other: ProjectionModel) -> None:
+        """Use ``other``'s principal axes (computed or still pending)."""
+        self._principal, self._principal_vertices = other._principal, other._principal_vertices
+
+    def _principal_basis(self) -> np.ndarray | None:
+        if self._principal is None and self._principal_vertices is not None:
+            self._principal = principal_basis(self._principal_vertices)
+            self._principal_vertices = None
+        return self._principal
 
     def base(self) -> np.ndarray:
         if self.kind == "coordinates":
             return coordinate_basis(self.n, self.axes)
         if self.kind == "generic":
             return generic_basis(self.n, self.seed)
-        if self._principal is None:
+        principal = self._principal_basis()
+        if principal is None:
             return coordinate_basis(self.n, default_axes(self.n))
-        return self._principal
+        return principal
 
     def rotation(self) -> np.ndarray:
         return rotation(self.n, np.radians(self.angles))

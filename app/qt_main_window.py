@@ -835,7 +835,7 @@ class QtMainWindow(QMainWindow):
         fps = float(fps or ap.fps_spin.value())
         ap.set_playing(False)
         projection = ProjectionModel.from_dict(self.projection_panel.model.n, self.projection_panel.model.to_dict())
-        projection._principal = self.projection_panel.model._principal
+        projection.share_principal(self.projection_panel.model)
         w, h = (int(s) // 2 * 2 for s in (size or self.viewer.size()))
         name = os.path.basename(str(path))
         if ap.mode() == "param":

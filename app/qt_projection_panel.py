@@ -602,7 +602,7 @@ class QtProjectionPanel(QWidget):
         try:
             m = ProjectionModel.from_dict(n, d) if len(d.get("angles", [0] * (n * (n - 1) // 2))) == \
                 n * (n - 1) // 2 else ProjectionModel(n=n)
-            m._principal = self.model._principal
+            m.share_principal(self.model)
             if n < 4:
                 m.mapping = "orthographic"
             self.model = m
