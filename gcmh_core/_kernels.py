@@ -8,6 +8,9 @@ Per candidate cube H, `cubes_chunk` follows paper Section 3.1, in the cube's own
   3. cells (Section 3.1.2): for r = 2..n-k, the r-cells are the connected pieces of
      the vertex-edge graph G_H restricted to each (r+k)-face of H, written with their
      (r-1)-faces.
+Where the tables list no Kuhn simplices (`_tables.lazy_tables`: n >= 8, large k), `cubes_chunk`
+runs `cubes_chunk_lazy`, which finds the ones it needs by a pruned walk over permutations:
+the same records, bit for bit.
 Everything is emitted with global keys computed from grid indices alone, so
 the same vertex, edge or cell produced by two neighbouring cubes is recognised
 in the global assembly (`runner.assemble_records`).  `simplices_chunk` does the same

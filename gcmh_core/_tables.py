@@ -15,6 +15,9 @@ Conventions
   grid's global Freudenthal triangulation, so two cubes sharing a face split it
   the same way.
 
+For n >= 8 and large k (`lazy_tables`) the tables are the faces only: k! Kuhn simplices per
+k-face would be 0.9 GB at n = 10, k = 8, and `_kernels.cubes_chunk_lazy` finds the few it needs.
+
 The fields' names follow the paper (Sections 3-4); the glossary at the top of
 `_kernels` maps the paper's terms to them.
 """
