@@ -28,6 +28,7 @@ from ._hashtable import IntTable
 from ._methods import CONTINUATION_METHODS, METHODS, SIMPLICIAL_METHODS
 from ._regular import collapse_lenses, subdivide_double_edges
 from ._tables import cube_tables, simplex_tables
+from .budget import kernel_batch_cubes
 from .complex import CellComplex
 from .errors import Cancelled, InputError
 from .grid import candidate_corner_sets, candidate_scan
@@ -42,8 +43,8 @@ __all__ = ["METHODS", "CONTINUATION_METHODS", "SIMPLICIAL_METHODS", "Grid", "ass
 _SERIAL_CUBES = 256
 # Pieces a kernel run is cut into per thread (pieces of unequal cost even out).
 _CHUNKS_PER_THREAD = 2
-# Candidate cubes per kernel run: a run of the three-torus's costliest cubes takes
-# about 0.2 s, so a cancel is answered within that.
+# Candidate cubes per kernel run at most (fewer where a cube costs more, `budget.kernel_batch_cubes`):
+# a run of the three-torus's costliest cubes takes about 0.2 s, so a cancel is answered within that.
 _KERNEL_BATCH = 4096
 
 
@@ -77,6 +78,8 @@ class Grid:
         self.n, self.k, self.axes, self.cancel = n, k, axes, cancel
         self.simplicial = method in SIMPLICIAL_METHODS
         self.tab = cube_tables(n, k, progress=progress, cancel=cancel)
+        # candidate cubes per kernel run: a run ends within about a quarter second (k = 10: 71 cubes)
+        self.kernel_batch = kernel_batch_cubes(n, k, most=_KERNEL_BATCH)
         self.dims = np.array([len(a) for a in axes], np.int64)  # vertices per axis
         self.strides = np.ones(n, np.int64)
         for a in range(n - 2, -1, -1):
@@ -109,10 +112,11 @@ class Grid:
         Returns each cube's crossed-facet mask (bit 2a + side).
         """
         m = len(cube_lin)
-        if m > _KERNEL_BATCH:  # in batches: cancel is polled between them (records keep their order)
+        batch = self.kernel_batch
+        if m > batch:  # in batches: cancel is polled between them (records keep their order)
             return np.concatenate([
-                self.run_kernel(values, cube_lin[i : i + _KERNEL_BATCH], origin[i : i + _KERNEL_BATCH], value_off)
-                for i in range(0, m, _KERNEL_BATCH)
+                self.run_kernel(values, cube_lin[i : i + batch], origin[i : i + batch], value_off)
+                for i in range(0, m, batch)
             ])
         if self.cancel is not None and self.cancel():
             raise Cancelled("extraction cancelled")

@@ -64,3 +64,30 @@ def test_the_tables_build_of_a_run_reports_progress_and_cancels():
                           cancel=lambda: any(p.startswith("cube tables") and f > 0.3 for p, f in seen))
     phases = [p for p, _ in seen]
     assert "cube tables: faces" in phases and not any(p == "extracting" for p in phases)
+
+
+def test_k10_kernel_runs_are_short_so_a_cancel_is_heard():
+    """At k = 10 a cube takes milliseconds: the runner cuts the candidate cubes into runs of a quarter second
+    (`budget.kernel_batch_cubes`) and polls cancel between them; a cancel set in the kernel phase stops the run
+    before the next run."""
+    from gcmh_core import runner
+    from gcmh_core.errors import Cancelled
+
+    n = 12
+    F = ["x1^2 + x2^2 - 1", "x3^2 + x4^2 - 1"] + [f"x{i} - 0.01*x{i - 1}" for i in range(5, n + 1)]
+    bounds, div = [(-1.5, 1.5)] * 4 + [(-1, 1)] * (n - 4), [5] * 4 + [1] * (n - 4)
+    runs = []
+    keep = runner.Grid.run_kernel
+
+    def counted(self, values, cube_lin, origin, value_off):
+        if len(cube_lin) <= self.kernel_batch:
+            runs.append(len(cube_lin))
+        return keep(self, values, cube_lin, origin, value_off)
+
+    runner.Grid.run_kernel = counted
+    try:
+        with pytest.raises(Cancelled):
+            gcmh_core.extract(F, bounds, div, n=n, force=True, cancel=lambda: len(runs) >= 2)
+    finally:
+        runner.Grid.run_kernel = keep
+    assert len(runs) == 2 and max(runs) <= 100  # (at most 71 cubes a run at k = 10; the grid has 128 candidates)
