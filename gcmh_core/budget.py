@@ -38,6 +38,7 @@ from math import comb, factorial
 
 import numpy as np
 
+from ._cost import _KERNEL_SECONDS_PER_ENTRY, _functionals, kernel_batch_cubes, kernel_entries  # noqa: F401
 from ._memory import available_memory, format_bytes, format_seconds
 from ._tables import lazy_tables
 from .errors import InputError, TooLargeError
@@ -62,10 +63,6 @@ _PROBE_VERTICES = 600_000  # (9^6: div 8 probed exactly in R^6)
 # enumeration behind the Kuhn triangulation (n <= 7: n (n+2)^n entries).
 _TABLE_SECONDS_PER_BYTE = 5e-9
 _KUHN_SECONDS_PER_ENTRY = 5e-9
-# Seconds per table entry the kernel reads for one candidate cube: every k-simplex's corners,
-# every (k+1)-face's boundary nodes and, where the walk runs, its (k+1)! simplices; for lazy
-# tables, per value the pruned walk computes (R^10, k = 8: about 1 ms per cube).
-_KERNEL_SECONDS_PER_ENTRY = 2e-9
 # Peak bytes per record the kernel emits for a crossed face, through the assembly
 # (records are grown by doubling, then concatenated and sorted).
 _RECORD_OVERHEAD = 3.2
@@ -202,34 +199,6 @@ def table_cost(n: int, k: int) -> tuple[int, int, float]:
         held += w * (n + 2)
     seconds += held * _TABLE_SECONDS_PER_BYTE
     return int(held + temporary), int(held), float(seconds)
-
-
-def _functionals(k: int) -> int:
-    """Rows the lazy kernel keeps for its prune's functionals (`_kernels._face_functionals`: F's
-    components and up to 2k differences of W F's rows, _MODEL_NEIGHBOURS = 2)."""
-    return 3 * k
-
-
-def kernel_entries(n: int, k: int) -> int:
-    """Table entries `_kernels.cubes_chunk` reads for one candidate cube (at most): the corners of
-    every k-simplex, the boundary nodes of every (k+1)-face and its walk's simplices.  For lazy
-    tables (`cubes_chunk_lazy`): the sign prune over every k-face's corners, then the prune's
-    functionals (k + 2 operations per corner each) on the k-faces M crosses, 2^(n-k) as for a plane."""
-    m = k + 1
-    kfaces = comb(n, k) << (n - k)
-    if lazy_tables(n, k):
-        return kfaces * (1 << k) + (1 << (n - k)) * _functionals(k) * (1 << k) * (k + 2)
-    simplices = kfaces * factorial(k)
-    k1faces = comb(n, m) << (n - m)
-    return simplices * (k + 2) + k1faces * (2 * m * factorial(k) + factorial(m) * (m + 2))
-
-
-def kernel_batch_cubes(n: int, k: int, seconds: float = 0.25, most: int = 4096) -> int:
-    """Candidate cubes a kernel run can take and still end within about `seconds` on one thread
-    (between 16 and `most`): a run's cancel is polled between runs, and at k = 10 in R^12 a cube
-    takes some 3 ms (4096 of them: 12 s)."""
-    per_cube = kernel_entries(n, k) * _KERNEL_SECONDS_PER_ENTRY
-    return int(max(16, min(most, seconds // per_cube)))
 
 
 def kernel_scratch(n: int, k: int) -> int:

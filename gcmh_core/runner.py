@@ -24,11 +24,11 @@ import numba
 import numpy as np
 
 from . import _balls, _kernels
+from ._cost import kernel_batch_cubes
 from ._hashtable import IntTable
 from ._methods import CONTINUATION_METHODS, METHODS, SIMPLICIAL_METHODS
 from ._regular import collapse_lenses, subdivide_double_edges
 from ._tables import cube_tables, simplex_tables
-from .budget import kernel_batch_cubes
 from .complex import CellComplex
 from .errors import Cancelled, InputError
 from .grid import candidate_corner_sets, candidate_scan
@@ -43,7 +43,7 @@ __all__ = ["METHODS", "CONTINUATION_METHODS", "SIMPLICIAL_METHODS", "Grid", "ass
 _SERIAL_CUBES = 256
 # Pieces a kernel run is cut into per thread (pieces of unequal cost even out).
 _CHUNKS_PER_THREAD = 2
-# Candidate cubes per kernel run at most (fewer where a cube costs more, `budget.kernel_batch_cubes`):
+# Candidate cubes per kernel run at most (fewer where a cube costs more, `_cost.kernel_batch_cubes`):
 # a run of the three-torus's costliest cubes takes about 0.2 s, so a cancel is answered within that.
 _KERNEL_BATCH = 4096
 
