@@ -49,6 +49,8 @@ read instead of the shipped examples.
 
 from __future__ import annotations
 
+import copy
+import functools
 import os
 import sys
 from collections.abc import Callable
@@ -174,6 +176,20 @@ def load_example(name: str) -> Example:
         known = ", ".join(names) if names else f"none found in {_source()}"
         raise InputError(f"unknown example {name!r}; known examples: {known}")
     file = _source() / f"{name}.toml"
+    try:
+        st = os.stat(str(file))
+    except OSError:  # (not a plain file: read it each time)
+        return _read_example(name, file)
+    # a window lists every example (menus, gallery): parsing and checking 23 systems took 80 ms each time
+    return copy.deepcopy(_read_example_cached(name, str(file), st.st_mtime_ns, st.st_size, file))
+
+
+@functools.lru_cache(maxsize=256)
+def _read_example_cached(name: str, path: str, mtime_ns: int, size: int, file: Traversable) -> Example:
+    return _read_example(name, file)
+
+
+def _read_example(name: str, file: Traversable) -> Example:
     try:
         data = tomllib.loads(file.read_text(encoding="utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:

@@ -1,6 +1,7 @@
 """The example manifolds in gcmh_core/examples: they load, are well formed, and are right."""
 
 import math
+import os
 
 import numpy as np
 import pytest
@@ -110,6 +111,19 @@ def test_malformed_example_file(tmp_path, monkeypatch):
     (tmp_path / "bad.toml").write_text('title = "t"\nn = [\n')
     with pytest.raises(InputError):
         load_example("bad")
+
+
+def test_an_edited_example_file_is_read_again_and_a_loaded_one_is_the_callers(tmp_path, monkeypatch):
+    monkeypatch.setenv("GCMH_EXAMPLES_DIR", str(tmp_path))
+    text = ('title = "t"\ndescription = "d. e."\nn = 2\nk = 1\nvariables = ["x", "y"]\n'
+            'formulas = ["x^2 + y^2 - 1"]\nbounds = [[-2, 2], [-2, 2]]\ndiv = 4\nstart = [1, 0]\n')
+    (tmp_path / "circle.toml").write_text(text)
+    first = load_example("circle")
+    first.formulas.append("x")  # (the caller's copy: the next load doesn't see it)
+    assert load_example("circle").formulas == ["x^2 + y^2 - 1"]
+    (tmp_path / "circle.toml").write_text(text.replace("div = 4", "div = 12"))
+    os.utime(tmp_path / "circle.toml", ns=(1, 10**18))  # (a new mtime even on a coarse clock)
+    assert load_example("circle").div == 12
 
 
 @pytest.mark.parametrize(
