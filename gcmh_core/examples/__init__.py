@@ -181,12 +181,12 @@ def load_example(name: str) -> Example:
     except OSError:  # (not a plain file: read it each time)
         return _read_example(name, file)
     # a window lists every example (menus, gallery): parsing and checking 23 systems took 80 ms each time
-    return copy.deepcopy(_read_example_cached(name, str(file), st.st_mtime_ns, st.st_size, file))
+    return copy.deepcopy(_read_example_cached(name, str(file), st.st_mtime_ns, st.st_size))
 
 
 @functools.lru_cache(maxsize=256)
-def _read_example_cached(name: str, path: str, mtime_ns: int, size: int, file: Traversable) -> Example:
-    return _read_example(name, file)
+def _read_example_cached(name: str, path: str, mtime_ns: int, size: int) -> Example:
+    return _read_example(name, Path(path))
 
 
 def _read_example(name: str, file: Traversable) -> Example:
