@@ -339,7 +339,10 @@ class Geometry:
 
     @classmethod
     def build(cls, cx, lod: bool = True) -> Geometry:
-        """Drawing arrays of ``cx``; with ``lod``, above ``LOD_VERTICES`` vertices also a coarse copy."""
+        """Drawing arrays of ``cx`` (as :func:`display_complex` draws it: seams of identified axes
+        whole; ``cell_ids`` are ``cx``'s own); with ``lod``, above ``LOD_VERTICES`` vertices also a
+        coarse copy."""
+        cx = display_complex(cx)
         geo = cls._build(cx)
         V = len(np.asarray(cx.vertices))
         if lod and V > LOD_VERTICES:
@@ -370,6 +373,9 @@ class Geometry:
             if len(vids):
                 Bv, signs = vertex_bivectors(V, offsets, vids, return_signs=True)
                 normals = NormalField(Bv, cx.n)
+        source = cx.meta.get("display_source")
+        if source is not None:  # (a seam's copies name the cell they show)
+            cell_ids = np.asarray(source, np.int64)[cell_ids]
         return cls(dim, cx.n, "polygons", polygon_faces(offsets, vids), projector, normals,
                    offsets=offsets, vids=vids, cell_ids=cell_ids, signs=signs)
 
@@ -576,3 +582,116 @@ def grid_cube_lines(cx):
     inv = inv.ravel()
     E = np.stack([inv[:len(g)], inv[len(g):]], 1)
     return lo + pts * h, E
+
+
+# ---------------------------------------------------------------- seams of identified axes
+def display_complex(cx):
+    """``cx`` as it is drawn: itself, or for a surface on a domain with identified axes
+    (``cx.meta["periodic"]``, e.g. ["s:flip=t", "t"]) a copy in which every 2-cell that
+    crosses a seam is drawn whole on both sides of it.
+
+    Such a cell has vertices at both ends of the periodic axis: drawn as it is, it would be
+    stretched across the whole box (projected along that axis) and painted through the
+    whole colour range (coloured by it). In the copy its low vertices are moved up by the
+    period (and reflected across a flipped seam), next to its neighbours on the high side
+    (the picture then reaches a cell past the box there and stops a cell short of the low side).
+    ``meta["display_source"]``: each 2-cell's cell in ``cx``. The topology is ``cx``'s: this
+    copy is for the eye only. Cached on ``cx``.
+    """
+    cache = getattr(cx, "_cache", None)
+    key = ("display_complex",)
+    if cache is not None and key in cache:
+        return cache[key]
+    out = _unwrapped_seams(cx)
+    if cache is not None:
+        cache[key] = out
+    return out
+
+
+def _seam_spec(cx):
+    """[(axis, period, lo, (flipped axes), (their lo + hi))] of ``cx.meta``, or []."""
+    meta = getattr(cx, "meta", None) or {}
+    items, names, bounds = meta.get("periodic"), meta.get("variables"), meta.get("bounds")
+    if not items or not names or bounds is None:
+        return []
+    bounds = np.asarray(bounds, dtype=float)
+    spec = []
+    for item in items:
+        name, _, flips = str(item).partition(":flip=")
+        p = names.index(name)
+        fl = tuple(names.index(b) for b in flips.split(",") if b)
+        spec.append((p, bounds[p, 1] - bounds[p, 0], bounds[p, 0], fl, tuple(bounds[b].sum() for b in fl)))
+    return spec
+
+
+def _unwrapped_seams(cx):
+    from gcmh_core import CellComplex
+
+    spec = _seam_spec(cx)
+    if not spec or cx.dim != 2:
+        return cx
+    V = np.asarray(cx.vertices, dtype=np.float64)
+    offsets, vids = _proper_polygons(*cx.polygons())
+    sizes = np.diff(offsets)
+    seam = np.zeros(len(sizes), bool)
+    for p, period, _, _, _ in spec:
+        x = V[vids, p]
+        span = np.maximum.reduceat(x, offsets[:-1]) - np.minimum.reduceat(x, offsets[:-1]) if len(x) else x
+        seam |= span > period / 2
+    if not seam.any():
+        return cx
+    # every seam cell moved whole to the high side of each seam it crosses: its low vertices up a period (a
+    # vertex keeps one id per move, so neighbouring cells share it).  (A copy on each side left two
+    # coincident copies, coloured apart, where the periodic axis is not one of the three shown.)
+    extra_pts: list[np.ndarray] = []
+    moved: dict = {}
+    loops, sources = [], []
+    for c in np.flatnonzero(seam):
+        loop = vids[offsets[c]:offsets[c + 1]]
+        copies = [(V[loop].copy(), np.zeros((len(loop), len(spec)), np.int64))]
+        for a, (p, period, lo, flips, mirror) in enumerate(spec):
+            grown = []
+            for pts, shift in copies:
+                if pts[:, p].max() - pts[:, p].min() <= period / 2:
+                    grown.append((pts, shift))
+                    continue
+                side = pts[:, p] < lo + period / 2
+                q, s = pts.copy(), shift.copy()
+                q[side, p] += period
+                for b, m in zip(flips, mirror):
+                    q[side, b] = m - q[side, b]
+                s[side, a] = 1
+                grown.append((q, s))
+            copies = grown
+        for pts, shift in copies:
+            ids = np.empty(len(loop), np.int64)
+            for i, (v, s) in enumerate(zip(loop.tolist(), map(tuple, shift))):
+                if not any(s):
+                    ids[i] = v
+                    continue
+                new = moved.get((v, s))
+                if new is None:
+                    new = moved[(v, s)] = len(V) + len(extra_pts)
+                    extra_pts.append(pts[i])
+                ids[i] = new
+            loops.append(ids)
+            sources.append(c)
+    keep = ~seam
+    kept = vids[np.repeat(keep, sizes)]
+    all_vids = np.concatenate([kept] + loops)
+    all_sizes = np.concatenate([sizes[keep], [len(x) for x in loops]]).astype(np.int64)
+    source = np.concatenate([np.flatnonzero(keep), np.asarray(sources, np.int64)])
+    new_off = np.zeros(len(all_sizes) + 1, np.int64)
+    np.cumsum(all_sizes, out=new_off[1:])
+    # edges from the loops' consecutive vertices, each pair once
+    nxt = np.arange(len(all_vids)) + 1
+    nxt[new_off[1:] - 1] = new_off[:-1]
+    a, b = all_vids, all_vids[nxt]
+    n_vertices = len(V) + len(extra_pts)
+    pair = np.minimum(a, b) * n_vertices + np.maximum(a, b)
+    keys, faces = np.unique(pair, return_inverse=True)
+    edges = np.stack([keys // n_vertices, keys % n_vertices], axis=1)
+    verts = np.concatenate([V, np.asarray(extra_pts).reshape(-1, V.shape[1])])
+    meta = dict(cx.meta)
+    meta["display_source"] = source
+    return CellComplex(cx.n, cx.k, verts, edges, {2: (new_off, faces.astype(np.int64))}, meta)

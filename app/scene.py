@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pyvista as pv
 
-from .geometry import Geometry, boundary_lines, grid_cube_lines
+from .geometry import Geometry, boundary_lines, display_complex, grid_cube_lines
 from .projection import Projector, View
 from .slicing import clip_polygons, clip_segments
 
@@ -223,6 +223,7 @@ class Scene:
             self._set_title()
             return
         geo = geometry if geometry is not None else Geometry.build(cx)
+        cx = display_complex(cx)  # (seams of identified axes drawn whole: the geometry's own vertices)
         self.complex = cx
         self.names = list(names)
         self.geometry = geo
