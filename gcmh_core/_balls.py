@@ -36,12 +36,28 @@ import numpy as np
 
 from . import _kernels
 
-__all__ = ["cut_key_room", "split_joined_pieces"]
+__all__ = ["cut_key", "cut_key_parts", "cut_key_room", "split_joined_pieces"]
+
+# a cube face's key from its anchor's global vertex, C(n, dim) and the rank of its free axes: the kernels' own
+# formula, called in Python (n - k = 2 splits are rare: no compiled signature for them)
+_face_key = _kernels._face_key.py_func
 
 
-def cut_key_room(tab) -> int:
-    """Cut indices per replaced cell key (more than a cube's vertices can ask for)."""
-    return 2 * int(tab.n_codes[tab.n])
+def cut_key_room(n_codes_top: int) -> int:
+    """Cut indices per replaced cell key (more than a cube's vertices can ask for); n_codes_top: vertex
+    codes inside the n-cube (`CubeTables.n_codes[n]`)."""
+    return 2 * int(n_codes_top)
+
+
+def cut_key(cell, j, room):
+    """The key of cut j of the piece whose smallest replaced cell key is ``cell``: negative, so no kernel
+    key meets it (ints or int64 arrays)."""
+    return -(1 + cell * room + j)
+
+
+def cut_key_parts(keys, room):
+    """``cut_key``'s (cell, j) back from keys."""
+    return divmod(-keys - 1, room)
 
 
 def split_joined_pieces(tab, values, cube_row, origin, cube_key, axes_arr, value_off, corner_off):
@@ -65,7 +81,7 @@ def split_joined_pieces(tab, values, cube_row, origin, cube_key, axes_arr, value
         return None
     loops = _Loops(tab, g_vertex, corner_off, surface, g_edges, g_inc)
     position = {int(key): x for key, x in zip(g_vk, g_vp)}
-    room = cut_key_room(tab)
+    room = cut_key_room(tab.n_codes[n])
     drop, new_edges, new_inc, split = [], [], [], 0
     cell_keys = sorted(int(x) for x in g_cells[g_cells[:, 0] == 2, 1])
     by_piece: dict[int, list[int]] = {}
@@ -87,10 +103,10 @@ def split_joined_pieces(tab, values, cube_row, origin, cube_key, axes_arr, value
             continue
         discs, cuts = cut
         for j, (a, b) in enumerate(cuts):
-            new_edges.append((-(1 + keys[0] * room + j), a, b))
+            new_edges.append((cut_key(keys[0], j, room), a, b))
         for key, disc in zip(keys, discs):
             for edge in disc:
-                edge_key = -(1 + keys[0] * room + edge[1]) if edge[0] == "cut" else edge[1]
+                edge_key = cut_key(keys[0], edge[1], room) if edge[0] == "cut" else edge[1]
                 new_inc.append((2, key, edge_key))
         drop.extend(keys)
         split += m - 1
@@ -116,8 +132,8 @@ class _Surface:
         for g, s in enumerate(tab.ksimplex_kuhn):
             f = kface0 + tab.ksimplex_face[g]
             anchor = g_vertex + int(corner_off[tab.face_fixed[f]])
-            gcmh_key[int(s)] = (anchor * int(tab.n_subsets[k]) + int(tab.face_rank[f])) * tab.simplices_per_kface \
-                + int(tab.ksimplex_perm[g])
+            gcmh_key[int(s)] = _face_key(anchor, int(tab.n_subsets[k]), int(tab.face_rank[f])) \
+                * tab.simplices_per_kface + int(tab.ksimplex_perm[g])
         self.gcmh = {}  # CMS vertex key -> GCMH vertex key
         for v in c_vk:
             s = row_of[int(v)]
@@ -203,7 +219,7 @@ class _Loops:
             axis = (~free & ((1 << tab.n) - 1)).bit_length() - 1
             bit = 1 << (2 * axis + ((fixed >> axis) & 1))
             anchor = g_vertex + int(corner_off[fixed])
-            self.facet_key[bit] = anchor * int(tab.n_subsets[k1]) + int(tab.face_rank[f])
+            self.facet_key[bit] = _face_key(anchor, int(tab.n_subsets[k1]), int(tab.face_rank[f]))
 
     def piece_of(self, cell):
         edges = self.edges_of.get(cell)

@@ -53,6 +53,7 @@ from math import comb, factorial
 
 import numpy as np
 
+from . import _balls
 from ._validate import describe_periodic
 from .complex import CellComplex
 from .errors import Cancelled, InputError
@@ -340,12 +341,12 @@ class IdentifiedGrid(Grid):
         anchor (the face's lowest corner) of a face with b free moves to its other end."""
         if not len(keys):
             return keys
-        cuts = keys < 0  # edges `_balls` cut through a cube: -(1 + K room + j), K a key of the cube
+        cuts = keys < 0  # edges `_balls` cut through a cube, keyed by a cell key K of the cube
         if cuts.any():
-            room = 2 * int(self._n_codes[self.n])
-            cell, j = np.divmod(-keys[cuts] - 1, room)
+            room = _balls.cut_key_room(self._n_codes[self.n])
+            cell, j = _balls.cut_key_parts(keys[cuts], room)
             keys = keys.copy()
-            keys[cuts] = -(1 + self._frame_keys(cell, self.n, mirrored) * room + j)
+            keys[cuts] = _balls.cut_key(self._frame_keys(cell, self.n, mirrored), j, room)
             keys[~cuts] = self._frame_keys(keys[~cuts], dim, mirrored)
             return keys
         multi, free, rest = self._decode(keys, dim)

@@ -270,8 +270,6 @@ def split_non_ball_cells(grid: Grid, records: tuple, cubes: np.ndarray, common: 
     cubes: the run's cubes where the kernel found joined pieces; common: the kernel's
     arguments after (lo, hi), for the whole run.
     """
-    if grid.simplicial or grid.n - grid.k != 2:
-        return records
     values, cube_lin, origin, cube_key, axes_arr, value_off, corner_off, tab = common
     vk, vp, e, c, inc = records
     for i in np.unique(cubes):

@@ -152,7 +152,7 @@ def test_cut_keys_follow_a_mirrored_frame():
     spec = ((2, (0,)),)
     axes = identified_axes(bounds, np.array([4, 4, 6]), 0, 0.0, spec)
     grid = IdentifiedGrid(3, 1, axes, spec=spec, bounds=bounds)
-    room = cut_key_room(_tables.cube_tables(3, 1))
+    room = cut_key_room(_tables.cube_tables(3, 1).n_codes[3])
     cell = np.array([grid._encode(np.array([[1, 2, 3]]), (np.array([0]), np.array([5])), 3)[0]])
     cuts = -(1 + cell * room + np.array([0, 1]))
     mapped = grid._frame_keys(cuts, 2, [0])
