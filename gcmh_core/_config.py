@@ -33,29 +33,41 @@ INLINE_JIT = dict(JIT, inline="always")
 
 
 @contextlib.contextmanager
+def numba_events(kind: str, on_start: Callable, on_end: Callable | None = None) -> Iterator[None]:
+    """Within the block, numba's events of ``kind`` (e.g. "numba:compile", "numba:compiler_lock")
+    call ``on_start(event)`` and ``on_end(event)``, on whichever thread numba runs them."""
+    from numba.core import event  # noqa: PLC0415  (numba loads with the engine)
+
+    class _Listener(event.Listener):
+        def on_start(self, ev: event.Event) -> None:
+            on_start(ev)
+
+        def on_end(self, ev: event.Event) -> None:
+            if on_end is not None:
+                on_end(ev)
+
+    listener = _Listener()
+    event.register(kind, listener)
+    try:
+        yield
+    finally:
+        event.unregister(kind, listener)
+
+
+@contextlib.contextmanager
 def compile_notice(callback: Callable[[], None]) -> Iterator[None]:
     """Within the block, call `callback()` once when a kernel of this package starts to
     compile: numba misses it in its on-disk cache (a new install, or a kernel no run has
     needed yet).  Loading a cached kernel says nothing.  Which kernels a run needs
     depends on the run (n = 3 sweeps take their own), so this asks numba rather than
     looking for cache files.  The callback may run on a kernel thread."""
-    from numba.core import event  # noqa: PLC0415  (numba loads with the engine)
-
     told = threading.Event()
 
-    class _Listener(event.Listener):
-        def on_start(self, ev: event.Event) -> None:
-            func = getattr(ev.data.get("dispatcher"), "py_func", None)
-            if not told.is_set() and getattr(func, "__module__", "").startswith(__package__ + "."):
-                told.set()
-                callback()
+    def started(ev) -> None:
+        func = getattr(ev.data.get("dispatcher"), "py_func", None)
+        if not told.is_set() and getattr(func, "__module__", "").startswith(__package__ + "."):
+            told.set()
+            callback()
 
-        def on_end(self, ev: event.Event) -> None:
-            pass
-
-    listener = _Listener()
-    event.register("numba:compile", listener)
-    try:
+    with numba_events("numba:compile", started):
         yield
-    finally:
-        event.unregister("numba:compile", listener)

@@ -745,32 +745,25 @@ class _Signals:
         """Hold signals while numba holds its compiler lock (it loads a cached kernel or compiles
         one there): llvmlite calls back into Python through ctypes then, and a KeyboardInterrupt
         raised inside such a callback is printed and dropped, so the run went on to the end."""
-        if "numba" not in sys.modules:  # (nothing can load kernels before the engine imports numba)
-            import numba  # noqa: F401, PLC0415
-        from numba.core import event  # noqa: PLC0415
+        from ._config import numba_events  # noqa: PLC0415  (numba itself loads when the block starts)
 
-        signals = self
         lock = threading.Lock()
 
-        class _Listener(event.Listener):
-            def on_start(self, ev) -> None:
-                with lock:
-                    signals.hold += 1
+        def locked(ev) -> None:
+            with lock:
+                self.hold += 1
 
-            def on_end(self, ev) -> None:
-                with lock:
-                    signals.hold -= 1
-                    signum = signals.pending if not signals.hold and not signals.raised else None
-                    signals.pending = None if signum is not None else signals.pending
-                if signum is not None:  # raised in the main thread, at its next step outside numba
-                    _thread.interrupt_main(signum)
+        def released(ev) -> None:
+            signum = None
+            with lock:
+                self.hold -= 1
+                if not self.hold and not self.raised:
+                    signum, self.pending = self.pending, None
+            if signum is not None:  # raised in the main thread, at its next step outside numba
+                _thread.interrupt_main(signum)
 
-        listener = _Listener()
-        event.register("numba:compiler_lock", listener)
-        try:
+        with numba_events("numba:compiler_lock", locked, released):
             yield
-        finally:
-            event.unregister("numba:compiler_lock", listener)
 
 
 _signals = _Signals()
