@@ -588,7 +588,7 @@ def grid_cube_lines(cx):
 def display_complex(cx):
     """``cx`` as it is drawn: itself, or for a surface on a domain with identified axes
     (``cx.meta["periodic"]``, e.g. ["s:flip=t", "t"]) a copy in which every 2-cell that
-    crosses a seam is drawn whole on both sides of it.
+    crosses a seam is drawn whole on its high side.
 
     Such a cell has vertices at both ends of the periodic axis: drawn as it is, it would be
     stretched across the whole box (projected along that axis) and painted through the
@@ -609,19 +609,22 @@ def display_complex(cx):
 
 
 def _seam_spec(cx):
-    """[(axis, period, lo, (flipped axes), (their lo + hi))] of ``cx.meta``, or []."""
+    """[(axis, period, lo, (flipped axes), (their lo + hi))] of ``cx.meta`` (read by the engine's own
+    `as_periodic`), or [] when it names no identified axes."""
+    from gcmh_core._validate import as_periodic
+    from gcmh_core.errors import InputError
+
     meta = getattr(cx, "meta", None) or {}
-    items, names, bounds = meta.get("periodic"), meta.get("variables"), meta.get("bounds")
-    if not items or not names or bounds is None:
+    items, names, bounds, div = meta.get("periodic"), meta.get("variables"), meta.get("bounds"), meta.get("div")
+    if not items or not names or bounds is None or div is None:
+        return []
+    try:
+        spec = as_periodic(items, names, div)
+    except InputError:  # (meta that did not come from a run: draw the complex as it is)
         return []
     bounds = np.asarray(bounds, dtype=float)
-    spec = []
-    for item in items:
-        name, _, flips = str(item).partition(":flip=")
-        p = names.index(name)
-        fl = tuple(names.index(b) for b in flips.split(",") if b)
-        spec.append((p, bounds[p, 1] - bounds[p, 0], bounds[p, 0], fl, tuple(bounds[b].sum() for b in fl)))
-    return spec
+    return [(p, bounds[p, 1] - bounds[p, 0], bounds[p, 0], flips, tuple(bounds[b].sum() for b in flips))
+            for p, flips in spec]
 
 
 def _unwrapped_seams(cx):
@@ -648,34 +651,26 @@ def _unwrapped_seams(cx):
     loops, sources = [], []
     for c in np.flatnonzero(seam):
         loop = vids[offsets[c]:offsets[c + 1]]
-        copies = [(V[loop].copy(), np.zeros((len(loop), len(spec)), np.int64))]
+        pts = V[loop].copy()
+        shift = np.zeros((len(loop), len(spec)), np.int64)  # per vertex: the seams it was moved across
         for a, (p, period, lo, flips, mirror) in enumerate(spec):
-            grown = []
-            for pts, shift in copies:
-                if pts[:, p].max() - pts[:, p].min() <= period / 2:
-                    grown.append((pts, shift))
-                    continue
-                side = pts[:, p] < lo + period / 2
-                q, s = pts.copy(), shift.copy()
-                q[side, p] += period
-                for b, m in zip(flips, mirror):
-                    q[side, b] = m - q[side, b]
-                s[side, a] = 1
-                grown.append((q, s))
-            copies = grown
-        for pts, shift in copies:
-            ids = np.empty(len(loop), np.int64)
-            for i, (v, s) in enumerate(zip(loop.tolist(), map(tuple, shift))):
-                if not any(s):
-                    ids[i] = v
-                    continue
+            if pts[:, p].max() - pts[:, p].min() <= period / 2:
+                continue
+            side = pts[:, p] < lo + period / 2
+            pts[side, p] += period
+            for b, m in zip(flips, mirror):
+                pts[side, b] = m - pts[side, b]
+            shift[side, a] = 1
+        ids = loop.copy()
+        for i, (v, s) in enumerate(zip(loop.tolist(), map(tuple, shift))):
+            if any(s):
                 new = moved.get((v, s))
                 if new is None:
                     new = moved[(v, s)] = len(V) + len(extra_pts)
                     extra_pts.append(pts[i])
                 ids[i] = new
-            loops.append(ids)
-            sources.append(c)
+        loops.append(ids)
+        sources.append(c)
     keep = ~seam
     kept = vids[np.repeat(keep, sizes)]
     all_vids = np.concatenate([kept] + loops)
