@@ -36,7 +36,8 @@ import numpy as np
 
 from . import _kernels
 
-__all__ = ["cut_key", "cut_key_parts", "cut_key_room", "split_joined_pieces"]
+__all__ = ["REFINED_BELOW", "cut_key", "cut_key_parts", "cut_key_room", "refine_cube", "refined_key",
+           "refined_key_simplex", "replace_refined_cells", "split_joined_pieces"]
 
 # a cube face's key from its anchor's global vertex, C(n, dim) and the rank of its free axes: the kernels' own
 # formula, called in Python (n - k = 2 splits are rare: no compiled signature for them)
@@ -124,16 +125,9 @@ class _Surface:
         self = cls()
         kuhn = tab.kuhn
         k = tab.k
-        simplex_key = (g_vertex + corner_off[kuhn.c0]) * kuhn.key_base + kuhn.code
+        simplex_key = _simplex_keys(kuhn, g_vertex, corner_off)
         row_of = {int(x): s for s, x in enumerate(simplex_key) if s >= kuhn.start[k]}
-        # GCMH's vertices: P's vertices on the cube's k-faces, with GCMH's keys
-        kface0 = tab.face_start[k]
-        gcmh_key = {}
-        for g, s in enumerate(tab.ksimplex_kuhn):
-            f = kface0 + tab.ksimplex_face[g]
-            anchor = g_vertex + int(corner_off[tab.face_fixed[f]])
-            gcmh_key[int(s)] = _face_key(anchor, int(tab.n_subsets[k]), int(tab.face_rank[f])) \
-                * tab.simplices_per_kface + int(tab.ksimplex_perm[g])
+        gcmh_key = _gcmh_vertex_keys(tab, g_vertex, corner_off)
         self.gcmh = {}  # CMS vertex key -> GCMH vertex key
         for v in c_vk:
             s = row_of[int(v)]
@@ -337,3 +331,207 @@ def _arc(loop, i, j):
         out.append(loop[i])
         i = (i + 1) % len(loop)
     return out
+
+
+# ----------------------------------------------------------------------------- refinement by CMS
+# A refined cell's key: below every cut key (cut keys are at least -2^62), from the key of its Kuhn
+# simplex (`_tables.SimplexTables`), which is below 2^62 wherever a refinement is made.
+REFINED_BELOW = -(2**62)
+# An incidence row (-r, K, S) is no incidence: it says that the r-cell K is replaced by its
+# refinement, of which the r-cell S is one (`replace_refined_cells` applies it at the assembly).
+
+
+def refined_key(simplex_keys):
+    """The key of the CMS cell in the Kuhn simplex with this key (ints or int64 arrays)."""
+    return REFINED_BELOW - 1 - simplex_keys
+
+
+def refined_key_simplex(keys):
+    """`refined_key`'s simplex keys back."""
+    return REFINED_BELOW - 1 - keys
+
+
+def _simplex_keys(kuhn, g_vertex, corner_off):
+    """Global keys of the cube's Kuhn simplices (`SimplexTables`' formula)."""
+    return (g_vertex + corner_off[kuhn.c0]) * kuhn.key_base + kuhn.code
+
+
+def _gcmh_vertex_keys(tab, g_vertex, corner_off) -> dict:
+    """Kuhn row of each k-simplex on a k-face of the cube -> GCMH's key of the vertex there."""
+    k = tab.k
+    kface0 = tab.face_start[k]
+    out = {}
+    for g, s in enumerate(tab.ksimplex_kuhn):
+        f = kface0 + tab.ksimplex_face[g]
+        anchor = g_vertex + int(corner_off[tab.face_fixed[f]])
+        out[int(s)] = _face_key(anchor, int(tab.n_subsets[k]), int(tab.face_rank[f])) \
+            * tab.simplices_per_kface + int(tab.ksimplex_perm[g])
+    return out
+
+
+def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, corner_off):
+    """Records that replace every GCMH cell of one cube by the CMS cells it is made of.
+
+    Where a piece of M_A in the cube is not a ball and can't be cut (solids, n - k >= 3: a
+    thickened tube is a shell S^2 x I; or a surface piece `split_joined_pieces` declines), the
+    cube's own Kuhn simplices give convex cells with M_A's topology (paper Section 4).  The
+    cube's cells on its faces are shared with neighbours that keep their GCMH cells: each is
+    replaced by its CMS cells (rows (-r, old key, new key), applied to every incidence at the
+    assembly, whichever cube or block wrote it), so a neighbour's cell keeps its ball and gets a
+    finer boundary.  GCMH's vertices stay; the new vertices lie on the Kuhn k-simplices inside
+    the cube's faces.
+
+    The arguments are `cubes_chunk`'s for this one cube (arrays of length 1).  Returns records
+    (vk, vp, e, c, inc) to add, or None when the cube can't be refined (no Kuhn tables, n >= 8;
+    a degenerate crossing; keys out of range).
+    """
+    n, k = tab.n, tab.k
+    kuhn = tab.kuhn
+    if kuhn.corners.shape[0] == 0:
+        return None
+    args = (values, cube_row, origin, cube_key, axes_arr, value_off, corner_off)
+    (_, _, g_edges, g_cells, g_inc), _, _, _ = _kernels.cubes_chunk(0, 1, *args, tab)
+    (c_vk, c_vp, c_edges, c_cells, c_inc), _, degenerate, _ = _kernels.simplices_chunk(0, 1, *args, kuhn)
+    if degenerate:
+        return None
+    g_vertex = int(cube_key[0])
+    skeys = _simplex_keys(kuhn, g_vertex, corner_off)
+    if int(skeys.max()) >= -REFINED_BELOW:
+        return None
+    row_of = {int(x): s for s, x in enumerate(skeys)}
+    gcmh_of_row = _gcmh_vertex_keys(tab, g_vertex, corner_off)
+    dims = np.searchsorted(kuhn.start, np.arange(len(skeys)), side="right") - 1
+    # the face of the cube whose relative interior holds each simplex: its chain's first and last corners
+    last = kuhn.corners[np.arange(len(skeys)), dims]
+    face_of = {(int(tab.face_free[f]), int(tab.face_fixed[f])): f for f in range(len(tab.face_free))}
+    face_dim = np.array([bin(int(x)).count("1") for x in tab.face_free])
+    face_key_of = {}
+    for f in range(tab.face_start[k + 1], tab.face_start[n + 1]):
+        dim = int(face_dim[f])
+        anchor = g_vertex + int(corner_off[tab.face_fixed[f]])
+        face_key_of[(dim, _face_key(anchor, int(tab.n_subsets[dim]), int(tab.face_rank[f])))] = f
+
+    def carrier(s):
+        return face_of[(int(last[s] & ~kuhn.c0[s]), int(kuhn.c0[s]))]
+
+    # CMS entities (dim r, simplex key) with their faces; GCMH vertices under their own keys
+    faces_of: dict = {}
+    for key, a, b in c_edges.tolist():
+        faces_of[(1, key)] = [(0, a), (0, b)]
+    for r, x, y in c_inc.tolist():
+        faces_of.setdefault((r, x), []).append((r - 1, y))
+    for r, x in c_cells.tolist():
+        faces_of.setdefault((r, x), [])
+    entities = [(0, int(v)) for v in c_vk] + sorted(faces_of)
+    gcmh_vertex = {(0, int(v)): gcmh_of_row[row_of[int(v)]] for v in c_vk if row_of[int(v)] in gcmh_of_row}
+    # keep what is joined to a GCMH vertex (a piece GCMH has no vertex of is missed by every cube alike)
+    parent = {x: x for x in entities}
+    for x, ys in faces_of.items():
+        for y in ys:
+            _union(parent, x, y)
+    reached = {_root(parent, x) for x in gcmh_vertex}
+    keep = [x for x in entities if _root(parent, x) in reached]
+    # GCMH's cells of the cube, each with its face and one of its vertices (as a CMS vertex)
+    cms_vertex = {g: x for x, g in gcmh_vertex.items()}
+    vertex_of: dict = {}
+    for key, a, _ in g_edges.tolist():
+        vertex_of[(1, key)] = cms_vertex.get(a)
+    for r in range(2, n - k + 1):
+        for _, x, y in g_inc[g_inc[:, 0] == r].tolist():
+            vertex_of.setdefault((r, x), vertex_of.get((r - 1, y)))
+    by_face: dict = {}
+    for r, key in vertex_of:
+        f = face_key_of.get((r + k, key // int(tab.n_codes[r + k])))
+        if f is None or vertex_of[(r, key)] is None:
+            return None
+        by_face.setdefault(f, []).append((r, key))
+    # each GCMH r-cell is replaced by the CMS r-cells (simplices of its face's dimension) of its piece
+    top_in_face: dict = {}
+    for x in keep:
+        if x[0] >= 1:
+            f = carrier(row_of[x[1]])
+            if face_dim[f] == x[0] + k:  # (a simplex of its face's dimension)
+                top_in_face.setdefault(f, []).append(x)
+    replace = []
+    for f, cells in sorted(by_face.items()):
+        new = top_in_face.get(f, [])
+        if len(cells) > 1:  # several pieces: each gets the CMS cells of its piece of M_A in f
+            free, fixed = int(tab.face_free[f]), int(tab.face_fixed[f])
+            inside = [x for x in keep if _in_face(*_free_fixed(kuhn, last, row_of[x[1]]), free, fixed)]
+            sub = {x: x for x in inside}
+            for x in inside:
+                for y in faces_of.get(x, []):
+                    if y in sub:
+                        _union(sub, x, y)
+        for r, key in cells:
+            mine = new if len(cells) == 1 else [x for x in new if _root(sub, x) == _root(sub, vertex_of[(r, key)])]
+            if not mine:
+                return None
+            replace += [(-r, key, x[1]) for x in mine]
+    # the records: CMS's, keyed as refined cells; its vertices on the cube's k-faces are GCMH's
+    def vkey(x):
+        return gcmh_vertex[x] if x in gcmh_vertex else int(refined_key(x[1]))
+
+    kept = set(keep)
+    new_v = [i for i, v in enumerate(c_vk.tolist()) if (0, v) in kept and (0, v) not in gcmh_vertex]
+    vk = refined_key(c_vk[new_v])
+    vp = c_vp[new_v]
+    e = np.array([(refined_key(key), vkey((0, a)), vkey((0, b))) for key, a, b in c_edges.tolist()
+                  if (1, key) in kept], np.int64).reshape(-1, 3)
+    c = np.array([(r, refined_key(x)) for r, x in c_cells.tolist() if (r, x) in kept], np.int64).reshape(-1, 2)
+    inc = [(r, refined_key(x), refined_key(y)) for r, x, y in c_inc.tolist() if (r, x) in kept]
+    inc += [(r, old, refined_key(s)) for r, old, s in replace]
+    return vk, vp, e, c, np.array(inc, np.int64).reshape(-1, 3)
+
+
+def _free_fixed(kuhn, last, s):
+    return int(last[s] & ~kuhn.c0[s]), int(kuhn.c0[s])
+
+
+def _in_face(free, fixed, f_free, f_fixed):
+    """Whether the face (free, fixed) of the cube lies in the face (f_free, f_fixed)."""
+    return (free & ~f_free) == 0 and (fixed & ~f_free) == f_fixed
+
+
+def _root(parent, x):
+    while parent[x] != x:
+        parent[x] = parent[parent[x]]
+        x = parent[x]
+    return x
+
+
+def _union(parent, x, y):
+    a, b = _root(parent, x), _root(parent, y)
+    if a != b:
+        parent[b] = a
+
+
+def replace_refined_cells(e, c, inc):
+    """The assembly's records with every cell a cube refined (rows (-r, K, S) of inc) replaced:
+    K's own rows go, and every incidence (r + 1, X, K) becomes (r + 1, X, S) for each S."""
+    marked = inc[:, 0] < 0
+    if not marked.any():
+        return e, c, inc
+    rep = np.unique(inc[marked], axis=0)
+    inc = inc[~marked]
+    for r in np.unique(-rep[:, 0]).tolist():
+        rows = rep[rep[:, 0] == -r]
+        old = np.unique(rows[:, 1])
+        if r == 1:
+            e = e[~np.isin(e[:, 0], old)]
+        else:
+            c = c[~((c[:, 0] == r) & np.isin(c[:, 1], old))]
+            inc = inc[~((inc[:, 0] == r) & np.isin(inc[:, 1], old))]
+        # (r + 1, X, K) -> (r + 1, X, S) for each S that replaces K
+        hit = (inc[:, 0] == r + 1) & np.isin(inc[:, 2], old)
+        if hit.any():
+            order = np.argsort(rows[:, 1], kind="stable")
+            by_old, new = rows[order, 1], rows[order, 2]
+            lo = np.searchsorted(by_old, inc[hit, 2], side="left")
+            hi = np.searchsorted(by_old, inc[hit, 2], side="right")
+            count = hi - lo
+            expanded = np.repeat(inc[hit], count, axis=0)
+            starts = np.repeat(lo - np.concatenate([[0], np.cumsum(count)[:-1]]), count)
+            expanded[:, 2] = new[starts + np.arange(len(expanded))]
+            inc = np.concatenate([inc[~hit], expanded])
+    return e, c, inc

@@ -164,6 +164,12 @@ def _image_text(x, names, bounds, p, flips, period) -> str:
     return ", ".join(parts)
 
 
+def _incidence_dims(r: int, k: int) -> tuple[int, int]:
+    """The face dimensions of an incidence row's two keys: (r, X, Y) an r-cell and its
+    (r-1)-face; (-r, K, S) an r-cell and a refined r-cell that replaces it (`_balls`)."""
+    return (r + k, r - 1 + k) if r > 0 else (-r + k, -r + k)
+
+
 class IdentifiedGrid(Grid):
     """A `Grid` whose periodic axes wrap (see the module docstring).
 
@@ -275,8 +281,9 @@ class IdentifiedGrid(Grid):
                 c[sel, 1] = self._frame_keys(c[sel, 1], int(r) + k, mirrored)
             for r in np.unique(inc[:, 0]):
                 sel = inc[:, 0] == r
-                inc[sel, 1] = self._frame_keys(inc[sel, 1], int(r) + k, mirrored)
-                inc[sel, 2] = self._frame_keys(inc[sel, 2], int(r) - 1 + k, mirrored)
+                dim_x, dim_y = _incidence_dims(int(r), k)
+                inc[sel, 1] = self._frame_keys(inc[sel, 1], dim_x, mirrored)
+                inc[sel, 2] = self._frame_keys(inc[sel, 2], dim_y, mirrored)
             for key, arr in zip(("vk", "vp", "e", "c", "i"), (vk, vp, e, c, inc)):
                 self.parts[key].append(arr)
             self._vk_frames[id(vk)] = (vk, np.full(len(vk), sum(1 << b for b in mirrored), np.int64))
@@ -314,9 +321,10 @@ class IdentifiedGrid(Grid):
 
     # ------------------------------------------------------------------ keys
     def _decode(self, keys, dim):
-        """keys -> (anchor multi-indices (m, n), free axes (m, n) bool, the rest of the key)."""
+        """keys -> (anchor multi-indices (m, n), free axes (m, n) bool, the rest of the key);
+        dim None: keys of Kuhn simplices (in any method's grid)."""
         n = self.n
-        if self.simplicial:  # (anchor vertex) * (n+1)^n + code, code = sum step_a (n+1)^a
+        if self.simplicial or dim is None:  # (anchor vertex) * (n+1)^n + code, code = sum step_a (n+1)^a
             base = self._key_base
             anchor, code = np.divmod(keys, base)
             free = (code[:, None] // (n + 1) ** np.arange(n, dtype=np.int64)[None]) % (n + 1) > 0
@@ -331,38 +339,60 @@ class IdentifiedGrid(Grid):
 
     def _encode(self, multi, rest, dim):
         anchor = multi @ self.strides
-        if self.simplicial:
+        if self.simplicial or dim is None:
             return anchor * self._key_base + rest[0]
         rank, code = rest
         return (anchor * self._n_subsets[dim] + rank) * self._n_codes[dim] + code
 
     def _frame_keys(self, keys, dim, mirrored):
         """Keys from a frame mirrored along `mirrored`, as keys of the grid's frame: the
-        anchor (the face's lowest corner) of a face with b free moves to its other end."""
+        anchor (the face's lowest corner) of a face with b free moves to its other end.
+        dim None: keys of Kuhn simplices."""
         if not len(keys):
             return keys
-        cuts = keys < 0  # edges `_balls` cut through a cube, keyed by a cell key K of the cube
-        if cuts.any():
-            room = _balls.cut_key_room(self._n_codes[self.n])
-            cell, j = _balls.cut_key_parts(keys[cuts], room)
-            keys = keys.copy()
-            keys[cuts] = _balls.cut_key(self._frame_keys(cell, self.n, mirrored), j, room)
-            keys[~cuts] = self._frame_keys(keys[~cuts], dim, mirrored)
-            return keys
+        if (keys < 0).any():  # keys `_balls` made
+            return self._balls_keys(keys, dim, lambda x, d: self._frame_keys(x, d, mirrored))
         multi, free, rest = self._decode(keys, dim)
         for b in mirrored:
             multi[:, b] = self.div[b] - multi[:, b] - free[:, b]
         return self._encode(multi, rest, dim)
 
+    def _balls_keys(self, keys, dim, image):
+        """`image` (a key map) applied to keys that may be `_balls`': a cut edge's key names a
+        cell key K of its cube (mapped as an n-face's), a refined cell's a Kuhn simplex."""
+        keys = keys.copy()
+        refined = keys < _balls.REFINED_BELOW
+        cuts = (keys < 0) & ~refined
+        if cuts.any():
+            room = _balls.cut_key_room(self._n_codes[self.n])
+            cell, j = _balls.cut_key_parts(keys[cuts], room)
+            keys[cuts] = _balls.cut_key(image(cell, self.n), j, room)
+        if refined.any():
+            keys[refined] = _balls.refined_key(image(_balls.refined_key_simplex(keys[refined]), None))
+        plain = keys >= 0
+        keys[plain] = image(keys[plain], dim)
+        return keys
+
     def _seam_keys(self, keys, dim):
-        """Keys of faces on a seam replaced by their images' keys; and which were."""
+        """Keys of faces on a seam replaced by their images' keys; and which were.  dim None:
+        keys of Kuhn simplices."""
         moved_any = np.zeros(len(keys), bool)
         if not len(keys):
             return keys, moved_any
-        if (keys < 0).any():  # a cut's key names a cube, which is never on a seam's far side
-            keys = keys.copy()
-            inside = keys >= 0
-            keys[inside], moved_any[inside] = self._seam_keys(keys[inside], dim)
+        if (keys < 0).any():
+            moved = {}
+
+            def image(x, d):
+                mapped, moved[d] = self._seam_keys(x, d)
+                return mapped
+
+            keys = self._balls_keys(keys, dim, image)
+            # (a cut's key names a cube, never on a seam's far side; only plain and refined keys move)
+            refined = keys < _balls.REFINED_BELOW
+            if None in moved:
+                moved_any[refined] = moved[None]
+            if dim in moved:
+                moved_any[keys >= 0] = moved[dim]
             return keys, moved_any
         multi, free, rest = self._decode(keys, dim)
         for _ in range(len(self.spec) + 1):
@@ -409,8 +439,9 @@ class IdentifiedGrid(Grid):
             inc = cat["i"].copy()
             for r in np.unique(inc[:, 0]):
                 sel = inc[:, 0] == r
-                inc[sel, 1] = self._seam_keys(inc[sel, 1], int(r) + k)[0]
-                inc[sel, 2] = self._seam_keys(inc[sel, 2], int(r) - 1 + k)[0]
+                dim_x, dim_y = _incidence_dims(int(r), k)
+                inc[sel, 1] = self._seam_keys(inc[sel, 1], dim_x)[0]
+                inc[sel, 2] = self._seam_keys(inc[sel, 2], dim_y)[0]
             self.parts["i"] = [inc]
         seam_seconds = time.perf_counter() - t
         cx = super().assemble()

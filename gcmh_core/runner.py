@@ -135,7 +135,7 @@ class Grid:
             if len(non_ball):
                 # (.get: identify's per-parity grids start from their own stats)
                 self.stats["non_ball_cells"] = self.stats.get("non_ball_cells", 0) + int(non_ball[:, 2].sum())
-                records = split_non_ball_cells(self, records, non_ball[:, 0] + lo, common)
+                records = split_non_ball_cells(self, records, np.repeat(non_ball[:, 0] + lo, non_ball[:, 2]), common)
             for key, arr in zip(self.parts, records):
                 self.parts[key].append(arr)
             self.stats["degenerate"] += int(degenerate)
@@ -264,24 +264,30 @@ def non_ball_left(stats: dict) -> int:
 
 
 def split_non_ball_cells(grid: Grid, records: tuple, cubes: np.ndarray, common: tuple) -> tuple:
-    """A kernel run's records with the 2-cells that are not balls split (`_balls`), for
-    surfaces; meta["non_ball_split"] counts the pieces joined that are now split.
+    """A kernel run's records with the cells that are not balls split (`_balls`): a surface's
+    piece is cut into discs, other cubes' cells are replaced by CMS's; meta["non_ball_split"]
+    counts the pieces joined that are now split.
 
-    cubes: the run's cubes where the kernel found joined pieces; common: the kernel's
-    arguments after (lo, hi), for the whole run.
+    cubes: the run's cubes where the kernel found joined pieces, once per piece joined; common:
+    the kernel's arguments after (lo, hi), for the whole run.
     """
     values, cube_lin, origin, cube_key, axes_arr, value_off, corner_off, tab = common
     vk, vp, e, c, inc = records
-    for i in np.unique(cubes):
-        one = slice(int(i), int(i) + 1)
-        split = _balls.split_joined_pieces(tab, values, cube_lin[one], origin[one], cube_key[one], axes_arr,
-                                           value_off, corner_off)
-        if split is None:
-            continue
-        drop, new_edges, new_inc, pieces = split
-        keep = ~((inc[:, 0] == 2) & np.isin(inc[:, 1], drop))
-        e = np.concatenate([e, new_edges])
-        inc = np.concatenate([inc[keep], new_inc])
+    cubes, joined = np.unique(cubes, return_counts=True)
+    for i, pieces in zip(cubes.tolist(), joined.tolist()):
+        one = slice(i, i + 1)
+        cube = (tab, values, cube_lin[one], origin[one], cube_key[one], axes_arr, value_off, corner_off)
+        split = _balls.split_joined_pieces(*cube) if grid.n - grid.k == 2 else None
+        if split is not None:
+            drop, new_edges, new_inc, pieces = split
+            keep = ~((inc[:, 0] == 2) & np.isin(inc[:, 1], drop))
+            e = np.concatenate([e, new_edges])
+            inc = np.concatenate([inc[keep], new_inc])
+        else:  # solids, or a surface's piece that can't be cut: the cube's cells become CMS's
+            refined = _balls.refine_cube(*cube)
+            if refined is None:
+                continue
+            vk, vp, e, c, inc = (np.concatenate([a, b]) for a, b in zip((vk, vp, e, c, inc), refined))
         grid.stats["non_ball_split"] = grid.stats.get("non_ball_split", 0) + pieces
     return vk, vp, e, c, inc
 
@@ -313,6 +319,7 @@ def assemble_records(n, k, vk, vp, e, c, inc) -> CellComplex:
     """
     vkeys, first = unique_first(vk)
     vertices = np.ascontiguousarray(vp[first])
+    e, c, inc = _balls.replace_refined_cells(e, c, inc)
     keys = {1: unique_first(e[:, 0])}
     edges = np.searchsorted(vkeys, e[keys[1][1], 1:3]).astype(np.int64)
     cells = {}

@@ -584,16 +584,17 @@ def _cell_faces(cx, r):
     return [faces[offsets[i]:offsets[i + 1]].tolist() for i in range(len(offsets) - 1)]
 
 
-def _closure(cx, r, cell):
-    """{dimension: set of ids} of the cells in the closure of r-cell `cell`, below r."""
+def _closure(cx, r, cell, faces=None):
+    """{dimension: set of ids} of the cells in the closure of r-cell `cell`, below r.
+    faces: {r: _cell_faces(cx, r)}, when the caller has them."""
+    faces = faces if faces is not None else {d: _cell_faces(cx, d) for d in range(1, r + 1)}
     out = {d: set() for d in range(r)}
-    todo = {r - 1: set(_cell_faces(cx, r)[cell]) if r >= 1 else set()}
+    todo = {r - 1: set(faces[r][cell]) if r >= 1 else set()}
     for d in range(r - 1, -1, -1):
         here = todo.get(d, set())
         out[d] |= here
         if d >= 1:
-            below = _cell_faces(cx, d)
-            todo[d - 1] = {y for x in here for y in below[x]}
+            todo[d - 1] = {y for x in here for y in faces[d][x]}
     return out
 
 
@@ -611,8 +612,9 @@ def structure_problems(cx, bounds=None, div=None) -> list[str]:
     if len(E) and len({tuple(sorted(e)) for e in E.tolist()}) != len(E):
         problems.append("two edges with the same ends")
     dim = cx.dim
+    all_faces = {r: _cell_faces(cx, r) for r in range(1, dim + 1)}
     for r in range(2, dim + 1):
-        for i, faces in enumerate(_cell_faces(cx, r)):
+        for i, faces in enumerate(all_faces[r]):
             if len(set(faces)) != len(faces):
                 problems.append(f"{r}-cell {i} lists a face twice")
                 continue
@@ -632,7 +634,7 @@ def structure_problems(cx, bounds=None, div=None) -> list[str]:
                 continue
             # r >= 3: every (r-2)-face of the boundary in exactly two boundary cells,
             # connected, and the Euler characteristic of S^(r-1)
-            below = _cell_faces(cx, r - 1)
+            below = all_faces[r - 1]
             count = defaultdict(int)
             uf = UnionFind()
             for y in faces:
@@ -640,7 +642,7 @@ def structure_problems(cx, bounds=None, div=None) -> list[str]:
                 for z in below[y]:
                     count[z] += 1
                     uf.union(("c", y), ("f", z))
-            closure = _closure(cx, r, i)
+            closure = _closure(cx, r, i, all_faces)
             chi = sum((-1) ** d * len(ids) for d, ids in closure.items())
             if any(c != 2 for c in count.values()) or len({uf.find(("c", y)) for y in faces}) != 1 \
                     or chi != 1 + (-1) ** (r - 1):
@@ -655,7 +657,7 @@ def structure_problems(cx, bounds=None, div=None) -> list[str]:
             hi = np.array([b[1] for b in bounds], float)
             tol = 0.5 * (hi - lo) / np.asarray(div if div is not None else 1, float)
             for f in np.flatnonzero(cofaces == 1):
-                vs = sorted(_closure(cx, dim - 1, f)[0]) if dim >= 2 else [f]
+                vs = sorted(_closure(cx, dim - 1, f, all_faces)[0]) if dim >= 2 else [f]
                 P = V[vs]
                 one_line = (np.abs(P - P[0]) <= 1e-9 * (hi - lo)).all(axis=0)
                 near = (np.abs(P[0] - lo) <= tol) | (np.abs(P[0] - hi) <= tol)
