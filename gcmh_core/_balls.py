@@ -32,6 +32,8 @@ key can meet (`identify` maps K for mirrored frames).
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 from . import _kernels
@@ -452,7 +454,7 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
             f = carrier(row_of[x[1]])
             if face_dim[f] == x[0] + k:  # (a simplex of its face's dimension)
                 top_in_face.setdefault(f, []).append(x)
-    replace = []
+    assigned = []
     for f, cells in sorted(by_face.items()):
         new = top_in_face.get(f, [])
         if len(cells) > 1:  # several pieces: each gets the CMS cells of its piece of M_A in f
@@ -467,7 +469,10 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
             mine = new if len(cells) == 1 else [x for x in new if _root(sub, x) == _root(sub, vertex_of[(r, key)])]
             if not mine:
                 return None
-            replace += [(-r, key, x[1]) for x in mine]
+            assigned.append((r, key, mine))
+    # (a piece of M_A that bulges through one of the cube's faces between its k-faces has cells there
+    # that no GCMH cell holds: a neighbour keeps them only if its own count differs from CMS's too)
+    replace = [(-r, key, x[1]) for r, key, mine in assigned for x in mine]
     # the records: CMS's, keyed as refined cells; its vertices on the cube's k-faces are GCMH's
     def vkey(x):
         return gcmh_vertex[x] if x in gcmh_vertex else int(refined_key(x[1]))
@@ -535,3 +540,30 @@ def replace_refined_cells(e, c, inc):
             expanded[:, 2] = new[starts + np.arange(len(expanded))]
             inc = np.concatenate([inc[~hit], expanded])
     return e, c, inc
+
+
+def cube_euler(tab, records, origin, strides, dims):
+    """The Euler characteristic of GCMH's cells in each closed cube of a kernel run (origin (m, n)
+    grid indices), from the run's records (`_kernels.records_cube_euler`)."""
+    n, k = tab.n, tab.k
+    vk, _, e, c, _ = records
+    by_dim = [vk, e[:, 0]] + [c[c[:, 0] == r, 1] for r in range(2, n - k + 1)]
+    offsets = np.cumsum([0] + [len(x) for x in by_dim]).astype(np.int64)
+    return _kernels.records_cube_euler(np.concatenate(by_dim), offsets, origin @ strides, strides, dims, tab.n_codes, tab.n_subsets,
+                                       _free_of_rank(tab), k)
+
+
+@lru_cache(maxsize=16)
+def _free_of_rank_cached(n, k):
+    from ._tables import cube_tables
+    tab = cube_tables(n, k)
+    out = np.zeros((n + 1, int(tab.n_subsets.max())), np.int64)
+    for dim in range(k, n + 1):
+        faces = slice(tab.face_start[dim], tab.face_start[dim + 1])
+        out[dim, tab.face_rank[faces]] = tab.face_free[faces]
+    return out
+
+
+def _free_of_rank(tab):
+    """[dim, rank] -> the free axes (bits) of the faces of that dimension and rank."""
+    return _free_of_rank_cached(tab.n, tab.k)

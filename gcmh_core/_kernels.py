@@ -1676,6 +1676,108 @@ def simplices_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lin
     )
 
 
+@nb.njit(**JIT)
+def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables):
+    """The Euler characteristic of M_A in each closed cube lo..hi-1 by CMS's count (paper
+    Section 4): each crossed Kuhn simplex of dimension k + r is an r-cell, a convex polytope,
+    counted (-1)^r.  GCMH's cells in the same closed cube count the same when they are all
+    balls (`runner.Grid.check_cells` compares the two).  tables: `_tables.SimplexTables`.
+    (No records and no positions: a simplex of dimension > k is crossed when one of its
+    facets is, as in `simplices_chunk`, which also counts a polytope with too few facets.)
+    """
+    n = tables.n
+    k = tables.k
+    start = tables.start
+    corners = tables.corners
+    facets = tables.facets
+    crossed = np.empty(start[n + 1], np.int64)
+    corner_signs = np.empty(1 << n, np.int64)
+    mat = np.empty((k, k), np.float64)
+    rhs = np.empty(k, np.float64)
+    lam = np.empty(k + 1, np.float64)
+    all_signs = (np.int64(1) << k) - 1
+    out = np.zeros(hi - lo, np.int64)
+    for ci in range(lo, hi):
+        o = cube_row[ci]
+        for c in range(1 << n):
+            p = np.int64(0)
+            for j in range(k):
+                if values[o + corner_row[c], j] >= 0.0:
+                    p |= np.int64(1) << j
+            corner_signs[c] = p
+        chi = 0
+        for s in range(start[k], start[k + 1]):
+            crossed[s] = 0
+            any_pos = np.int64(0)
+            all_pos = all_signs
+            for i in range(k + 1):
+                p = corner_signs[corners[s, i]]
+                any_pos |= p
+                all_pos &= p
+            if any_pos != all_signs or all_pos != 0:  # some F_j has one sign on the simplex
+                continue
+            hit = _simplex_crosses_call(values, o, corner_row, corners, s, k, corner_signs, all_signs, mat, rhs, lam)
+            if hit == 2:
+                hit = _zero_side(values, o, corner_row, corners, s, k, lam)
+            if hit:
+                crossed[s] = 1
+                chi += 1
+        for d in range(k + 1, n + 1):
+            sign = 1 if (d - k) % 2 == 0 else -1
+            for s in range(start[d], start[d + 1]):
+                crossed[s] = 0
+                for j in range(d + 1):
+                    if crossed[facets[s, j]]:
+                        crossed[s] = 1
+                        chi += sign
+                        break
+        out[ci - lo] = chi
+    return out
+
+
+@nb.njit(**JIT)
+def records_cube_euler(keys, offsets, cube_keys, strides, dims, n_codes, n_subsets, free_of_rank, k):
+    """The Euler characteristic of GCMH's cells in each closed cube of a kernel run: every
+    vertex, edge and cell of the run's records (keys[offsets[r]:offsets[r + 1]]: the r-cells'
+    keys, repeats allowed) counted (-1)^r once in each of the run's cubes (cube_keys: their origins' grid
+    vertices) that holds its face.  A cube writes every cell of its faces, so the run's records
+    hold all of them.  `cube_euler_chunk`'s count where every cell is a ball."""
+    n = strides.shape[0]
+    order = np.argsort(cube_keys)
+    sorted_keys = cube_keys[order]
+    m = sorted_keys.shape[0]
+    chi = np.zeros(m, np.int64)
+    multi = np.empty(n, np.int64)
+    for r in range(offsets.shape[0] - 1):
+        dim = r + k
+        here = np.sort(keys[offsets[r] : offsets[r + 1]])
+        sign = 1 if r % 2 == 0 else -1
+        for i in range(here.shape[0]):
+            if i > 0 and here[i] == here[i - 1]:
+                continue
+            face_key = here[i] // n_codes[dim]
+            anchor = face_key // n_subsets[dim]
+            free = free_of_rank[dim, face_key % n_subsets[dim]]
+            for a in range(n):
+                multi[a] = (anchor // strides[a]) % dims[a]
+            for step in range(1 << n):  # the cubes below the face's anchor along its fixed axes
+                if step & free:
+                    continue
+                key = anchor
+                for a in range(n):
+                    if (step >> a) & 1:
+                        if multi[a] == 0:
+                            key = -1
+                            break
+                        key -= strides[a]
+                if key < 0:
+                    continue
+                j = np.searchsorted(sorted_keys, key)
+                if j < m and sorted_keys[j] == key:
+                    chi[order[j]] += sign
+    return chi
+
+
 # ----------------------------------------------------------------------------- the candidate pass
 # Which cubes can hold a piece of M_A: every component of F has a value >= 0 and one < 0
 # among the cube's corners, and no corner value is NaN or infinite.  A per-vertex code

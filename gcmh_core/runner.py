@@ -46,6 +46,8 @@ _CHUNKS_PER_THREAD = 2
 # Candidate cubes per kernel run at most (fewer where a cube costs more, `_cost.kernel_batch_cubes`):
 # a run of the three-torus's costliest cubes takes about 0.2 s, so a cancel is answered within that.
 _KERNEL_BATCH = 4096
+# Kuhn simplices per cube (dimensions k..n) up to which solids' cells are checked (`Grid.check_cells`)
+_CHECK_SIMPLICES = 2500
 
 
 _pool_lock = threading.Lock()
@@ -95,6 +97,10 @@ class Grid:
             key_room = max(total * int(self.tab.n_subsets[d]) * int(self.tab.n_codes[d]) for d in range(k, n + 1))
         if key_room >= 2**63:
             raise InputError(f"the grid is too large to index ({total:,} vertices in R^{n}): use a smaller div")
+        # solids' cells are checked against CMS's Euler characteristic cube by cube where a cube's
+        # Kuhn simplices are few enough (n <= 5: 1.3-1.7 times the run; n = 6 would take 7-11 times)
+        kuhn = self.tab.kuhn
+        self.check_cells = not self.simplicial and n - k >= 3 and 0 < kuhn.start[n + 1] - kuhn.start[k] <= _CHECK_SIMPLICES
         self.axes_arr = np.zeros((n, int(self.dims.max())))
         for a in range(n):
             self.axes_arr[a, : self.dims[a]] = axes[a]
@@ -124,24 +130,44 @@ class Grid:
         cube_key = origin @ self.strides
         common = (values, cube_lin, origin, cube_key, self.axes_arr, value_off, self.corner_off, self.kernel_tables)
         chunk = _kernels.simplices_chunk if self.simplicial else _kernels.cubes_chunk
+
+        def run(lo, hi):
+            result = chunk(lo, hi, *common)
+            return result, (self._cubes_off_euler(result[0], common, lo, hi) if self.check_cells else None)
+
         threads = numba.get_num_threads()
         pieces = 1 if m < _SERIAL_CUBES or threads == 1 else min(m, _CHUNKS_PER_THREAD * threads)
         cuts = [i * m // pieces for i in range(pieces + 1)]
         if pieces == 1:
-            results = [chunk(0, m, *common)]
+            both = [run(0, m)]
         else:
-            results = list(_kernel_pool().map(lambda lo, hi: chunk(lo, hi, *common), cuts[:-1], cuts[1:]))
-        for lo, (records, _, degenerate, non_ball) in zip(cuts, results):
-            if len(non_ball):
+            both = list(_kernel_pool().map(run, cuts[:-1], cuts[1:]))
+        results = [result for result, _ in both]
+        for lo, ((records, _, degenerate, non_ball), off_euler) in zip(cuts, both):
+            # cubes with cells that are not balls, once per such cell: pieces of G_H that M_A joins
+            # (the kernel); solids' cubes where GCMH's count differs from CMS's (a solid torus's cell)
+            cubes = np.repeat(non_ball[:, 0] + lo, non_ball[:, 2])
+            if off_euler is not None:
+                cubes = np.concatenate([cubes, off_euler[~np.isin(off_euler, cubes)]])
+            if len(cubes):
                 # (.get: identify's per-parity grids start from their own stats)
-                self.stats["non_ball_cells"] = self.stats.get("non_ball_cells", 0) + int(non_ball[:, 2].sum())
-                records = split_non_ball_cells(self, records, np.repeat(non_ball[:, 0] + lo, non_ball[:, 2]), common)
+                self.stats["non_ball_cells"] = self.stats.get("non_ball_cells", 0) + len(cubes)
+                records = split_non_ball_cells(self, records, cubes, common)
             for key, arr in zip(self.parts, records):
                 self.parts[key].append(arr)
             self.stats["degenerate"] += int(degenerate)
         self.stats["candidate_cubes"] += m
         self.timings["kernel"] += time.perf_counter() - t
         return results[0][1] if pieces == 1 else np.concatenate([result[1] for result in results])
+
+    def _cubes_off_euler(self, records, common, lo, hi) -> np.ndarray:
+        """The cubes lo..hi-1 of a kernel run (a kernel thread's piece) where GCMH's cells count
+        another Euler characteristic than CMS's on the same cube: a cell there is not a ball
+        (a solid torus, a disc with a handle), though no two pieces of G_H need be joined."""
+        values, cube_lin, origin, _, _, value_off, _, _ = common
+        cms = _kernels.cube_euler_chunk(lo, hi, values, cube_lin, value_off, self.tab.kuhn)
+        gcmh = _balls.cube_euler(self.tab, records, origin[lo:hi], self.strides, self.dims)
+        return lo + np.flatnonzero(cms != gcmh)
 
     def process_block(self, values, lo, hi, first_layer=None) -> np.ndarray:
         """The candidate cubes of the block of cubes lo..hi-1 (per axis, global indices).
@@ -228,6 +254,7 @@ class Grid:
         self.timings["assemble"] = time.perf_counter() - t
         cx.meta.update(self.stats)
         cx.meta["non_ball_left"] = non_ball_left(self.stats)
+        cx.meta["cells_checked"] = bool(self.check_cells)
         cx.meta["timings"] = self.timings
         return cx
 
