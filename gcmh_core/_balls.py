@@ -371,7 +371,7 @@ def _gcmh_vertex_keys(tab, g_vertex, corner_off) -> dict:
     return out
 
 
-def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, corner_off):
+def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, corner_off, neighbours_checked=False):
     """Records that replace every GCMH cell of one cube by the CMS cells it is made of.
 
     Where a piece of M_A in the cube is not a ball and can't be cut (solids, n - k >= 3: a
@@ -383,9 +383,11 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
     finer boundary.  GCMH's vertices stay; the new vertices lie on the Kuhn k-simplices inside
     the cube's faces.
 
-    The arguments are `cubes_chunk`'s for this one cube (arrays of length 1).  Returns records
-    (vk, vp, e, c, inc) to add, or None when the cube can't be refined (no Kuhn tables, n >= 8;
-    a degenerate crossing; keys out of range).
+    The arguments are `cubes_chunk`'s for this one cube (arrays of length 1); neighbours_checked:
+    whether every cube's Euler characteristic is checked (`runner.Grid.check_cells`).  Returns
+    records (vk, vp, e, c, inc) to add, or None when the cube can't be refined (no Kuhn tables,
+    n >= 8; a degenerate crossing; keys out of range; M_A on a face where GCMH has no cell and the
+    neighbours are not checked).
     """
     n, k = tab.n, tab.k
     kuhn = tab.kuhn
@@ -426,13 +428,7 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
         faces_of.setdefault((r, x), [])
     entities = [(0, int(v)) for v in c_vk] + sorted(faces_of)
     gcmh_vertex = {(0, int(v)): gcmh_of_row[row_of[int(v)]] for v in c_vk if row_of[int(v)] in gcmh_of_row}
-    # keep what is joined to a GCMH vertex (a piece GCMH has no vertex of is missed by every cube alike)
-    parent = {x: x for x in entities}
-    for x, ys in faces_of.items():
-        for y in ys:
-            _union(parent, x, y)
-    reached = {_root(parent, x) for x in gcmh_vertex}
-    keep = [x for x in entities if _root(parent, x) in reached]
+    keep = entities
     # GCMH's cells of the cube, each with its face and one of its vertices (as a CMS vertex)
     cms_vertex = {g: x for x, g in gcmh_vertex.items()}
     vertex_of: dict = {}
@@ -470,8 +466,13 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
             if not mine:
                 return None
             assigned.append((r, key, mine))
-    # (a piece of M_A that bulges through one of the cube's faces between its k-faces has cells there
-    # that no GCMH cell holds: a neighbour keeps them only if its own count differs from CMS's too)
+    # A piece of M_A that bulges through one of the cube's faces between its k-faces has cells there
+    # that no GCMH cell holds: the neighbour across has them only if it is refined too, which its
+    # own Euler check sees; without that check the cube stays as it was.
+    covered = {x for _, _, mine in assigned for x in mine}
+    if not neighbours_checked and any(x not in covered for f, xs in top_in_face.items() if face_dim[f] < n
+                                      for x in xs):
+        return None
     replace = [(-r, key, x[1]) for r, key, mine in assigned for x in mine]
     # the records: CMS's, keyed as refined cells; its vertices on the cube's k-faces are GCMH's
     def vkey(x):
@@ -543,27 +544,43 @@ def replace_refined_cells(e, c, inc):
 
 
 def cube_euler(tab, records, origin, strides, dims):
-    """The Euler characteristic of GCMH's cells in each closed cube of a kernel run (origin (m, n)
-    grid indices), from the run's records (`_kernels.records_cube_euler`)."""
+    """The Euler characteristic of GCMH's cells in each open face (a `CubeTables` row) of each
+    cube of a kernel run (origin (m, n) grid indices), from the run's records
+    (`_kernels.records_cube_euler`): (m, faces)."""
     n, k = tab.n, tab.k
     vk, _, e, c, _ = records
     by_dim = [vk, e[:, 0]] + [c[c[:, 0] == r, 1] for r in range(2, n - k + 1)]
     offsets = np.cumsum([0] + [len(x) for x in by_dim]).astype(np.int64)
-    return _kernels.records_cube_euler(np.concatenate(by_dim), offsets, origin @ strides, strides, dims, tab.n_codes, tab.n_subsets,
-                                       _free_of_rank(tab), k)
+    free_of_rank, face_row, _ = _face_maps(n, k)
+    return _kernels.records_cube_euler(np.concatenate(by_dim), offsets, origin @ strides, strides, dims, tab.n_codes,
+                                       tab.n_subsets, free_of_rank, face_row, k)
+
+
+def cms_cube_euler(tab, values, cube_row, corner_row, lo, hi):
+    """CMS's count in each open face of each cube lo..hi-1 (`_kernels.cube_euler_chunk`): (hi - lo, faces)."""
+    _, face_row, carrier = _face_maps(tab.n, tab.k)
+    return _kernels.cube_euler_chunk(lo, hi, values, cube_row, corner_row, tab.kuhn, carrier, len(tab.face_free))
 
 
 @lru_cache(maxsize=16)
-def _free_of_rank_cached(n, k):
+def _face_maps(n, k):
+    """[dim, rank] -> free axes (bits) of the faces of that dimension and rank; [free, fixed] -> the
+    `CubeTables` row of that face (-1: none); Kuhn simplex row -> the row of the face whose relative
+    interior holds it (its chain's first and last corners give it)."""
     from ._tables import cube_tables
+
     tab = cube_tables(n, k)
-    out = np.zeros((n + 1, int(tab.n_subsets.max())), np.int64)
+    free_of_rank = np.zeros((n + 1, int(tab.n_subsets.max())), np.int64)
     for dim in range(k, n + 1):
         faces = slice(tab.face_start[dim], tab.face_start[dim + 1])
-        out[dim, tab.face_rank[faces]] = tab.face_free[faces]
-    return out
-
-
-def _free_of_rank(tab):
-    """[dim, rank] -> the free axes (bits) of the faces of that dimension and rank."""
-    return _free_of_rank_cached(tab.n, tab.k)
+        free_of_rank[dim, tab.face_rank[faces]] = tab.face_free[faces]
+    face_row = -np.ones((1 << n, 1 << n), np.int64)
+    face_row[tab.face_free, tab.face_fixed] = np.arange(len(tab.face_free))
+    kuhn = tab.kuhn
+    rows = np.arange(kuhn.start[n + 1])
+    dims = np.searchsorted(kuhn.start, rows, side="right") - 1
+    carrier = np.zeros(len(rows), np.int64)
+    mine = rows >= kuhn.start[k]
+    last = kuhn.corners[rows[mine], dims[mine]]
+    carrier[mine] = face_row[last & ~kuhn.c0[mine], kuhn.c0[mine]]
+    return free_of_rank, face_row, carrier

@@ -1677,13 +1677,15 @@ def simplices_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lin
 
 
 @nb.njit(**JIT)
-def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables):
-    """The Euler characteristic of M_A in each closed cube lo..hi-1 by CMS's count (paper
-    Section 4): each crossed Kuhn simplex of dimension k + r is an r-cell, a convex polytope,
-    counted (-1)^r.  GCMH's cells in the same closed cube count the same when they are all
-    balls (`runner.Grid.check_cells` compares the two).  tables: `_tables.SimplexTables`.
-    (No records and no positions: a simplex of dimension > k is crossed when one of its
-    facets is, as in `simplices_chunk`, which also counts a polytope with too few facets.)
+def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables, carrier, n_faces):
+    """The Euler characteristic of M_A in each open face of each cube lo..hi-1 by CMS's count
+    (paper Section 4): each crossed Kuhn simplex of dimension k + r is an r-cell, a convex
+    polytope, counted (-1)^r in the face whose relative interior holds it (carrier[s], a
+    `CubeTables` face row; n_faces rows).  GCMH's cells in the same face count the same when
+    they are all balls (`runner.Grid.check_cells` compares the two).  tables:
+    `_tables.SimplexTables`.  (No records and no positions: a simplex of dimension > k is crossed
+    when one of its facets is, as in `simplices_chunk`, which also counts a polytope with too
+    few facets.)  Returns (hi - lo, n_faces).
     """
     n = tables.n
     k = tables.k
@@ -1696,7 +1698,7 @@ def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables):
     rhs = np.empty(k, np.float64)
     lam = np.empty(k + 1, np.float64)
     all_signs = (np.int64(1) << k) - 1
-    out = np.zeros(hi - lo, np.int64)
+    out = np.zeros((hi - lo, n_faces), np.int64)
     for ci in range(lo, hi):
         o = cube_row[ci]
         for c in range(1 << n):
@@ -1705,7 +1707,6 @@ def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables):
                 if values[o + corner_row[c], j] >= 0.0:
                     p |= np.int64(1) << j
             corner_signs[c] = p
-        chi = 0
         for s in range(start[k], start[k + 1]):
             crossed[s] = 0
             any_pos = np.int64(0)
@@ -1721,7 +1722,7 @@ def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables):
                 hit = _zero_side(values, o, corner_row, corners, s, k, lam)
             if hit:
                 crossed[s] = 1
-                chi += 1
+                out[ci - lo, carrier[s]] += 1
         for d in range(k + 1, n + 1):
             sign = 1 if (d - k) % 2 == 0 else -1
             for s in range(start[d], start[d + 1]):
@@ -1729,24 +1730,24 @@ def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables):
                 for j in range(d + 1):
                     if crossed[facets[s, j]]:
                         crossed[s] = 1
-                        chi += sign
+                        out[ci - lo, carrier[s]] += sign
                         break
-        out[ci - lo] = chi
     return out
 
 
 @nb.njit(**JIT)
-def records_cube_euler(keys, offsets, cube_keys, strides, dims, n_codes, n_subsets, free_of_rank, k):
-    """The Euler characteristic of GCMH's cells in each closed cube of a kernel run: every
-    vertex, edge and cell of the run's records (keys[offsets[r]:offsets[r + 1]]: the r-cells'
-    keys, repeats allowed) counted (-1)^r once in each of the run's cubes (cube_keys: their origins' grid
-    vertices) that holds its face.  A cube writes every cell of its faces, so the run's records
-    hold all of them.  `cube_euler_chunk`'s count where every cell is a ball."""
+def records_cube_euler(keys, offsets, cube_keys, strides, dims, n_codes, n_subsets, free_of_rank, face_row, k):
+    """The Euler characteristic of GCMH's cells in each open face of each cube of a kernel run:
+    every vertex, edge and cell of the run's records (keys[offsets[r]:offsets[r + 1]]: the
+    r-cells' keys, repeats allowed) counted (-1)^r once in each of the run's cubes (cube_keys:
+    their origins' grid vertices) that holds its face, in that face's row (face_row[free, fixed]:
+    the `CubeTables` row).  A cube writes every cell of its faces, so the run's records hold all
+    of them.  `cube_euler_chunk`'s count where every cell is a ball.  Returns (m, faces)."""
     n = strides.shape[0]
     order = np.argsort(cube_keys)
     sorted_keys = cube_keys[order]
     m = sorted_keys.shape[0]
-    chi = np.zeros(m, np.int64)
+    chi = np.zeros((m, face_row.max() + 1), np.int64)
     multi = np.empty(n, np.int64)
     for r in range(offsets.shape[0] - 1):
         dim = r + k
@@ -1773,8 +1774,8 @@ def records_cube_euler(keys, offsets, cube_keys, strides, dims, n_codes, n_subse
                 if key < 0:
                     continue
                 j = np.searchsorted(sorted_keys, key)
-                if j < m and sorted_keys[j] == key:
-                    chi[order[j]] += sign
+                if j < m and sorted_keys[j] == key:  # in that cube the face is fixed at 1 along `step`
+                    chi[order[j], face_row[free, step]] += sign
     return chi
 
 

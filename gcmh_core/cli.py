@@ -162,6 +162,11 @@ def _build_parser() -> _Parser:
     out.add_argument("--vtu", metavar="OUT.vtu", help="save the cell complex as a VTK unstructured grid")
     out.add_argument("--json", action="store_true", help="print one JSON object instead of a summary")
     out.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.add_argument(
+        "--check-cells", action="store_true",
+        help="solids (n - k >= 3): check every cube's cells against CMS's Euler characteristic also for "
+        "n = 6, 7, where it costs 7 to 11 times the run (n <= 5: always)",
+    )
     guard = p.add_argument_group("before the run")
     guard.add_argument(
         "--dry-run", action="store_true",
@@ -519,6 +524,7 @@ def _cmd_extract(args) -> int:
                 force=args.force,
                 params=job["params"],
                 periodic=job["periodic"],
+                check_cells=True if args.check_cells else None,
             )
     finally:
         progress.close()
@@ -632,10 +638,12 @@ def _summary(cx, job, outputs) -> dict:
         "nonfinite_vertices": int(meta.get("nonfinite_vertices", 0) or 0),
         # events the kernels could not resolve (meta["degenerate"]): 0 on a trustworthy complex
         "degenerate": int(meta.get("degenerate", 0) or 0),
-        # cells that are not balls (a tube through a cube gave GCMH one disc per end): split into
-        # discs with M_A's topology for surfaces (`_balls`); what is left is wrong there
+        # cells that are not balls (a tube through a cube gave GCMH one disc per end): cut into
+        # discs for surfaces, refined by CMS for solids (`_balls`); what is left is wrong there
         "non_ball_cells": int(meta.get("non_ball_left", meta.get("non_ball_cells", 0)) or 0),
         "non_ball_split": int(meta.get("non_ball_split", 0) or 0),
+        # solids: whether every cube's cells were checked against CMS's Euler characteristic
+        "cells_checked": bool(meta.get("cells_checked", False)),
         "halved_edges": int(meta.get("halved_edges", 0) or 0),
         "example": job["name"],
         "params": meta.get("params") or {},
@@ -672,8 +680,12 @@ def _human(s: dict, job: dict) -> str:
         lines.append(f"  warning: at {s['non_ball_cells']} places a piece of M inside a cube is not a ball, so the "
                      "topology is wrong there: use --method cms, or a finer --div")
     if s["non_ball_split"]:
-        lines.append(f"  note: at {s['non_ball_split']} places M is a tube through a cube; GCMH's cells there were "
-                     "cut into discs, so the topology is right")
+        how = "cut into discs" if s["n"] - s["k"] == 2 else "replaced by the simplicial (CMS) cells of their cubes"
+        lines.append(f"  note: at {s['non_ball_split']} places a piece of M inside a cube was not a ball; GCMH's cells "
+                     f"there were {how}, so the topology is right")
+    if s["n"] - s["k"] >= 3 and not s["cells_checked"] and s["method"] in ("gcmh", "gcch"):
+        lines.append("  note: cells were not checked against CMS's Euler characteristic (costly for n >= 6): "
+                     "--check-cells does")
     if s["singular_vertices"]:
         lines.append(f"  notice: F's Jacobian nearly loses rank at {s['singular_vertices']} vertices: "
                      "M is singular there, the parameters are at or near a critical value")

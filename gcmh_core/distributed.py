@@ -80,7 +80,7 @@ _ADDRESS = re.compile(r"^tcp://(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):(\d{1,5})$")
 
 # ----------------------------------------------------------------------------- public
 def run_distributed(method, n, k, axes, bounds, system, sampled, starts, scheduler, block, progress, cancel,
-                    spec=()):
+                    spec=(), check_cells=None):
     """Run `method` on a Dask cluster; returns the same CellComplex as a single-process run.
 
     method : "gcmh"/"cms" (blocks of the whole grid) or "gcch"/"ccs" (continuation waves).
@@ -93,6 +93,7 @@ def run_distributed(method, n, k, axes, bounds, system, sampled, starts, schedul
     progress(phase, fraction), cancel() -> bool : as in `extract`.
     spec : identified axes, ((p, (b, ...)), ...) as `_validate.as_periodic` gives them (axes then
         from `identify.identified_axes`): every task builds the `identify.IdentifiedGrid`.
+    check_cells : as `runner.Grid`'s; every task's grid gets the run's answer.
     """
     address = check_scheduler(scheduler)
     div = np.array([len(a) - 1 for a in axes], np.int64)
@@ -106,7 +107,7 @@ def run_distributed(method, n, k, axes, bounds, system, sampled, starts, schedul
             'scheduler needs dask.distributed, which is not installed: pip install -e ".[cluster]"'
         ) from None
     ident = _identification(spec, bounds, sampled)
-    grid = _new_grid(n, k, axes, method, ident)  # validates the grid's size before any cluster starts
+    grid = _new_grid(n, k, axes, method, ident, check_cells)  # validates the grid's size before any cluster starts
     if progress is not None:  # starting a cluster takes a second or two: say so
         progress("starting a local dask cluster" if address == "local" else f"connecting to {address}", 0.0)
     with _Session(address, sampled) as session:
@@ -176,12 +177,13 @@ def _identification(spec, bounds, sampled) -> tuple | None:
     return spec, tuple(map(tuple, np.asarray(bounds, np.float64).tolist()))
 
 
-def _new_grid(n, k, axes, method, ident) -> Grid:
+def _new_grid(n, k, axes, method, ident, check_cells=None) -> Grid:
     if ident is None:
-        return Grid(n, k, axes, method)
+        return Grid(n, k, axes, method, check_cells=check_cells)
     from .identify import IdentifiedGrid  # noqa: PLC0415
 
-    return IdentifiedGrid(n, k, axes, method, spec=ident[0], bounds=np.array(ident[1], np.float64))
+    return IdentifiedGrid(n, k, axes, method, spec=ident[0], bounds=np.array(ident[1], np.float64),
+                          check_cells=check_cells)
 
 
 # ----------------------------------------------------------------------------- the cluster
@@ -412,7 +414,7 @@ def _run_blocks(session, grid, method, div, block, system, sampled, progress, ca
             data = shared
         futures.append(client.submit(
             _block_task, grid.n, grid.k, method, grid.axes, formula, data, lo, hi, threads, ident,
-            key=session.key("block"), pure=False,
+            check_cells=grid.check_cells, key=session.key("block"), pure=False,
         ))
     if progress is not None:
         progress(f"extracting: 0/{len(futures)} blocks", 0.0)
@@ -446,7 +448,7 @@ def _process_wave(session, method, system, sampled, cancel, ident, grid, origins
     chunks = client.scatter(np.array_split(origins, nchunks), hash=False)
     futures = [
         client.submit(_cubes_task, grid.n, grid.k, method, grid.axes, formula, data, chunk, threads, ident,
-                      key=session.key("wave"), pure=False)
+                      check_cells=grid.check_cells, key=session.key("wave"), pure=False)
         for chunk in chunks
     ]
     masks, nonfinite = [], []
@@ -472,15 +474,15 @@ def _worker_sampled(path):
 _GRIDS: dict = {}
 
 
-def _worker_grid(n, k, method, axes, ident=None):
+def _worker_grid(n, k, method, axes, ident=None, check_cells=None):
     """A fresh `Grid` (empty parts, zero stats) copied from a per-process template
     (an `IdentifiedGrid` when ident gives identified axes)."""
-    key = (n, k, method, tuple(a.tobytes() for a in axes), ident)
+    key = (n, k, method, tuple(a.tobytes() for a in axes), ident, check_cells)
     template = _GRIDS.get(key)
     if template is None:
         if len(_GRIDS) >= 4:
             _GRIDS.clear()
-        template = _GRIDS[key] = _new_grid(n, k, axes, method, ident)
+        template = _GRIDS[key] = _new_grid(n, k, axes, method, ident, check_cells)
     return template.empty_copy()
 
 
@@ -502,10 +504,10 @@ def _set_threads(per_host) -> None:
     numba.set_num_threads(max(1, min(cores // max(busy, 1), numba.config.NUMBA_NUM_THREADS)))  # this thread only
 
 
-def _block_task(n, k, method, axes, formula, data, lo, hi, threads, ident=None) -> dict:
+def _block_task(n, k, method, axes, formula, data, lo, hi, threads, ident=None, check_cells=None) -> dict:
     """One block of cubes lo..hi-1 on a worker: F's values, candidates, kernel."""
     _set_threads(threads)
-    grid = _worker_grid(n, k, method, axes, ident)
+    grid = _worker_grid(n, k, method, axes, ident, check_cells)
     t = time.perf_counter()
     system = None if formula is None else parse_system(formula[0], formula[1], params=formula[2])
     sampled = _sampled_array(data)
@@ -521,10 +523,10 @@ def _block_task(n, k, method, axes, formula, data, lo, hi, threads, ident=None) 
     return grid.packed_records()
 
 
-def _cubes_task(n, k, method, axes, formula, data, origins, threads, ident=None) -> dict:
+def _cubes_task(n, k, method, axes, formula, data, origins, threads, ident=None, check_cells=None) -> dict:
     """One chunk of a continuation wave on a worker."""
     _set_threads(threads)
-    grid = _worker_grid(n, k, method, axes, ident)
+    grid = _worker_grid(n, k, method, axes, ident, check_cells)
     system = None if formula is None else parse_system(formula[0], formula[1], params=formula[2])
     with _KERNEL_LOCK:
         masks, nonfinite = grid.process_cubes(origins, system, _sampled_array(data))

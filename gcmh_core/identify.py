@@ -178,8 +178,8 @@ class IdentifiedGrid(Grid):
     axes: from `identified_axes`.
     """
 
-    def __init__(self, n, k, axes, method="gcmh", cancel=None, *, spec, bounds, progress=None):
-        super().__init__(n, k, axes, method, cancel, progress)
+    def __init__(self, n, k, axes, method="gcmh", cancel=None, *, spec, bounds, progress=None, check_cells=None):
+        super().__init__(n, k, axes, method, cancel, progress, check_cells)
         self.spec = tuple((int(p), tuple(int(b) for b in flips)) for p, flips in spec)
         self.periodic_axes = sorted(p for p, _ in self.spec)
         self.flipped_axes = sorted({b for _, flips in self.spec for b in flips})

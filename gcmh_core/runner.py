@@ -74,9 +74,11 @@ class Grid:
     cancel: callable() -> bool, polled between kernel batches; True raises `Cancelled`.
     progress: callable(phase, fraction), told how the cube tables' build goes (k >= 8 takes seconds);
     cancel is polled there too.
+    check_cells: check solids' cells against CMS's Euler characteristic (`_cubes_off_euler`);
+    None: where it is cheap (n <= 5).  Not for surfaces, the baselines or n >= 8.
     """
 
-    def __init__(self, n, k, axes, method="gcmh", cancel=None, progress=None):
+    def __init__(self, n, k, axes, method="gcmh", cancel=None, progress=None, check_cells=None):
         self.n, self.k, self.axes, self.cancel = n, k, axes, cancel
         self.simplicial = method in SIMPLICIAL_METHODS
         self.tab = cube_tables(n, k, progress=progress, cancel=cancel)
@@ -97,10 +99,11 @@ class Grid:
             key_room = max(total * int(self.tab.n_subsets[d]) * int(self.tab.n_codes[d]) for d in range(k, n + 1))
         if key_room >= 2**63:
             raise InputError(f"the grid is too large to index ({total:,} vertices in R^{n}): use a smaller div")
-        # solids' cells are checked against CMS's Euler characteristic cube by cube where a cube's
-        # Kuhn simplices are few enough (n <= 5: 1.3-1.7 times the run; n = 6 would take 7-11 times)
-        kuhn = self.tab.kuhn
-        self.check_cells = not self.simplicial and n - k >= 3 and 0 < kuhn.start[n + 1] - kuhn.start[k] <= _CHECK_SIMPLICES
+        # solids' cells are checked against CMS's Euler characteristic face by face, by default where
+        # a cube's Kuhn simplices are few (n <= 5: 1.3-2.3 times the run; n = 6 takes 7-11 times)
+        simplices = self.tab.kuhn.start[n + 1] - self.tab.kuhn.start[k]
+        can_check = not self.simplicial and n - k >= 3 and simplices > 0
+        self.check_cells = can_check and (simplices <= _CHECK_SIMPLICES if check_cells is None else bool(check_cells))
         self.axes_arr = np.zeros((n, int(self.dims.max())))
         for a in range(n):
             self.axes_arr[a, : self.dims[a]] = axes[a]
@@ -162,12 +165,12 @@ class Grid:
 
     def _cubes_off_euler(self, records, common, lo, hi) -> np.ndarray:
         """The cubes lo..hi-1 of a kernel run (a kernel thread's piece) where GCMH's cells count
-        another Euler characteristic than CMS's on the same cube: a cell there is not a ball
-        (a solid torus, a disc with a handle), though no two pieces of G_H need be joined."""
+        another Euler characteristic than CMS's in some open face of the cube: a cell there is not
+        a ball (a solid torus, a disc with a handle), though no two pieces of G_H need be joined."""
         values, cube_lin, origin, _, _, value_off, _, _ = common
-        cms = _kernels.cube_euler_chunk(lo, hi, values, cube_lin, value_off, self.tab.kuhn)
+        cms = _balls.cms_cube_euler(self.tab, values, cube_lin, value_off, lo, hi)
         gcmh = _balls.cube_euler(self.tab, records, origin[lo:hi], self.strides, self.dims)
-        return lo + np.flatnonzero(cms != gcmh)
+        return lo + np.flatnonzero((cms != gcmh).any(axis=1))
 
     def process_block(self, values, lo, hi, first_layer=None) -> np.ndarray:
         """The candidate cubes of the block of cubes lo..hi-1 (per axis, global indices).
@@ -311,7 +314,7 @@ def split_non_ball_cells(grid: Grid, records: tuple, cubes: np.ndarray, common: 
             e = np.concatenate([e, new_edges])
             inc = np.concatenate([inc[keep], new_inc])
         else:  # solids, or a surface's piece that can't be cut: the cube's cells become CMS's
-            refined = _balls.refine_cube(*cube)
+            refined = _balls.refine_cube(*cube, neighbours_checked=grid.check_cells)
             if refined is None:
                 continue
             vk, vp, e, c, inc = (np.concatenate([a, b]) for a, b in zip((vk, vp, e, c, inc), refined))

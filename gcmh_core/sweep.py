@@ -230,6 +230,7 @@ def _march(grid, axes, system, sampled, progress, cancel) -> CellComplex | None:
     grid.timings["assemble"] = time.perf_counter() - t
     cx.meta.update(grid.stats)
     cx.meta["non_ball_left"] = 0  # (the pass stops at the first: the general path splits them)
+    cx.meta["cells_checked"] = grid.check_cells  # (surfaces: False, as on the general path)
     cx.meta["timings"] = grid.timings
     return cx
 

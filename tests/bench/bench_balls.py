@@ -1,4 +1,4 @@
-"""Benchmark: what splitting the cells that are not balls costs (issue 13, item 1).
+"""Benchmark: what finding and splitting the cells that are not balls costs (issue 13, item 1).
 
     python tests/bench/bench_balls.py [--repeat N]
 
@@ -6,11 +6,14 @@ Run from the repository root (not collected by pytest).  For each case, in one p
 after a warm-up, the best of N runs of:
   - gcmh: the default path (n = 3: the one-pass marching, which hands a grid with such a
     piece to the general path, which splits it);
-  - gcmh, no split: the same with the split switched off (the cells are wrong there);
+  - gcmh, no split: the same with the split and the solids' Euler check switched off (the
+    paper's cells, wrong there);
   - cms on the same grid (the simplicial baseline, right everywhere).
 Cases: the diagonal tube at div 8 (8 pieces), a closed torus whose tube runs along cube
 diagonals at div 48 (2 pieces) and at div 52 (none: the price of the check alone), and
-the tube lifted to R^5 (k = 3).  The table gives seconds and the ratio to "no split".
+the tube lifted to R^5 (k = 3); solids: the tube around R^4's diagonal (S^2 x R, cells refined by
+CMS), and spheres with no such piece (the price of the Euler check alone: n <= 5 checks, n = 6
+doesn't).  The table gives seconds and the ratio to "no split".
 """
 
 from __future__ import annotations
@@ -43,6 +46,13 @@ CASES = {
     "diagonal torus, div 48": (dict(F=[torus_text()], bounds=[(-4.5, 4.5)] * 3, div=48, variables="x,y,z")),
     "diagonal torus, div 52": (dict(F=[torus_text()], bounds=[(-4.5, 4.5)] * 3, div=52, variables="x,y,z")),
     "tube in R^5, div 8x8x8x3x3": (dict(F=lifted(5), bounds=[(-1, 1)] * 5, div=[8, 8, 8, 3, 3])),
+    "solid: tube in R^4, div 8": (dict(F=["+".join(f"(x{a}-(x1+x2+x3+x4)/4)^2" for a in range(1, 5)) + "-0.04"],
+                                       bounds=[(-1, 1)] * 4, div=8)),
+    "solid: S^3 in R^4, div 40": (dict(F=["x1^2+x2^2+x3^2+x4^2-1"], bounds=[(-1.3, 1.3)] * 4, div=40)),
+    "solid: S^3 in R^5 (k = 2), div 12": (dict(F=["x1^2+x2^2+x3^2+x4^2-1", "x5-0.1*x1-0.2*x2"],
+                                                bounds=[(-1.3, 1.3)] * 5, div=12)),
+    "solid: S^3 in R^6 (k = 3), div 6 (not checked)": (dict(
+        F=["x1^2+x2^2+x3^2+x4^2-1", "x5-0.1*x1-0.2*x2", "x6-0.3*x3+0.1*x4"], bounds=[(-1.3, 1.3)] * 6, div=6)),
 }
 
 
@@ -62,14 +72,15 @@ def main() -> None:
     args = ap.parse_args()
     from gcmh_core import extract, runner  # noqa: PLC0415
 
-    split = runner.split_non_ball_cells
+    split, check = runner.split_non_ball_cells, runner._CHECK_SIMPLICES
 
     def run(case, method="gcmh", do_split=True):
         runner.split_non_ball_cells = split if do_split else (lambda grid, records, cubes, common: records)
+        runner._CHECK_SIMPLICES = check if do_split else 0
         try:
             return extract(case["F"], case["bounds"], case["div"], variables=case.get("variables"), method=method)
         finally:
-            runner.split_non_ball_cells = split
+            runner.split_non_ball_cells, runner._CHECK_SIMPLICES = split, check
 
     for case in CASES.values():  # warm-up: every kernel compiled or loaded
         run(case), run(case, do_split=False), run(case, "cms")

@@ -697,30 +697,43 @@ def naive_marching_cases():
 # Euler characteristics per closed cube (the check that GCMH's cells are balls)
 # --------------------------------------------------------------------------
 
-def naive_cube_euler_cms(values, origin):
-    """cube_euler_chunk's twin: chi of M_A in the closed cube at `origin`, every crossed Kuhn
-    simplex of dimension k + r counted (-1)^r (a simplex above dimension k is crossed when a
+def naive_cube_euler_cms(tab, values, origin):
+    """cube_euler_chunk's twin: chi of M_A in each open face of the cube at `origin` (a list over
+    `tab`'s face rows): every crossed Kuhn simplex of dimension k + r counted (-1)^r in the face
+    spanned by its lowest and highest corners (a simplex above dimension k is crossed when a
     facet is)."""
     values = np.asarray(values, dtype=np.float64)
     n = values.ndim - 1
     k = values.shape[-1]
+    row = {(int(fr), int(fx)): f for f, (fr, fx) in enumerate(zip(tab.face_free, tab.face_fixed))}
     simplices = {d: set() for d in range(k, n + 1)}
     for perm in itertools.permutations(range(n)):
         path = kuhn_path(tuple(origin), perm)
         for d in range(k, n + 1):
             for pts in itertools.combinations(path, d + 1):
                 simplices[d].add(frozenset(pts))
+    out = [0] * len(tab.face_free)
+
+    def face(s):
+        lo, hi = min(s, key=sum), max(s, key=sum)
+        fixed = sum(1 << a for a in range(n) if lo[a] > origin[a])
+        free = sum(1 << a for a in range(n) if hi[a] != lo[a])
+        return row[(free, fixed)]
+
     crossed = {s for s in simplices[k] if simplex_lambdas([values[p] for p in sorted(s, key=sum)]) is not None}
-    chi = len(crossed)
+    for s in crossed:
+        out[face(s)] += 1
     for d in range(k + 1, n + 1):
         crossed = {s for s in simplices[d] if any((s - {p}) in crossed for p in s)}
-        chi += (-1) ** (d - k) * len(crossed)
-    return chi
+        for s in crossed:
+            out[face(s)] += (-1) ** (d - k)
+    return out
 
 
 def naive_records_cube_euler(tab, records, origin, strides, dims):
-    """records_cube_euler's twin: for each cube (origin (m, n)), the distinct vertices, edges and
-    cells of the records whose face (decoded from the key) lies in the closed cube, (-1)^r each."""
+    """records_cube_euler's twin: for each cube (origin (m, n)) and each of its faces (`tab`'s
+    rows), the distinct vertices, edges and cells of the records whose face (decoded from the
+    key) is that face of the cube, (-1)^r each."""
     n, k = tab.n, tab.k
     vk, _, e, c, _ = records
     by_dim = {k: set(vk.tolist()), k + 1: set(e[:, 0].tolist())}
@@ -730,15 +743,17 @@ def naive_records_cube_euler(tab, records, origin, strides, dims):
     for f in range(tab.face_start[k], tab.face_start[n + 1]):
         dim = bin(int(tab.face_free[f])).count("1")
         free_of[(dim, int(tab.face_rank[f]))] = int(tab.face_free[f])
+    row = {(int(fr), int(fx)): f for f, (fr, fx) in enumerate(zip(tab.face_free, tab.face_fixed))}
     out = []
     for o in np.asarray(origin).tolist():
-        chi = 0
+        chi = [0] * len(tab.face_free)
         for dim, keys in by_dim.items():
             for key in keys:
                 anchor, rank = divmod(key // int(tab.n_codes[dim]), int(tab.n_subsets[dim]))
                 free = free_of[(dim, rank)]
                 multi = [(anchor // int(strides[a])) % int(dims[a]) for a in range(n)]
-                inside = all(multi[a] == o[a] if free >> a & 1 else multi[a] in (o[a], o[a] + 1) for a in range(n))
-                chi += (-1) ** (dim - k) * inside
+                if all(multi[a] == o[a] if free >> a & 1 else multi[a] in (o[a], o[a] + 1) for a in range(n)):
+                    fixed = sum(1 << a for a in range(n) if not free >> a & 1 and multi[a] == o[a] + 1)
+                    chi[row[(free, fixed)]] += (-1) ** (dim - k)
         out.append(chi)
     return np.array(out, np.int64)

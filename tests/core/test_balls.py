@@ -137,7 +137,7 @@ def test_a_piece_that_cannot_be_split_is_still_reported(monkeypatch):
     from gcmh_core.cli import _summary
 
     monkeypatch.setattr(runner._balls, "split_joined_pieces", lambda *args: None)
-    monkeypatch.setattr(runner._balls, "refine_cube", lambda *args: None)
+    monkeypatch.setattr(runner._balls, "refine_cube", lambda *args, **kw: None)
     cx = one_cube("gcmh")
     assert cx.meta["non_ball_left"] == 1
     assert _summary(cx, {"div": [1, 1, 1], "method": "gcmh", "name": None}, [])["non_ball_cells"] == 1

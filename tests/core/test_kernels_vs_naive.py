@@ -355,18 +355,21 @@ def extract_as_gcmh(values, **kw):
     """The engine's GCMH output as the paper (and the naive twin) define it: without what
     the assembly adds to make cells regular (lens collapse and halved double edges,
     gcmh_core._regular, tested in test_regular) and balls (the split of pieces M_A joins
-    through a cube, gcmh_core._balls, tested in test_balls)."""
+    through a cube, and the solids' Euler check, gcmh_core._balls, tested in test_balls and
+    test_solid_balls)."""
     from gcmh_core import runner
 
     gcmh_core, _ = _engine()
-    keep = runner.collapse_lenses, runner.subdivide_double_edges, runner.split_non_ball_cells
+    keep = runner.collapse_lenses, runner.subdivide_double_edges, runner.split_non_ball_cells, runner._CHECK_SIMPLICES
     runner.collapse_lenses = lambda edges, cells: (edges, cells, 0, 0)
     runner.subdivide_double_edges = lambda vertices, edges, cells: (vertices, edges, cells, 0)
     runner.split_non_ball_cells = lambda grid, records, cubes, common: records
+    runner._CHECK_SIMPLICES = 0
     try:
         return gcmh_core.extract(values, **kw)
     finally:
-        runner.collapse_lenses, runner.subdivide_double_edges, runner.split_non_ball_cells = keep
+        runner.collapse_lenses, runner.subdivide_double_edges, runner.split_non_ball_cells, runner._CHECK_SIMPLICES \
+            = keep
 
 
 # the naive twin's runs of the random cases, kept for test_random_cases_are_not_vacuous (the topology

@@ -2,7 +2,7 @@
 is not a ball (a thickened tube is a shell S^2 x I; on noisy data, solid tori and discs with
 handles) is found by the kernel (pieces of G_H that M_A joins) or, where a cube has at most
 `runner._CHECK_SIMPLICES` Kuhn simplices, by comparing GCMH's Euler characteristic with CMS's
-cube by cube; the cube's cells are then replaced by CMS's (`_balls.refine_cube`), and its cells
+in every open face of every cube; the cube's cells are then replaced by CMS's (`_balls.refine_cube`), and its cells
 on faces shared with neighbours by their CMS cells in every incidence.  The truth is CMS on the
 same grid."""
 
@@ -80,8 +80,8 @@ def test_cube_euler_chunk_matches_naive(n, k):
     strides = np.array([3 ** (n - 1 - a) for a in range(n)], np.int64)
     corner_row = np.array([sum(int(strides[a]) for a in range(n) if c >> a & 1) for c in range(1 << n)], np.int64)
     origins = np.array(list(itertools.product(range(2), repeat=n)), np.int64)
-    got = _kernels.cube_euler_chunk(0, len(origins), values.reshape(-1, k), origins @ strides, corner_row, tab.kuhn)
-    assert got.tolist() == [naive_cube_euler_cms(values, o) for o in origins.tolist()]
+    got = _balls.cms_cube_euler(tab, values.reshape(-1, k), origins @ strides, corner_row, 0, len(origins))
+    assert got.tolist() == [naive_cube_euler_cms(tab, values, o) for o in origins.tolist()]
     assert np.abs(got).sum() > 0  # (not vacuous)
 
 
@@ -118,7 +118,7 @@ def test_a_flat_piece_counts_the_same_both_ways(n, k):
     flat = values.reshape(-1, k)
     records = _kernels.cubes_chunk(0, len(origins), flat, keys, origins, keys, axes, corner_row, corner_row, tab)[0]
     gcmh = _balls.cube_euler(tab, records, origins, strides, np.full(n, 3, np.int64))
-    cms = _kernels.cube_euler_chunk(0, len(origins), flat, keys, corner_row, tab.kuhn)
+    cms = _balls.cms_cube_euler(tab, flat, keys, corner_row, 0, len(origins))
     assert gcmh.tolist() == cms.tolist() and (cms != 0).any()
 
 
