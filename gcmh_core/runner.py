@@ -74,8 +74,8 @@ class Grid:
     cancel: callable() -> bool, polled between kernel batches; True raises `Cancelled`.
     progress: callable(phase, fraction), told how the cube tables' build goes (k >= 8 takes seconds);
     cancel is polled there too.
-    check_cells: check solids' cells against CMS's Euler characteristic (`_cubes_off_euler`);
-    None: where it is cheap (n <= 5).  Not for surfaces, the baselines or n >= 8.
+    check_cells: check the cells against CMS's Euler characteristic (`_cubes_off_euler`);
+    None: where it is cheap (n <= 5).  Not in R^3 (nor for curves), the baselines or n >= 8.
     """
 
     def __init__(self, n, k, axes, method="gcmh", cancel=None, progress=None, check_cells=None):
@@ -99,10 +99,11 @@ class Grid:
             key_room = max(total * int(self.tab.n_subsets[d]) * int(self.tab.n_codes[d]) for d in range(k, n + 1))
         if key_room >= 2**63:
             raise InputError(f"the grid is too large to index ({total:,} vertices in R^{n}): use a smaller div")
-        # solids' cells are checked against CMS's Euler characteristic face by face, by default where
+        # cells are checked against CMS's Euler characteristic face by face, by default where
         # a cube's Kuhn simplices are few (n <= 5: 1.3-2.3 times the run; n = 6 takes 7-11 times)
         simplices = self.tab.kuhn.start[n + 1] - self.tab.kuhn.start[k]
-        can_check = not self.simplicial and n - k >= 3 and simplices > 0
+        # (surfaces in R^3 go by the one-pass marching, which has no such check: none on the other paths either)
+        can_check = not self.simplicial and n - k >= 2 and n >= 4 and simplices > 0
         self.check_cells = can_check and (simplices <= _CHECK_SIMPLICES if check_cells is None else bool(check_cells))
         self.axes_arr = np.zeros((n, int(self.dims.max())))
         for a in range(n):
@@ -307,7 +308,7 @@ def split_non_ball_cells(grid: Grid, records: tuple, cubes: np.ndarray, common: 
     for i, pieces in zip(cubes.tolist(), joined.tolist()):
         one = slice(i, i + 1)
         cube = (tab, values, cube_lin[one], origin[one], cube_key[one], axes_arr, value_off, corner_off)
-        split = _balls.split_joined_pieces(*cube) if grid.n - grid.k == 2 else None
+        split = _balls.split_joined_pieces(*cube) if grid.n - grid.k == 2 and not grid.check_cells else None
         if split is not None:
             drop, new_edges, new_inc, pieces = split
             keep = ~((inc[:, 0] == 2) & np.isin(inc[:, 1], drop))

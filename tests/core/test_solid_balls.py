@@ -159,3 +159,43 @@ def test_refined_on_a_cluster_gives_the_single_process_bytes(cluster):
     assert np.array_equal(on.vertices, one.vertices) and np.array_equal(on.edges, one.edges)
     for r in (2, 3):
         assert all(np.array_equal(a, b) for a, b in zip(on.cells[r], one.cells[r]))
+
+
+def random_quadrics(n, k, rng):
+    """k random quadratic polynomials in x1..xn (coefficients of a quadratic form ~0.7)."""
+    names = [f"x{a}" for a in range(1, n + 1)]
+    out = []
+    for _ in range(k):
+        terms = [f"{rng.normal():.3f}"] + [f"{rng.normal():.3f}*{v}" for v in names]
+        terms += [f"{0.7 * rng.normal():.3f}*{a}*{b}" for i, a in enumerate(names) for b in names[i:]]
+        out.append("+".join(terms))
+    return out
+
+
+@pytest.mark.parametrize("n,k", [(3, 1), (4, 2), (5, 3), (6, 3), (6, 4)])
+@settings(max_examples=6, deadline=None, derandomize=True)
+@given(seed=st.integers(0, 2**31 - 1))
+def test_random_polynomial_systems_have_cms_topology(n, k, seed):
+    """The issue's property: on random polynomial systems GCMH's chi and components are CMS's
+    (n = 6 with the check asked for; by default it runs up to n = 5)."""
+    F = random_quadrics(n, k, np.random.default_rng(seed))
+    bounds, div = [(-1, 1)] * n, 3 if n == 6 else 4
+    cx = extract(F, bounds, div, check_cells=True if n == 6 else None)
+    cms = extract(F, bounds, div, method="cms")
+    assert (cx.euler_characteristic(), cx.connected_components()) == (cms.euler_characteristic(),
+                                                                       cms.connected_components())
+    assert cx.meta["non_ball_left"] == 0 and cx.meta["cells_checked"] == (n >= 4)
+
+
+def test_a_piece_with_no_gcmh_vertex_is_found():
+    """A piece of M_A that meets no k-face of the grid has no GCMH vertex (paper 3.1), so GCMH
+    misses it; the check finds it (the cube's count differs from CMS's) and the cube is refined.
+    Random quadrics in R^6, k = 4, seed 5: CMS has chi 3 in 3 pieces; GCMH alone 1 in 2."""
+    F = random_quadrics(6, 4, np.random.default_rng(5))
+    bounds = [(-1, 1)] * 6
+    cms = extract(F, bounds, 3, method="cms")
+    on, off = (extract(F, bounds, 3, check_cells=flag) for flag in (True, False))
+    assert (on.euler_characteristic(), on.connected_components()) == (cms.euler_characteristic(),
+                                                                       cms.connected_components()) == (3, 3)
+    assert (off.euler_characteristic(), off.connected_components()) == (1, 2)
+    assert on.meta["cells_checked"] and not off.meta["cells_checked"] and on.meta["non_ball_split"] > 0
