@@ -1709,14 +1709,7 @@ def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables, carrier, n_fa
             corner_signs[c] = p
         for s in range(start[k], start[k + 1]):
             crossed[s] = 0
-            any_pos = np.int64(0)
-            all_pos = all_signs
-            for i in range(k + 1):
-                p = corner_signs[corners[s, i]]
-                any_pos |= p
-                all_pos &= p
-            if any_pos != all_signs or all_pos != 0:  # some F_j has one sign on the simplex
-                continue
+            # (the solve prunes by signs first)
             hit = _simplex_crosses_call(values, o, corner_row, corners, s, k, corner_signs, all_signs, mat, rhs, lam)
             if hit == 2:
                 hit = _zero_side(values, o, corner_row, corners, s, k, lam)

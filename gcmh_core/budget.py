@@ -38,7 +38,14 @@ from math import comb, factorial
 
 import numpy as np
 
-from ._cost import _KERNEL_SECONDS_PER_ENTRY, _functionals, kernel_batch_cubes, kernel_entries  # noqa: F401
+from ._cost import (  # noqa: F401
+    _KERNEL_SECONDS_PER_ENTRY,
+    _functionals,
+    check_seconds,
+    checks_cells,
+    kernel_batch_cubes,
+    kernel_entries,
+)
 from ._memory import available_memory, format_bytes, format_seconds
 from ._tables import lazy_tables
 from .errors import InputError, TooLargeError
@@ -354,6 +361,7 @@ def estimate_run(
     sampled=None,
     scheduler=None,
     probe: bool | None = None,
+    check_cells: bool | None = None,
 ) -> Estimate:
     """The cost of extracting with these (validated) arguments; see the module's docstring.
 
@@ -369,6 +377,7 @@ def estimate_run(
     div_t = tuple(int(d) for d in np.broadcast_to(np.asarray(div, np.int64), (n,)))
     vertices = math.prod(d + 1 for d in div_t)
     simplicial = method in SIMPLICIAL_METHODS
+    checked = checks_cells(n, k, simplicial, check_cells)
     if index_room(n, k, vertices, simplicial) >= _KEY_LIMIT:
         raise InputError(f"the grid is too large to index ({vertices:,} vertices in R^{n}): use a smaller div")
     if simplicial and n > 7:
@@ -378,14 +387,15 @@ def estimate_run(
     cubes = math.prod(div_t)
     pruned = not continuation and scheduler is None and _prunable(system, sampled, cubes)
     if probe is None:  # every cube crossed, like a plane: an upper bound
-        worst = _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, float(cubes), plane, False)
+        worst = _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, float(cubes), plane, False,
+                      checked)
         if worst.peak_bytes <= worst.available_bytes // 8 and worst.seconds <= worst.seconds_limit / 10:
             return worst
     if system is not None or sampled is not None:
         expected, faces, _ = _probe(n, k, div_t, bounds, system, sampled)
     else:
         expected, faces = min(float(cubes), float(cubes) ** ((n - k) / n)), plane
-    return _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, expected, faces, pruned)
+    return _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, expected, faces, pruned, checked)
 
 
 def _pruned_vertices(n: int, k: int, expected: float, vertices: int):
@@ -417,7 +427,8 @@ def _prunable(system, sampled, cubes: int) -> bool:
     return bool(prune) and system is not None and sampled is None and sweep.enclosure_of(system) is not None
 
 
-def _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, expected, faces, pruned) -> Estimate:
+def _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, expected, faces, pruned,
+          checked=False) -> Estimate:
     from .sweep import SLAB_VERTICES  # noqa: PLC0415
 
     dims = [d + 1 for d in div_t]
@@ -455,6 +466,8 @@ def _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, exp
         + work_vertices * k * _VERTEX_SECONDS
         + records * _RECORD_SECONDS_PER_N * n
         + (0.0 if simplicial else expected * kernel_entries(n, k) * _KERNEL_SECONDS_PER_ENTRY)
+        # the cells' Euler check (`_cost.checks_cells`): CMS's count of each candidate cube's simplices
+        + (expected * check_seconds(n, k) if checked else 0.0)
     )
     return Estimate(
         n=n,

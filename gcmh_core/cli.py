@@ -164,8 +164,8 @@ def _build_parser() -> _Parser:
     out.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.add_argument(
         "--check-cells", action="store_true",
-        help="solids (n - k >= 3): check every cube's cells against CMS's Euler characteristic also for "
-        "n = 6, 7, where it costs 7 to 11 times the run (n <= 5: always)",
+        help="check every cube's cells against CMS's Euler characteristic (n = 4..7): by default only "
+        "solids with n <= 5 are; this adds surfaces (2-3 times the run) and n = 6, 7 (7-11 times)",
     )
     guard = p.add_argument_group("before the run")
     guard.add_argument(
@@ -642,7 +642,7 @@ def _summary(cx, job, outputs) -> dict:
         # discs for surfaces, refined by CMS for solids (`_balls`); what is left is wrong there
         "non_ball_cells": int(meta.get("non_ball_left", meta.get("non_ball_cells", 0)) or 0),
         "non_ball_split": int(meta.get("non_ball_split", 0) or 0),
-        # solids: whether every cube's cells were checked against CMS's Euler characteristic
+        # whether every cube's cells were checked against CMS's Euler characteristic (n = 4..7)
         "cells_checked": bool(meta.get("cells_checked", False)),
         "halved_edges": int(meta.get("halved_edges", 0) or 0),
         "example": job["name"],
@@ -683,7 +683,7 @@ def _human(s: dict, job: dict) -> str:
         how = "cut into discs" if s["n"] - s["k"] == 2 else "replaced by the simplicial (CMS) cells of their cubes"
         lines.append(f"  note: at {s['non_ball_split']} places a piece of M inside a cube was not a ball; GCMH's cells "
                      f"there were {how}, so the topology is right")
-    if s["n"] - s["k"] >= 3 and not s["cells_checked"] and s["method"] in ("gcmh", "gcch"):
+    if 6 <= s["n"] <= 7 and s["n"] - s["k"] >= 3 and not s["cells_checked"] and s["method"] in ("gcmh", "gcch"):
         lines.append("  note: cells were not checked against CMS's Euler characteristic (costly for n >= 6): "
                      "--check-cells does")
     if s["singular_vertices"]:

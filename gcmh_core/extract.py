@@ -107,11 +107,11 @@ def extract(
         invariant under each identification (checked at a few hundred random points); a
         flipped axis needs an even div.  With s periodic reversing t and t periodic, the
         paper's Klein bottle is closed (chi 0, non-orientable) instead of cut open.
-    check_cells : for solids (n - k >= 3), check every cube's cells against CMS's Euler
-        characteristic face by face and refine the cubes where a cell is not a ball (`_balls`).
-        None (default): where it is cheap, n <= 5 (1.3 to 2.3 times the run); True also for
-        n = 6, 7 (7 to 11 times); False: only pieces of G_H that M_A joins are found.
-        meta["cells_checked"] says whether it ran.
+    check_cells : check every cube's cells against CMS's Euler characteristic face by face and
+        refine the cubes where a cell is not a ball (`_balls`), for n = 4..7.  None (default):
+        for solids (n - k >= 3) with n <= 5 (1.3 to 2.7 times the run); True: also surfaces
+        (about 2 to 3 times) and n = 6, 7 (7 to 11 times); False: only the pieces of G_H that
+        M_A joins are found.  meta["cells_checked"] says whether it ran.
     force : run even when `budget.estimate_run` says the run needs more memory than is
         available or more than the time limit; by default that raises `budget.TooLargeError`
         (an InputError naming the estimate) before any work.
@@ -143,7 +143,7 @@ def extract(
         div = div[0]
     n_, k_, bounds_, div_, system, sampled = prepare(F, variables, n, k, bounds, div, params)
     cost = estimate_run(n_, k_, div_, method=method, bounds=bounds_, system=system, sampled=sampled,
-                        scheduler=scheduler)
+                        scheduler=scheduler, check_cells=check_cells)
     check_budget(cost, force)
     amplitude = 0.0 if sampled is not None else PERTURBATION  # sampled data can't be moved: its positions are exact
     names = list(system.variables) if system is not None else [f"x{i + 1}" for i in range(n_)]

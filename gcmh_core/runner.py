@@ -24,7 +24,7 @@ import numba
 import numpy as np
 
 from . import _balls, _kernels
-from ._cost import kernel_batch_cubes
+from ._cost import checks_cells, kernel_batch_cubes
 from ._hashtable import IntTable
 from ._methods import CONTINUATION_METHODS, METHODS, SIMPLICIAL_METHODS
 from ._regular import collapse_lenses, subdivide_double_edges
@@ -46,8 +46,6 @@ _CHUNKS_PER_THREAD = 2
 # Candidate cubes per kernel run at most (fewer where a cube costs more, `_cost.kernel_batch_cubes`):
 # a run of the three-torus's costliest cubes takes about 0.2 s, so a cancel is answered within that.
 _KERNEL_BATCH = 4096
-# Kuhn simplices per cube (dimensions k..n) up to which solids' cells are checked (`Grid.check_cells`)
-_CHECK_SIMPLICES = 2500
 
 
 _pool_lock = threading.Lock()
@@ -99,12 +97,10 @@ class Grid:
             key_room = max(total * int(self.tab.n_subsets[d]) * int(self.tab.n_codes[d]) for d in range(k, n + 1))
         if key_room >= 2**63:
             raise InputError(f"the grid is too large to index ({total:,} vertices in R^{n}): use a smaller div")
-        # cells are checked against CMS's Euler characteristic face by face, by default where
-        # a cube's Kuhn simplices are few (n <= 5: 1.3-2.3 times the run; n = 6 takes 7-11 times)
-        simplices = self.tab.kuhn.start[n + 1] - self.tab.kuhn.start[k]
-        # (surfaces in R^3 go by the one-pass marching, which has no such check: none on the other paths either)
-        can_check = not self.simplicial and n - k >= 2 and n >= 4 and simplices > 0
-        self.check_cells = can_check and (simplices <= _CHECK_SIMPLICES if check_cells is None else bool(check_cells))
+        # cells are checked against CMS's Euler characteristic face by face (`_cost.checks_cells`: by
+        # default where a cube's Kuhn simplices are few, n <= 5: 1.3-2.8 times the run; n = 6, 7 take
+        # 7-11 times; surfaces in R^3 go by the one-pass marching, which has no such check)
+        self.check_cells = checks_cells(n, k, self.simplicial, check_cells) and self.tab.kuhn.corners.shape[0] > 0
         self.axes_arr = np.zeros((n, int(self.dims.max())))
         for a in range(n):
             self.axes_arr[a, : self.dims[a]] = axes[a]
@@ -308,6 +304,7 @@ def split_non_ball_cells(grid: Grid, records: tuple, cubes: np.ndarray, common: 
     for i, pieces in zip(cubes.tolist(), joined.tolist()):
         one = slice(i, i + 1)
         cube = (tab, values, cube_lin[one], origin[one], cube_key[one], axes_arr, value_off, corner_off)
+        # (where every cube is checked a surface's cube is refined too: its neighbours may be)
         split = _balls.split_joined_pieces(*cube) if grid.n - grid.k == 2 and not grid.check_cells else None
         if split is not None:
             drop, new_edges, new_inc, pieces = split

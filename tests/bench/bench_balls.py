@@ -13,7 +13,8 @@ Cases: the diagonal tube at div 8 (8 pieces), a closed torus whose tube runs alo
 diagonals at div 48 (2 pieces) and at div 52 (none: the price of the check alone), and
 the tube lifted to R^5 (k = 3); solids: the tube around R^4's diagonal (S^2 x R, cells refined by
 CMS), and spheres with no such piece (the price of the Euler check alone: n <= 5 checks, n = 6
-doesn't).  The table gives seconds and the ratio to "no split".
+doesn't), and a surface in R^4 (checked too from n = 4).  The table gives seconds and the ratio
+to "no split".
 """
 
 from __future__ import annotations
@@ -46,6 +47,8 @@ CASES = {
     "diagonal torus, div 48": (dict(F=[torus_text()], bounds=[(-4.5, 4.5)] * 3, div=48, variables="x,y,z")),
     "diagonal torus, div 52": (dict(F=[torus_text()], bounds=[(-4.5, 4.5)] * 3, div=52, variables="x,y,z")),
     "tube in R^5, div 8x8x8x3x3": (dict(F=lifted(5), bounds=[(-1, 1)] * 5, div=[8, 8, 8, 3, 3])),
+    "surface: Clifford torus in R^4, div 24": (dict(F=["x1^2+x2^2-0.5", "x3^2+x4^2-0.5"], bounds=[(-1.3, 1.3)] * 4,
+                                                    div=24)),
     "solid: tube in R^4, div 8": (dict(F=["+".join(f"(x{a}-(x1+x2+x3+x4)/4)^2" for a in range(1, 5)) + "-0.04"],
                                        bounds=[(-1, 1)] * 4, div=8)),
     "solid: S^3 in R^4, div 40": (dict(F=["x1^2+x2^2+x3^2+x4^2-1"], bounds=[(-1.3, 1.3)] * 4, div=40)),
@@ -72,15 +75,15 @@ def main() -> None:
     args = ap.parse_args()
     from gcmh_core import extract, runner  # noqa: PLC0415
 
-    split, check = runner.split_non_ball_cells, runner._CHECK_SIMPLICES
+    split, check = runner.split_non_ball_cells, runner.checks_cells
 
     def run(case, method="gcmh", do_split=True):
         runner.split_non_ball_cells = split if do_split else (lambda grid, records, cubes, common: records)
-        runner._CHECK_SIMPLICES = check if do_split else 0
+        runner.checks_cells = check if do_split else (lambda *args: False)
         try:
             return extract(case["F"], case["bounds"], case["div"], variables=case.get("variables"), method=method)
         finally:
-            runner.split_non_ball_cells, runner._CHECK_SIMPLICES = split, check
+            runner.split_non_ball_cells, runner.checks_cells = split, check
 
     for case in CASES.values():  # warm-up: every kernel compiled or loaded
         run(case), run(case, do_split=False), run(case, "cms")

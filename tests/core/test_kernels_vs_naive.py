@@ -360,15 +360,15 @@ def extract_as_gcmh(values, **kw):
     from gcmh_core import runner
 
     gcmh_core, _ = _engine()
-    keep = runner.collapse_lenses, runner.subdivide_double_edges, runner.split_non_ball_cells, runner._CHECK_SIMPLICES
+    keep = runner.collapse_lenses, runner.subdivide_double_edges, runner.split_non_ball_cells, runner.checks_cells
     runner.collapse_lenses = lambda edges, cells: (edges, cells, 0, 0)
     runner.subdivide_double_edges = lambda vertices, edges, cells: (vertices, edges, cells, 0)
     runner.split_non_ball_cells = lambda grid, records, cubes, common: records
-    runner._CHECK_SIMPLICES = 0
+    runner.checks_cells = lambda *args: False
     try:
         return gcmh_core.extract(values, **kw)
     finally:
-        runner.collapse_lenses, runner.subdivide_double_edges, runner.split_non_ball_cells, runner._CHECK_SIMPLICES \
+        runner.collapse_lenses, runner.subdivide_double_edges, runner.split_non_ball_cells, runner.checks_cells \
             = keep
 
 

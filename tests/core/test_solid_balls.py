@@ -1,7 +1,7 @@
 """Cells that are balls in solids (issue 13, item 1, n - k >= 3): a piece of M_A in a cube that
 is not a ball (a thickened tube is a shell S^2 x I; on noisy data, solid tori and discs with
 handles) is found by the kernel (pieces of G_H that M_A joins) or, where a cube has at most
-`runner._CHECK_SIMPLICES` Kuhn simplices, by comparing GCMH's Euler characteristic with CMS's
+`_cost.CHECK_SIMPLICES` Kuhn simplices, by comparing GCMH's Euler characteristic with CMS's
 in every open face of every cube; the cube's cells are then replaced by CMS's (`_balls.refine_cube`), and its cells
 on faces shared with neighbours by their CMS cells in every incidence.  The truth is CMS on the
 same grid."""
@@ -177,10 +177,10 @@ def random_quadrics(n, k, rng):
 @given(seed=st.integers(0, 2**31 - 1))
 def test_random_polynomial_systems_have_cms_topology(n, k, seed):
     """The issue's property: on random polynomial systems GCMH's chi and components are CMS's
-    (n = 6 with the check asked for; by default it runs up to n = 5)."""
+    (with the check asked for: by default it runs for solids up to n = 5)."""
     F = random_quadrics(n, k, np.random.default_rng(seed))
     bounds, div = [(-1, 1)] * n, 3 if n == 6 else 4
-    cx = extract(F, bounds, div, check_cells=True if n == 6 else None)
+    cx = extract(F, bounds, div, check_cells=True)
     cms = extract(F, bounds, div, method="cms")
     assert (cx.euler_characteristic(), cx.connected_components()) == (cms.euler_characteristic(),
                                                                        cms.connected_components())
@@ -199,3 +199,18 @@ def test_a_piece_with_no_gcmh_vertex_is_found():
                                                                        cms.connected_components()) == (3, 3)
     assert (off.euler_characteristic(), off.connected_components()) == (1, 2)
     assert on.meta["cells_checked"] and not off.meta["cells_checked"] and on.meta["non_ball_split"] > 0
+
+
+def test_cli_check_cells(capsys):
+    """--check-cells turns the check on for n = 6; the summary says whether it ran."""
+    import json
+
+    from gcmh_core.cli import main
+
+    argv = ["extract", "--f", "x1^2+x2^2+x3^2+x4^2-1", "--f", "x5-0.1*x1-0.2*x2", "--f", "x6-0.3*x3+0.1*x4",
+            "--n", "6", "--bounds=-1.3:1.3", "--div", "4"]
+    assert main(argv) == 0
+    assert "--check-cells does" in capsys.readouterr().out
+    assert main(argv + ["--check-cells", "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["cells_checked"] is True and summary["euler_characteristic"] == 0
