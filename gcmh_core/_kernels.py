@@ -1698,28 +1698,44 @@ def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables, carrier, n_fa
     rhs = np.empty(k, np.float64)
     lam = np.empty(k + 1, np.float64)
     all_signs = (np.int64(1) << k) - 1
+    corner_mask = tables.corner_mask
+    masked = corner_mask.shape[0] > 0  # corner sets as bit masks (n <= 6): a simplex's signs at once
+    positive_corners = np.zeros(k, np.int64)
     out = np.zeros((hi - lo, n_faces), np.int64)
     for ci in range(lo, hi):
         o = cube_row[ci]
+        for j in range(k):
+            positive_corners[j] = 0
         for c in range(1 << n):
             p = np.int64(0)
             for j in range(k):
                 if values[o + corner_row[c], j] >= 0.0:
                     p |= np.int64(1) << j
+                    positive_corners[j] |= np.int64(1) << c
             corner_signs[c] = p
-        for s in range(start[k], start[k + 1]):
-            crossed[s] = 0
-            # (the solve prunes by signs first)
-            hit = _simplex_crosses_call(values, o, corner_row, corners, s, k, corner_signs, all_signs, mat, rhs, lam)
-            if hit == 2:
-                hit = _zero_side(values, o, corner_row, corners, s, k, lam)
-            if hit:
-                crossed[s] = 1
-                out[ci - lo, carrier[s]] += 1
-        for d in range(k + 1, n + 1):
+        for d in range(k, n + 1):
             sign = 1 if (d - k) % 2 == 0 else -1
             for s in range(start[d], start[d + 1]):
                 crossed[s] = 0
+                if masked:  # a simplex on which some F_j has one sign holds no zero
+                    m = corner_mask[s]
+                    out_of = False
+                    for j in range(k):
+                        on = positive_corners[j] & m
+                        if on == 0 or on == m:
+                            out_of = True
+                            break
+                    if out_of:
+                        continue
+                if d == k:
+                    hit = _simplex_crosses_call(values, o, corner_row, corners, s, k, corner_signs, all_signs, mat, rhs,
+                                                lam)
+                    if hit == 2:
+                        hit = _zero_side(values, o, corner_row, corners, s, k, lam)
+                    if hit:
+                        crossed[s] = 1
+                        out[ci - lo, carrier[s]] += 1
+                    continue
                 for j in range(d + 1):
                     if crossed[facets[s, j]]:
                         crossed[s] = 1
