@@ -557,9 +557,20 @@ def cube_euler(tab, records, origin, strides, dims):
 
 
 def cms_cube_euler(tab, values, cube_row, corner_row, lo, hi):
-    """CMS's count in each open face of each cube lo..hi-1 (`_kernels.cube_euler_chunk`): (hi - lo, faces)."""
-    _, face_row, carrier = _face_maps(tab.n, tab.k)
-    return _kernels.cube_euler_chunk(lo, hi, values, cube_row, corner_row, tab.kuhn, carrier, len(tab.face_free))
+    """CMS's count in each open face of each cube lo..hi-1 and the pieces of M_A hidden inside
+    each open face (`_kernels.cube_euler_chunk`): (euler, hidden), each (hi - lo, faces)."""
+    _, _, carrier = _face_maps(tab.n, tab.k)
+    return _kernels.cube_euler_chunk(lo, hi, values, cube_row, corner_row, tab.kuhn, carrier, len(tab.face_free),
+                                     _face_dims(tab.n, tab.k))
+
+
+@lru_cache(maxsize=16)
+def _face_dims(n, k):
+    """The dimension of each `CubeTables` face row."""
+    from ._tables import cube_tables
+
+    tab = cube_tables(n, k)
+    return np.array([bin(int(x)).count("1") for x in tab.face_free], np.int64)
 
 
 @lru_cache(maxsize=16)

@@ -1677,15 +1677,24 @@ def simplices_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lin
 
 
 @nb.njit(**JIT)
-def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables, carrier, n_faces):
+def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables, carrier, n_faces, face_dim):
     """The Euler characteristic of M_A in each open face of each cube lo..hi-1 by CMS's count
     (paper Section 4): each crossed Kuhn simplex of dimension k + r is an r-cell, a convex
     polytope, counted (-1)^r in the face whose relative interior holds it (carrier[s], a
-    `CubeTables` face row; n_faces rows).  GCMH's cells in the same face count the same when
-    they are all balls (`runner.Grid.check_cells` compares the two).  tables:
-    `_tables.SimplexTables`.  (No records and no positions: a simplex of dimension > k is crossed
-    when one of its facets is, as in `simplices_chunk`, which also counts a polytope with too
-    few facets.)  Returns (hi - lo, n_faces).
+    `CubeTables` face row; n_faces rows of dimension face_dim).  GCMH's cells in the same face
+    count the same when they are all balls (`runner.Grid.check_cells` compares the two).
+
+    Also the hidden pieces: the pieces of M_A inside an open face (of dimension > k) that reach
+    none of its lower faces, counted in that face (a closed loop inside a (k+1)-face, a closed
+    surface inside a (k+2)-face).  GCMH has no vertex on them (paper 3.1), so it has none of
+    their cells, and a loop's Euler characteristic is 0: the count alone can't see it, and a
+    neighbour across the face would not know that a refined cube emits it.  Two crossed
+    simplices with one carrier are in one piece when one is a facet of the other; a piece
+    reaches a lower face when one of its simplices has a crossed facet there.
+
+    tables: `_tables.SimplexTables`.  (No records and no positions: a simplex of dimension > k is
+    crossed when one of its facets is, as in `simplices_chunk`, which also counts a polytope with
+    too few facets.)  Returns (euler, hidden), each (hi - lo, n_faces).
     """
     n = tables.n
     k = tables.k
@@ -1693,6 +1702,9 @@ def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables, carrier, n_fa
     corners = tables.corners
     facets = tables.facets
     crossed = np.empty(start[n + 1], np.int64)
+    parent = np.empty(start[n + 1], np.int64)  # pieces in one open face (union-find over crossed rows)
+    reaches = np.empty(start[n + 1], np.bool_)  # the piece reaches a lower face (at its root)
+    listed = np.empty(start[n + 1], np.int64)  # the crossed rows above the k-faces
     corner_signs = np.empty(1 << n, np.int64)
     mat = np.empty((k, k), np.float64)
     rhs = np.empty(k, np.float64)
@@ -1702,6 +1714,7 @@ def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables, carrier, n_fa
     masked = corner_mask.shape[0] > 0  # corner sets as bit masks (n <= 6): a simplex's signs at once
     positive_corners = np.zeros(k, np.int64)
     out = np.zeros((hi - lo, n_faces), np.int64)
+    hidden = np.zeros((hi - lo, n_faces), np.int64)
     for ci in range(lo, hi):
         o = cube_row[ci]
         for j in range(k):
@@ -1713,6 +1726,7 @@ def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables, carrier, n_fa
                     p |= np.int64(1) << j
                     positive_corners[j] |= np.int64(1) << c
             corner_signs[c] = p
+        n_listed = 0
         for d in range(k, n + 1):
             sign = 1 if (d - k) % 2 == 0 else -1
             for s in range(start[d], start[d + 1]):
@@ -1735,13 +1749,36 @@ def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables, carrier, n_fa
                     if hit:
                         crossed[s] = 1
                         out[ci - lo, carrier[s]] += 1
+                        parent[s] = s
+                        reaches[s] = False
+                        if face_dim[carrier[s]] > k:
+                            listed[n_listed] = s
+                            n_listed += 1
                     continue
                 for j in range(d + 1):
-                    if crossed[facets[s, j]]:
+                    f = facets[s, j]
+                    if not crossed[f]:
+                        continue
+                    if not crossed[s]:
                         crossed[s] = 1
                         out[ci - lo, carrier[s]] += sign
-                        break
-    return out
+                        parent[s] = s
+                        reaches[s] = False
+                        listed[n_listed] = s
+                        n_listed += 1
+                    if carrier[f] == carrier[s]:
+                        a = _find(parent, s)
+                        b = _find(parent, f)
+                        if a != b:
+                            parent[b] = a
+                            reaches[a] = reaches[a] or reaches[b]
+                    else:
+                        reaches[_find(parent, s)] = True
+        for i in range(n_listed):
+            s = listed[i]
+            if parent[s] == s and not reaches[s]:
+                hidden[ci - lo, carrier[s]] += 1
+    return out, hidden
 
 
 @nb.njit(**JIT)

@@ -163,11 +163,13 @@ class Grid:
     def _cubes_off_euler(self, records, common, lo, hi) -> np.ndarray:
         """The cubes lo..hi-1 of a kernel run (a kernel thread's piece) where GCMH's cells count
         another Euler characteristic than CMS's in some open face of the cube: a cell there is not
-        a ball (a solid torus, a disc with a handle), though no two pieces of G_H need be joined."""
+        a ball (a solid torus, a disc with a handle), though no two pieces of G_H need be joined;
+        and those with a piece of M_A hidden inside a face (a loop inside a (k+1)-face: no GCMH
+        vertex, chi 0), which every cube on that face finds alike, so all of them are refined."""
         values, cube_lin, origin, _, _, value_off, _, _ = common
-        cms = _balls.cms_cube_euler(self.tab, values, cube_lin, value_off, lo, hi)
+        cms, hidden = _balls.cms_cube_euler(self.tab, values, cube_lin, value_off, lo, hi)
         gcmh = _balls.cube_euler(self.tab, records, origin[lo:hi], self.strides, self.dims)
-        return lo + np.flatnonzero((cms != gcmh).any(axis=1))
+        return lo + np.flatnonzero((cms != gcmh).any(axis=1) | hidden.any(axis=1))
 
     def process_block(self, values, lo, hi, first_layer=None) -> np.ndarray:
         """The candidate cubes of the block of cubes lo..hi-1 (per axis, global indices).

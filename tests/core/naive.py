@@ -757,3 +757,49 @@ def naive_records_cube_euler(tab, records, origin, strides, dims):
                     chi[row[(free, fixed)]] += (-1) ** (dim - k)
         out.append(chi)
     return np.array(out, np.int64)
+
+
+def naive_hidden_pieces_cms(tab, values, origin):
+    """cube_euler_chunk's hidden pieces, the slow way: for each face of the cube at `origin` (a
+    list over `tab`'s face rows), the connected pieces of M_A in the open face (CMS's crossed Kuhn
+    simplices whose lowest and highest corners span that face, joined when one is a facet of the
+    other) that have no crossed facet on a lower face: a loop inside a (k+1)-face, a closed
+    surface inside a (k+2)-face.  The k-faces count none."""
+    values = np.asarray(values, dtype=np.float64)
+    n = values.ndim - 1
+    k = values.shape[-1]
+    row = {(int(fr), int(fx)): f for f, (fr, fx) in enumerate(zip(tab.face_free, tab.face_fixed))}
+    simplices = {d: set() for d in range(k, n + 1)}
+    for perm in itertools.permutations(range(n)):
+        path = kuhn_path(tuple(origin), perm)
+        for d in range(k, n + 1):
+            for pts in itertools.combinations(path, d + 1):
+                simplices[d].add(frozenset(pts))
+
+    def face(s):
+        lo, hi = min(s, key=sum), max(s, key=sum)
+        fixed = sum(1 << a for a in range(n) if lo[a] > origin[a])
+        free = sum(1 << a for a in range(n) if hi[a] != lo[a])
+        return row[(free, fixed)], bin(free).count("1")
+
+    crossed = {k: {s for s in simplices[k] if simplex_lambdas([values[p] for p in sorted(s, key=sum)]) is not None}}
+    for d in range(k + 1, n + 1):
+        crossed[d] = {s for s in simplices[d] if any((s - {p}) in crossed[d - 1] for p in s)}
+    uf = UnionFind()
+    reaching = set()
+    inside = [s for d in crossed for s in crossed[d] if face(s)[1] > k]
+    for s in inside:
+        uf.add(s)
+    for s in inside:
+        for p in s:
+            f = s - {p}
+            if len(f) > k and f in crossed[len(f) - 1]:
+                if face(f) == face(s):
+                    uf.union(s, f)
+                else:
+                    reaching.add(s)
+    reach_roots = {uf.find(s) for s in reaching}
+    out = [0] * len(tab.face_free)
+    for root in {uf.find(s) for s in inside} - reach_roots:
+        out[face(root)[0]] += 1
+    return out

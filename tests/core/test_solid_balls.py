@@ -15,7 +15,7 @@ from gcmh_core import _balls, _kernels, extract
 from gcmh_core._tables import cube_tables
 from gcmh_core.analysis import boundary_components
 
-from naive import naive_cube_euler_cms, naive_records_cube_euler, structure_problems
+from naive import naive_cube_euler_cms, naive_hidden_pieces_cms, naive_records_cube_euler, structure_problems
 
 hypothesis = pytest.importorskip("hypothesis")
 from hypothesis import given, settings  # noqa: E402
@@ -80,9 +80,25 @@ def test_cube_euler_chunk_matches_naive(n, k):
     strides = np.array([3 ** (n - 1 - a) for a in range(n)], np.int64)
     corner_row = np.array([sum(int(strides[a]) for a in range(n) if c >> a & 1) for c in range(1 << n)], np.int64)
     origins = np.array(list(itertools.product(range(2), repeat=n)), np.int64)
-    got = _balls.cms_cube_euler(tab, values.reshape(-1, k), origins @ strides, corner_row, 0, len(origins))
+    got, hidden = _balls.cms_cube_euler(tab, values.reshape(-1, k), origins @ strides, corner_row, 0, len(origins))
     assert got.tolist() == [naive_cube_euler_cms(tab, values, o) for o in origins.tolist()]
+    assert hidden.tolist() == [naive_hidden_pieces_cms(tab, values, o) for o in origins.tolist()]
     assert np.abs(got).sum() > 0  # (not vacuous)
+
+
+@pytest.mark.parametrize("n,k,seed,div", [(4, 2, 3, 3), (5, 3, 1, 2), (5, 2, 0, 2)])
+def test_hidden_pieces_match_naive(n, k, seed, div):
+    """Pieces of M_A inside an open face that reach none of its lower faces (a closed loop inside
+    a (k+1)-face: no GCMH vertex, chi 0), on noise where they occur."""
+    rng = np.random.default_rng(seed)
+    values = rng.normal(size=(div + 1,) * n + (k,)) + rng.normal(scale=0.3)
+    tab = cube_tables(n, k)
+    strides = np.array([(div + 1) ** (n - 1 - a) for a in range(n)], np.int64)
+    corner_row = np.array([sum(int(strides[a]) for a in range(n) if c >> a & 1) for c in range(1 << n)], np.int64)
+    origins = np.array(list(itertools.product(range(div), repeat=n)), np.int64)
+    _, hidden = _balls.cms_cube_euler(tab, values.reshape(-1, k), origins @ strides, corner_row, 0, len(origins))
+    assert hidden.tolist() == [naive_hidden_pieces_cms(tab, values, o) for o in origins.tolist()]
+    assert hidden.sum() > 0  # (not vacuous)
 
 
 @pytest.mark.parametrize("n,k", [(4, 1), (5, 2), (5, 1)])
@@ -118,8 +134,8 @@ def test_a_flat_piece_counts_the_same_both_ways(n, k):
     flat = values.reshape(-1, k)
     records = _kernels.cubes_chunk(0, len(origins), flat, keys, origins, keys, axes, corner_row, corner_row, tab)[0]
     gcmh = _balls.cube_euler(tab, records, origins, strides, np.full(n, 3, np.int64))
-    cms = _balls.cms_cube_euler(tab, flat, keys, corner_row, 0, len(origins))
-    assert gcmh.tolist() == cms.tolist() and (cms != 0).any()
+    cms, hidden = _balls.cms_cube_euler(tab, flat, keys, corner_row, 0, len(origins))
+    assert gcmh.tolist() == cms.tolist() and (cms != 0).any() and not hidden.any()
 
 
 def test_replace_refined_cells():
