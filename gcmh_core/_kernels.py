@@ -1688,9 +1688,10 @@ def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables, carrier, n_fa
     none of its lower faces, counted in that face (a closed loop inside a (k+1)-face, a closed
     surface inside a (k+2)-face).  GCMH has no vertex on them (paper 3.1), so it has none of
     their cells, and a loop's Euler characteristic is 0: the count alone can't see it, and a
-    neighbour across the face would not know that a refined cube emits it.  Two crossed
-    simplices with one carrier are in one piece when one is a facet of the other; a piece
-    reaches a lower face when one of its simplices has a crossed facet there.
+    neighbour across the face would not know that a refined cube emits it.  The pieces are found
+    on the vertices and edges alone (the cells are convex: a piece's 1-skeleton is connected):
+    two vertices inside a face are in one piece when an edge with that carrier joins them, and a
+    piece reaches a lower face when such an edge has its other end there.
 
     tables: `_tables.SimplexTables`.  (No records and no positions: a simplex of dimension > k is
     crossed when one of its facets is, as in `simplices_chunk`, which also counts a polytope with
@@ -1702,9 +1703,9 @@ def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables, carrier, n_fa
     corners = tables.corners
     facets = tables.facets
     crossed = np.empty(start[n + 1], np.int64)
-    parent = np.empty(start[n + 1], np.int64)  # pieces in one open face (union-find over crossed rows)
-    reaches = np.empty(start[n + 1], np.bool_)  # the piece reaches a lower face (at its root)
-    listed = np.empty(start[n + 1], np.int64)  # the crossed rows above the k-faces
+    parent = np.empty(start[k + 1], np.int64)  # pieces in one open face (union-find over crossed k-simplices)
+    reaches = np.empty(start[k + 1], np.bool_)  # the piece reaches a lower face (at its root)
+    listed = np.empty(start[k + 1], np.int64)  # the crossed k-simplices inside faces of dimension > k
     corner_signs = np.empty(1 << n, np.int64)
     mat = np.empty((k, k), np.float64)
     rhs = np.empty(k, np.float64)
@@ -1755,25 +1756,35 @@ def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables, carrier, n_fa
                             listed[n_listed] = s
                             n_listed += 1
                     continue
+                if d > k + 1:
+                    for j in range(d + 1):
+                        if crossed[facets[s, j]]:
+                            crossed[s] = 1
+                            out[ci - lo, carrier[s]] += sign
+                            break
+                    continue
+                # an edge: its crossed ends inside its face are one piece, which reaches a lower face
+                # when an end lies there
+                root = -1
+                outside = False
                 for j in range(d + 1):
                     f = facets[s, j]
                     if not crossed[f]:
                         continue
-                    if not crossed[s]:
-                        crossed[s] = 1
-                        out[ci - lo, carrier[s]] += sign
-                        parent[s] = s
-                        reaches[s] = False
-                        listed[n_listed] = s
-                        n_listed += 1
-                    if carrier[f] == carrier[s]:
-                        a = _find(parent, s)
-                        b = _find(parent, f)
-                        if a != b:
-                            parent[b] = a
-                            reaches[a] = reaches[a] or reaches[b]
+                    crossed[s] = 1
+                    if carrier[f] != carrier[s]:
+                        outside = True
+                    elif root < 0:
+                        root = _find(parent, f)
                     else:
-                        reaches[_find(parent, s)] = True
+                        b = _find(parent, f)
+                        if b != root:
+                            parent[b] = root
+                            reaches[root] = reaches[root] or reaches[b]
+                if crossed[s]:
+                    out[ci - lo, carrier[s]] += sign
+                    if outside and root >= 0:
+                        reaches[root] = True
         for i in range(n_listed):
             s = listed[i]
             if parent[s] == s and not reaches[s]:
