@@ -453,16 +453,17 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
     assigned = []
     for f, cells in sorted(by_face.items()):
         new = top_in_face.get(f, [])
-        if len(cells) > 1:  # several pieces: each gets the CMS cells of its piece of M_A in f
-            free, fixed = int(tab.face_free[f]), int(tab.face_fixed[f])
-            inside = [x for x in keep if _in_face(*_free_fixed(kuhn, last, row_of[x[1]]), free, fixed)]
-            sub = {x: x for x in inside}
-            for x in inside:
-                for y in faces_of.get(x, []):
-                    if y in sub:
-                        _union(sub, x, y)
+        # each cell gets the CMS cells of its piece of M_A in f (even where it is f's only cell: a piece
+        # hidden inside f, a loop with no GCMH vertex, is no part of it)
+        free, fixed = int(tab.face_free[f]), int(tab.face_fixed[f])
+        inside = [x for x in keep if _in_face(*_free_fixed(kuhn, last, row_of[x[1]]), free, fixed)]
+        sub = {x: x for x in inside}
+        for x in inside:
+            for y in faces_of.get(x, []):
+                if y in sub:
+                    _union(sub, x, y)
         for r, key in cells:
-            mine = new if len(cells) == 1 else [x for x in new if _root(sub, x) == _root(sub, vertex_of[(r, key)])]
+            mine = [x for x in new if _root(sub, x) == _root(sub, vertex_of[(r, key)])]
             if not mine:
                 return None
             assigned.append((r, key, mine))
