@@ -451,19 +451,24 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
             if face_dim[f] == x[0] + k:  # (a simplex of its face's dimension)
                 top_in_face.setdefault(f, []).append(x)
     assigned = []
+    # faces with a piece of M_A hidden inside (a loop with no GCMH vertex): no GCMH cell's piece
+    hidden = _kernels.cube_euler_chunk(0, 1, values, cube_row, value_off, kuhn, _face_maps(n, k)[2],
+                                       len(tab.face_free), _face_dims(n, k))[1][0]
+    hidden_faces = [(int(tab.face_free[h]), int(tab.face_fixed[h])) for h in np.flatnonzero(hidden)]
     for f, cells in sorted(by_face.items()):
         new = top_in_face.get(f, [])
-        # each cell gets the CMS cells of its piece of M_A in f (even where it is f's only cell: a piece
-        # hidden inside f, a loop with no GCMH vertex, is no part of it)
         free, fixed = int(tab.face_free[f]), int(tab.face_fixed[f])
-        inside = [x for x in keep if _in_face(*_free_fixed(kuhn, last, row_of[x[1]]), free, fixed)]
-        sub = {x: x for x in inside}
-        for x in inside:
-            for y in faces_of.get(x, []):
-                if y in sub:
-                    _union(sub, x, y)
+        sub = None
+        if len(cells) > 1 or any(_in_face(*h, free, fixed) for h in hidden_faces):
+            # each cell gets the CMS cells of its own piece of M_A in f
+            inside = [x for x in keep if _in_face(*_free_fixed(kuhn, last, row_of[x[1]]), free, fixed)]
+            sub = {x: x for x in inside}
+            for x in inside:
+                for y in faces_of.get(x, []):
+                    if y in sub:
+                        _union(sub, x, y)
         for r, key in cells:
-            mine = [x for x in new if _root(sub, x) == _root(sub, vertex_of[(r, key)])]
+            mine = new if sub is None else [x for x in new if _root(sub, x) == _root(sub, vertex_of[(r, key)])]
             if not mine:
                 return None
             assigned.append((r, key, mine))
