@@ -336,6 +336,9 @@ def _arc(loop, i, j):
 
 
 # ----------------------------------------------------------------------------- refinement by CMS
+# A piece of M_A hidden inside a face (a loop inside a (k+1)-face reaches no k-face: no GCMH vertex,
+# chi 0) is emitted by a refined cube; the check flags every cube on that face alike
+# (`_kernels.cube_euler_chunk`'s hidden count), so every cube that has the face emits it too.
 # A refined cell's key: below every cut key (cut keys are at least -2^62), from the key of its Kuhn
 # simplex (`_tables.SimplexTables`), which is below 2^62 wherever a refinement is made.
 REFINED_BELOW = -(2**62)
