@@ -10,7 +10,10 @@ either edge now has the kept one, and the r-cells (r >= 3) that had the lens as 
 face lose that face.
 
 A lens is left alone, and counted, when some other 2-cell has both of its edges
-(merging them would fold that cell onto itself); none has been seen in practice.
+(merging them would fold that cell onto itself); none has been seen in practice.  A lens
+whose two edges are in no other 2-cell is a whole disc (M_A's small cap on the box's
+boundary): collapsing it would leave an edge in no 2-cell and lose a boundary circle, so it
+stays, and `subdivide_double_edges` makes it a triangle.
 
 Two edges with the same ends and no lens between them (a small closed curve of two
 edges, or the two edges of a loop that `_balls` split between two cells) are made
@@ -66,6 +69,10 @@ def collapse_lenses(edges: np.ndarray, cells: dict) -> tuple[np.ndarray, dict, i
         others = (cofaces[a] & cofaces[b]) - {c} if a != b else set()
         if any(not removed[o] for o in others):
             left += 1
+            continue
+        if a != b and cofaces[a] == {c} and cofaces[b] == {c}:
+            # a whole disc of two edges (M_A's small cap on the box's boundary): collapsing it would
+            # leave an edge in no 2-cell and lose a boundary circle; halving an edge makes it a triangle
             continue
         removed[c] = True
         collapsed += 1

@@ -602,7 +602,7 @@ def structure_problems(cx, bounds=None, div=None) -> list[str]:
     """What is wrong with cx as a regular cell complex of a manifold (empty if nothing):
     edges with one end or duplicated, 2-cells whose edges are not one cycle of >= 3, r-cells
     (r >= 3) whose boundary is not a closed connected (r-1)-pseudomanifold with the Euler
-    characteristic of a sphere, facets with more than two top cells, and, given the box
+    characteristic of a sphere, facets with more than two top cells or none, and, given the box
     `bounds` ((lo, hi) per axis) and `div` (cubes per axis), boundary facets off the box's
     boundary (the outer grid lines are perturbed: within half a cube of it, on one line)."""
     problems = []
@@ -651,6 +651,8 @@ def structure_problems(cx, bounds=None, div=None) -> list[str]:
         cofaces = cx.facet_cofaces()
         if (cofaces > 2).any():
             problems.append("a facet of more than two top cells")
+        if (cofaces == 0).any():  # (a lens collapsed that was a whole disc left its other edge alone)
+            problems.append("a facet of no top cell")
         if bounds is not None:
             V = np.asarray(cx.vertices)
             lo = np.array([b[0] for b in bounds], float)

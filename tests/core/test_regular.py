@@ -34,6 +34,24 @@ def test_a_lens_between_two_squares_collapses():
     assert sorted(fixed.cells[2][1][4:8].tolist()) == [3, 4, 5, 6]
 
 
+def test_a_lens_that_is_a_whole_disc_becomes_a_triangle():
+    """A lens whose edges are in no other 2-cell is a disc of its own (M_A's small cap on the box's
+    boundary): collapsing it would leave an edge in no 2-cell and lose a boundary circle."""
+    from gcmh_core._regular import subdivide_double_edges
+    from gcmh_core.analysis import boundary_components
+
+    V = np.array([[0.0, 0, 0], [1, 0, 0], [5, 0, 0], [6, 0, 0], [5, 1, 0]])
+    E = np.array([[0, 1], [0, 1], [2, 3], [3, 4], [4, 2]])  # a lens 0-1 and, apart, a triangle
+    cells = {2: (np.array([0, 2, 5]), np.array([0, 1, 2, 3, 4]))}
+    edges, out, collapsed, left = collapse_lenses(E, cells)
+    assert (collapsed, left) == (0, 0) and len(edges) == 5
+    V2, E2, out2, halved = subdivide_double_edges(V, edges, out)
+    fixed = CellComplex(3, 1, V2, E2, out2)
+    assert halved == 1 and fixed.counts() == [6, 6, 2] and lens_count(fixed) == 0 and duplicate_edges(fixed) == 0
+    assert fixed.euler_characteristic() == 2 and boundary_components(fixed) == 2
+    assert (fixed.facet_cofaces() == 1).all()
+
+
 def test_lens_faces_leave_their_3_cells():
     E = np.array([[0, 1], [0, 1], [1, 2], [2, 0]])
     cells = {2: (np.array([0, 2, 5, 8]), np.array([0, 1, 0, 2, 3, 1, 2, 3])),
