@@ -699,11 +699,10 @@ def naive_marching_cases():
 # Euler characteristics per closed cube (the check that GCMH's cells are balls)
 # --------------------------------------------------------------------------
 
-def naive_cube_euler_cms(tab, values, origin):
-    """cube_euler_chunk's twin: chi of M_A in each open face of the cube at `origin` (a list over
-    `tab`'s face rows): every crossed Kuhn simplex of dimension k + r counted (-1)^r in the face
-    spanned by its lowest and highest corners (a simplex above dimension k is crossed when a
-    facet is)."""
+def _crossed_kuhn_simplices(tab, values, origin):
+    """The crossed Kuhn simplices of the cube at `origin`, {d: set of frozensets of grid points}
+    (a k-simplex by the barycentric solve, a higher one when a facet is), and each simplex's face
+    of the cube: (`tab`'s row, its dimension), spanned by its lowest and highest corners."""
     values = np.asarray(values, dtype=np.float64)
     n = values.ndim - 1
     k = values.shape[-1]
@@ -714,21 +713,30 @@ def naive_cube_euler_cms(tab, values, origin):
         for d in range(k, n + 1):
             for pts in itertools.combinations(path, d + 1):
                 simplices[d].add(frozenset(pts))
-    out = [0] * len(tab.face_free)
 
     def face(s):
         lo, hi = min(s, key=sum), max(s, key=sum)
         fixed = sum(1 << a for a in range(n) if lo[a] > origin[a])
         free = sum(1 << a for a in range(n) if hi[a] != lo[a])
-        return row[(free, fixed)]
+        return row[(free, fixed)], bin(free).count("1")
 
-    crossed = {s for s in simplices[k] if simplex_lambdas([values[p] for p in sorted(s, key=sum)]) is not None}
-    for s in crossed:
-        out[face(s)] += 1
+    crossed = {k: {s for s in simplices[k] if simplex_lambdas([values[p] for p in sorted(s, key=sum)]) is not None}}
     for d in range(k + 1, n + 1):
-        crossed = {s for s in simplices[d] if any((s - {p}) in crossed for p in s)}
-        for s in crossed:
-            out[face(s)] += (-1) ** (d - k)
+        crossed[d] = {s for s in simplices[d] if any((s - {p}) in crossed[d - 1] for p in s)}
+    return crossed, face
+
+
+def naive_cube_euler_cms(tab, values, origin):
+    """cube_euler_chunk's twin: chi of M_A in each open face of the cube at `origin` (a list over
+    `tab`'s face rows): every crossed Kuhn simplex of dimension k + r counted (-1)^r in the face
+    spanned by its lowest and highest corners (a simplex above dimension k is crossed when a
+    facet is)."""
+    k = np.asarray(values).shape[-1]
+    crossed, face = _crossed_kuhn_simplices(tab, values, origin)
+    out = [0] * len(tab.face_free)
+    for d, here in crossed.items():
+        for s in here:
+            out[face(s)[0]] += (-1) ** (d - k)
     return out
 
 
@@ -767,26 +775,8 @@ def naive_hidden_pieces_cms(tab, values, origin):
     simplices whose lowest and highest corners span that face, joined when one is a facet of the
     other) that have no crossed facet on a lower face: a loop inside a (k+1)-face, a closed
     surface inside a (k+2)-face.  The k-faces count none."""
-    values = np.asarray(values, dtype=np.float64)
-    n = values.ndim - 1
-    k = values.shape[-1]
-    row = {(int(fr), int(fx)): f for f, (fr, fx) in enumerate(zip(tab.face_free, tab.face_fixed))}
-    simplices = {d: set() for d in range(k, n + 1)}
-    for perm in itertools.permutations(range(n)):
-        path = kuhn_path(tuple(origin), perm)
-        for d in range(k, n + 1):
-            for pts in itertools.combinations(path, d + 1):
-                simplices[d].add(frozenset(pts))
-
-    def face(s):
-        lo, hi = min(s, key=sum), max(s, key=sum)
-        fixed = sum(1 << a for a in range(n) if lo[a] > origin[a])
-        free = sum(1 << a for a in range(n) if hi[a] != lo[a])
-        return row[(free, fixed)], bin(free).count("1")
-
-    crossed = {k: {s for s in simplices[k] if simplex_lambdas([values[p] for p in sorted(s, key=sum)]) is not None}}
-    for d in range(k + 1, n + 1):
-        crossed[d] = {s for s in simplices[d] if any((s - {p}) in crossed[d - 1] for p in s)}
+    k = np.asarray(values).shape[-1]
+    crossed, face = _crossed_kuhn_simplices(tab, values, origin)
     uf = UnionFind()
     reaching = set()
     inside = [s for d in crossed for s in crossed[d] if face(s)[1] > k]
