@@ -455,8 +455,7 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
                 top_in_face.setdefault(f, []).append(x)
     assigned = []
     # faces with a piece of M_A hidden inside (a loop with no GCMH vertex): no GCMH cell's piece
-    hidden = _kernels.cube_euler_chunk(0, 1, values, cube_row, value_off, kuhn, _face_maps(n, k)[2],
-                                       len(tab.face_free), _face_dims(n, k))[1][0]
+    hidden = cms_cube_euler(tab, values, cube_row, value_off, 0, 1)[1][0]
     hidden_faces = [(int(tab.face_free[h]), int(tab.face_fixed[h])) for h in np.flatnonzero(hidden)]
     for f, cells in sorted(by_face.items()):
         new = top_in_face.get(f, [])
@@ -570,7 +569,23 @@ def cms_cube_euler(tab, values, cube_row, corner_row, lo, hi):
     each open face (`_kernels.cube_euler_chunk`): (euler, hidden), each (hi - lo, faces)."""
     _, _, carrier = _face_maps(tab.n, tab.k)
     return _kernels.cube_euler_chunk(lo, hi, values, cube_row, corner_row, tab.kuhn, carrier, len(tab.face_free),
-                                     _face_dims(tab.n, tab.k))
+                                     _face_dims(tab.n, tab.k), *_cofaces(tab.n, tab.k))
+
+
+@lru_cache(maxsize=16)
+def _cofaces(n, k):
+    """The Kuhn simplices that have each simplex as a facet, as CSR (start per simplex row, list)."""
+    from ._tables import cube_tables
+
+    kuhn = cube_tables(n, k).kuhn
+    rows = np.arange(kuhn.start[k + 1], kuhn.start[n + 1])
+    facets = kuhn.facets[rows]
+    owner = np.broadcast_to(rows[:, None], facets.shape)
+    has = facets >= 0
+    order = np.argsort(facets[has], kind="stable")
+    below, above = facets[has][order], owner[has][order]
+    start = np.searchsorted(below, np.arange(kuhn.start[n + 1] + 1)).astype(np.int64)
+    return start, np.ascontiguousarray(above, np.int64)
 
 
 @lru_cache(maxsize=16)

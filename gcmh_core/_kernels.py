@@ -1677,7 +1677,8 @@ def simplices_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lin
 
 
 @nb.njit(**JIT)
-def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables, carrier, n_faces, face_dim):
+def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables, carrier, n_faces, face_dim, coface_start,
+                     cofaces):
     """The Euler characteristic of M_A in each open face of each cube lo..hi-1 by CMS's count
     (paper Section 4): each crossed Kuhn simplex of dimension k + r is an r-cell, a convex
     polytope, counted (-1)^r in the face whose relative interior holds it (carrier[s], a
@@ -1693,9 +1694,11 @@ def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables, carrier, n_fa
     two vertices inside a face are in one piece when an edge with that carrier joins them, and a
     piece reaches a lower face when such an edge has its other end there.
 
-    tables: `_tables.SimplexTables`.  (No records and no positions: a simplex of dimension > k is
-    crossed when one of its facets is, as in `simplices_chunk`, which also counts a polytope with
-    too few facets.)  Returns (euler, hidden), each (hi - lo, n_faces).
+    tables: `_tables.SimplexTables`; cofaces[coface_start[s]:coface_start[s + 1]]: the simplices
+    that have s as a facet.  (No records and no positions: a simplex of dimension > k is crossed
+    when one of its facets is, as in `simplices_chunk`, which also counts a polytope with too few
+    facets; so the crossed simplices of each dimension are the cofaces of the crossed ones below,
+    and only those are visited.)  Returns (euler, hidden), each (hi - lo, n_faces).
     """
     n = tables.n
     k = tables.k
@@ -1716,6 +1719,9 @@ def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables, carrier, n_fa
     positive_corners = np.zeros(k, np.int64)
     out = np.zeros((hi - lo, n_faces), np.int64)
     hidden = np.zeros((hi - lo, n_faces), np.int64)
+    front = np.empty(start[n + 1], np.int64)  # the crossed simplices of one dimension
+    following = np.empty(start[n + 1], np.int64)  # and of the next
+    seen = np.zeros(start[n + 1], np.int64)  # the cube (ci + 1) that last listed a simplex
     for ci in range(lo, hi):
         o = cube_row[ci]
         for j in range(k):
@@ -1728,63 +1734,69 @@ def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables, carrier, n_fa
                     positive_corners[j] |= np.int64(1) << c
             corner_signs[c] = p
         n_listed = 0
-        for d in range(k, n + 1):
+        n_front = 0
+        for s in range(start[k], start[k + 1]):
+            crossed[s] = 0
+            if masked:  # a simplex on which some F_j has one sign holds no zero
+                m = corner_mask[s]
+                out_of = False
+                for j in range(k):
+                    on = positive_corners[j] & m
+                    if on == 0 or on == m:
+                        out_of = True
+                        break
+                if out_of:
+                    continue
+            hit = _simplex_crosses_call(values, o, corner_row, corners, s, k, corner_signs, all_signs, mat, rhs, lam)
+            if hit == 2:
+                hit = _zero_side(values, o, corner_row, corners, s, k, lam)
+            if hit:
+                crossed[s] = 1
+                out[ci - lo, carrier[s]] += 1
+                parent[s] = s
+                reaches[s] = False
+                if face_dim[carrier[s]] > k:
+                    listed[n_listed] = s
+                    n_listed += 1
+                front[n_front] = s
+                n_front += 1
+        stamp = ci + 1
+        for d in range(k + 1, n + 1):
             sign = 1 if (d - k) % 2 == 0 else -1
-            for s in range(start[d], start[d + 1]):
-                crossed[s] = 0
-                if masked:  # a simplex on which some F_j has one sign holds no zero
-                    m = corner_mask[s]
-                    out_of = False
-                    for j in range(k):
-                        on = positive_corners[j] & m
-                        if on == 0 or on == m:
-                            out_of = True
-                            break
-                    if out_of:
+            n_next = 0
+            for i in range(n_front):
+                f = front[i]
+                for q in range(coface_start[f], coface_start[f + 1]):
+                    s = cofaces[q]
+                    if seen[s] == stamp:
                         continue
-                if d == k:
-                    hit = _simplex_crosses_call(values, o, corner_row, corners, s, k, corner_signs, all_signs, mat, rhs,
-                                                lam)
-                    if hit == 2:
-                        hit = _zero_side(values, o, corner_row, corners, s, k, lam)
-                    if hit:
-                        crossed[s] = 1
-                        out[ci - lo, carrier[s]] += 1
-                        parent[s] = s
-                        reaches[s] = False
-                        if face_dim[carrier[s]] > k:
-                            listed[n_listed] = s
-                            n_listed += 1
-                    continue
-                if d > k + 1:
-                    for j in range(d + 1):
-                        if crossed[facets[s, j]]:
-                            crossed[s] = 1
-                            out[ci - lo, carrier[s]] += sign
-                            break
-                    continue
-                # an edge: its crossed ends inside its face are one piece, which reaches a lower face
-                # when an end lies there
-                root = -1
-                outside = False
-                for j in range(d + 1):
-                    f = facets[s, j]
-                    if not crossed[f]:
-                        continue
-                    crossed[s] = 1
-                    if carrier[f] != carrier[s]:
-                        outside = True
-                    elif root < 0:
-                        root = _find(parent, f)
-                    else:
-                        b = _find(parent, f)
-                        if b != root:
-                            parent[b] = root
-                            reaches[root] = reaches[root] or reaches[b]
-                if crossed[s]:
+                    seen[s] = stamp
+                    following[n_next] = s
+                    n_next += 1
                     out[ci - lo, carrier[s]] += sign
+                    if d > k + 1:
+                        continue
+                    # an edge: its crossed ends inside its face are one piece, which reaches a lower
+                    # face when an end lies there
+                    root = -1
+                    outside = False
+                    for j in range(d + 1):
+                        g = facets[s, j]
+                        if not crossed[g]:
+                            continue
+                        if carrier[g] != carrier[s]:
+                            outside = True
+                        elif root < 0:
+                            root = _find(parent, g)
+                        else:
+                            b = _find(parent, g)
+                            if b != root:
+                                parent[b] = root
+                                reaches[root] = reaches[root] or reaches[b]
                     if outside and root >= 0:
                         reaches[root] = True
+            front, following = following, front
+            n_front = n_next
         for i in range(n_listed):
             s = listed[i]
             if parent[s] == s and not reaches[s]:
