@@ -351,9 +351,8 @@ def refined_key(simplex_keys):
     return REFINED_BELOW - 1 - simplex_keys
 
 
-def refined_key_simplex(keys):
-    """`refined_key`'s simplex keys back."""
-    return REFINED_BELOW - 1 - keys
+# `refined_key`'s simplex keys back: the map is its own inverse
+refined_key_simplex = refined_key
 
 
 def _simplex_keys(kuhn, g_vertex, corner_off):
@@ -407,19 +406,13 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
         return None
     row_of = {int(x): s for s, x in enumerate(skeys)}
     gcmh_of_row = _gcmh_vertex_keys(tab, g_vertex, corner_off)
-    dims = np.searchsorted(kuhn.start, np.arange(len(skeys)), side="right") - 1
-    # the face of the cube whose relative interior holds each simplex: its chain's first and last corners
-    last = kuhn.corners[np.arange(len(skeys)), dims]
-    face_of = {(int(tab.face_free[f]), int(tab.face_fixed[f])): f for f in range(len(tab.face_free))}
-    face_dim = np.array([bin(int(x)).count("1") for x in tab.face_free])
+    carrier = _face_maps(n, k)[2]  # the face of the cube whose relative interior holds each simplex
+    face_dim = _face_dims(n, k)
     face_key_of = {}
     for f in range(tab.face_start[k + 1], tab.face_start[n + 1]):
         dim = int(face_dim[f])
         anchor = g_vertex + int(corner_off[tab.face_fixed[f]])
         face_key_of[(dim, _face_key(anchor, int(tab.n_subsets[dim]), int(tab.face_rank[f])))] = f
-
-    def carrier(s):
-        return face_of[(int(last[s] & ~kuhn.c0[s]), int(kuhn.c0[s]))]
 
     # CMS entities (dim r, simplex key) with their faces; GCMH vertices under their own keys
     faces_of: dict = {}
@@ -431,7 +424,6 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
         faces_of.setdefault((r, x), [])
     entities = [(0, int(v)) for v in c_vk] + sorted(faces_of)
     gcmh_vertex = {(0, int(v)): gcmh_of_row[row_of[int(v)]] for v in c_vk if row_of[int(v)] in gcmh_of_row}
-    keep = entities
     # GCMH's cells of the cube, each with its face and one of its vertices (as a CMS vertex)
     cms_vertex = {g: x for x, g in gcmh_vertex.items()}
     vertex_of: dict = {}
@@ -448,22 +440,23 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
         by_face.setdefault(f, []).append((r, key))
     # each GCMH r-cell is replaced by the CMS r-cells (simplices of its face's dimension) of its piece
     top_in_face: dict = {}
-    for x in keep:
+    for x in entities:
         if x[0] >= 1:
-            f = carrier(row_of[x[1]])
+            f = int(carrier[row_of[x[1]]])
             if face_dim[f] == x[0] + k:  # (a simplex of its face's dimension)
                 top_in_face.setdefault(f, []).append(x)
     assigned = []
     # faces with a piece of M_A hidden inside (a loop with no GCMH vertex): no GCMH cell's piece
     hidden = cms_cube_euler(tab, values, cube_row, value_off, 0, 1)[1][0]
-    hidden_faces = [(int(tab.face_free[h]), int(tab.face_fixed[h])) for h in np.flatnonzero(hidden)]
+    hidden_faces = [_face_free_fixed(tab, h) for h in np.flatnonzero(hidden)]
     for f, cells in sorted(by_face.items()):
         new = top_in_face.get(f, [])
-        free, fixed = int(tab.face_free[f]), int(tab.face_fixed[f])
+        free, fixed = _face_free_fixed(tab, f)
         sub = None
         if len(cells) > 1 or any(_in_face(*h, free, fixed) for h in hidden_faces):
             # each cell gets the CMS cells of its own piece of M_A in f
-            inside = [x for x in keep if _in_face(*_free_fixed(kuhn, last, row_of[x[1]]), free, fixed)]
+            inside = [x for x in entities
+                      if _in_face(*_face_free_fixed(tab, carrier[row_of[x[1]]]), free, fixed)]
             sub = {x: x for x in inside}
             for x in inside:
                 for y in faces_of.get(x, []):
@@ -486,20 +479,20 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
     def vkey(x):
         return gcmh_vertex[x] if x in gcmh_vertex else int(refined_key(x[1]))
 
-    kept = set(keep)
-    new_v = [i for i, v in enumerate(c_vk.tolist()) if (0, v) in kept and (0, v) not in gcmh_vertex]
+    new_v = [i for i, v in enumerate(c_vk.tolist()) if (0, v) not in gcmh_vertex]
     vk = refined_key(c_vk[new_v])
     vp = c_vp[new_v]
-    e = np.array([(refined_key(key), vkey((0, a)), vkey((0, b))) for key, a, b in c_edges.tolist()
-                  if (1, key) in kept], np.int64).reshape(-1, 3)
-    c = np.array([(r, refined_key(x)) for r, x in c_cells.tolist() if (r, x) in kept], np.int64).reshape(-1, 2)
-    inc = [(r, refined_key(x), refined_key(y)) for r, x, y in c_inc.tolist() if (r, x) in kept]
+    e = np.array([(refined_key(key), vkey((0, a)), vkey((0, b))) for key, a, b in c_edges.tolist()],
+                 np.int64).reshape(-1, 3)
+    c = np.array([(r, refined_key(x)) for r, x in c_cells.tolist()], np.int64).reshape(-1, 2)
+    inc = [(r, refined_key(x), refined_key(y)) for r, x, y in c_inc.tolist()]
     inc += [(r, old, refined_key(s)) for r, old, s in replace]
     return vk, vp, e, c, np.array(inc, np.int64).reshape(-1, 3)
 
 
-def _free_fixed(kuhn, last, s):
-    return int(last[s] & ~kuhn.c0[s]), int(kuhn.c0[s])
+def _face_free_fixed(tab, f):
+    """The cube face row f as (free, fixed) bits."""
+    return int(tab.face_free[f]), int(tab.face_fixed[f])
 
 
 def _in_face(free, fixed, f_free, f_fixed):

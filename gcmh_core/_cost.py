@@ -66,9 +66,9 @@ def checks_cells(n: int, k: int, simplicial: bool, check_cells: bool | None) -> 
     """Whether a run checks its cells against CMS's Euler characteristic (`runner.Grid.check_cells`):
     GCMH and GCCH for n - k >= 2 and 4 <= n <= 7 when asked (no Kuhn tables beyond n = 7; surfaces
     in R^3 go by the one-pass marching).  By default for solids (n - k >= 3) where a cube's Kuhn
-    simplices are few (n <= 5, 1.3 to 2.7 times the run); not for surfaces, whose pieces the
+    simplices are few (n <= 5, 1.4 to 2.3 times the run, README); not for surfaces, whose pieces the
     kernel's own check covers but for noise (the complex cosine would take twice as long)."""
-    if simplicial or n - k < 2 or not 4 <= n <= 7:
+    if simplicial or n - k < 2 or not 4 <= n <= 7 or lazy_tables(n, k):
         return False
     if check_cells is None:
         return n - k >= 3 and kuhn_simplices(n, k) <= CHECK_SIMPLICES

@@ -1705,7 +1705,7 @@ def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables, carrier, n_fa
     start = tables.start
     corners = tables.corners
     facets = tables.facets
-    crossed = np.empty(start[n + 1], np.int64)
+    crossed = np.empty(start[k + 1], np.int64)  # the k-simplices' (above k: the cofaces walked, `seen`)
     parent = np.empty(start[k + 1], np.int64)  # pieces in one open face (union-find over crossed k-simplices)
     reaches = np.empty(start[k + 1], np.bool_)  # the piece reaches a lower face (at its root)
     listed = np.empty(start[k + 1], np.int64)  # the crossed k-simplices inside faces of dimension > k

@@ -98,9 +98,8 @@ class Grid:
         if key_room >= 2**63:
             raise InputError(f"the grid is too large to index ({total:,} vertices in R^{n}): use a smaller div")
         # cells are checked against CMS's Euler characteristic face by face (`_cost.checks_cells`: by
-        # default where a cube's Kuhn simplices are few, n <= 5: 1.3-2.8 times the run; n = 6, 7 take
-        # 7-11 times; surfaces in R^3 go by the one-pass marching, which has no such check)
-        self.check_cells = checks_cells(n, k, self.simplicial, check_cells) and self.tab.kuhn.corners.shape[0] > 0
+        # default for solids where a cube's Kuhn simplices are few, n <= 5)
+        self.check_cells = checks_cells(n, k, self.simplicial, check_cells)
         self.axes_arr = np.zeros((n, int(self.dims.max())))
         for a in range(n):
             self.axes_arr[a, : self.dims[a]] = axes[a]
@@ -145,7 +144,7 @@ class Grid:
         results = [result for result, _ in both]
         for lo, ((records, _, degenerate, non_ball), off_euler) in zip(cuts, both):
             # cubes with cells that are not balls, once per such cell: pieces of G_H that M_A joins
-            # (the kernel); solids' cubes where GCMH's count differs from CMS's (a solid torus's cell)
+            # (the kernel); cubes where GCMH's count differs from CMS's or M_A hides in a face (the check)
             cubes = np.repeat(non_ball[:, 0] + lo, non_ball[:, 2])
             if off_euler is not None:
                 cubes = np.concatenate([cubes, off_euler[~np.isin(off_euler, cubes)]])
