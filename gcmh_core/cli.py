@@ -680,7 +680,9 @@ def _human(s: dict, job: dict) -> str:
         lines.append(f"  warning: at {s['non_ball_cells']} places a piece of M inside a cube is not a ball, so the "
                      "topology is wrong there: use --method cms, or a finer --div")
     if s["non_ball_split"]:
-        how = "cut into discs" if s["n"] - s["k"] == 2 else "replaced by the simplicial (CMS) cells of their cubes"
+        # (where the cells are checked, a surface's cubes are refined too: `runner.split_non_ball_cells`)
+        cut = s["n"] - s["k"] == 2 and not s["cells_checked"]
+        how = "cut into discs" if cut else "replaced by the simplicial (CMS) cells of their cubes"
         lines.append(f"  note: at {s['non_ball_split']} places a piece of M inside a cube was not a ball; GCMH's cells "
                      f"there were {how}, so the topology is right")
     if 6 <= s["n"] <= 7 and s["n"] - s["k"] >= 3 and not s["cells_checked"] and s["method"] in ("gcmh", "gcch"):

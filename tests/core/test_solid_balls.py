@@ -233,6 +233,13 @@ def test_cli_check_cells(capsys):
     assert main(argv + ["--check-cells", "--json"]) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["cells_checked"] is True and summary["euler_characteristic"] == 0
+    # a surface's tube is cut into discs, or, where the cells are checked, refined like a solid's
+    tube = ["--f", "+".join(f"(x{a}-(x1+x2+x3)/3)^2" for a in (1, 2, 3)) + "-0.04",
+            "--f", "x4-0.1*x1+0.05*x2-0.137", "--n", "4", "--bounds=-1:1", "--div", "8,8,8,3"]
+    assert main(["extract"] + tube) == 0
+    assert "cut into discs" in capsys.readouterr().out
+    assert main(["extract"] + tube + ["--check-cells"]) == 0
+    assert "replaced by the simplicial (CMS) cells" in capsys.readouterr().out
 
 
 def noise(seed, n, k, div):
