@@ -12,7 +12,7 @@ Modules, model apart from view (napari style); the first group imports no Qt:
 - ``scene``: ``Scene``, a projected complex on any pyvista plotter (the window's or an off-screen one);
 - ``studio_io``: sessions (JSON) and exports of the complex and the projected mesh;
 - ``headless``: rendering without a window (``--screenshot``, ``--animate``, thumbnails, animation export);
-- ``make_gallery``: ``python -m app.make_gallery`` draws ``resources/gallery/*.png``;
+- ``make_gallery``: ``python -m gcmh_studio.make_gallery`` draws ``resources/gallery/*.png``;
 
 and with Qt:
 
@@ -23,5 +23,5 @@ and with Qt:
 - ``qt_formula_panel``, ``qt_projection_panel``, ``qt_animation_panel``, ``qt_topology_panel``, ``qt_gallery``,
   ``qt_widgets``: the widgets;
 - ``qt_main_window``: ``QtMainWindow``, which lays out and wires the parts;
-- ``__main__``: the ``gcmh-app`` command (also ``python -m app``).
+- ``__main__``: the ``gcmh-app`` command (also ``python -m gcmh_studio``).
 """

@@ -1,4 +1,4 @@
-"""GCMH Studio: ``gcmh-app`` / ``python -m app``.
+"""GCMH Studio: ``gcmh-app`` / ``python -m gcmh_studio``.
 
     gcmh-app                                   # the window, opening on the Klein bottle
     gcmh-app --example complex-cosine          # the window, opening on another example
@@ -44,7 +44,7 @@ def install_interrupt_handlers() -> None:
             signal.signal(sig, _interrupted)
 
 
-if __name__ == "__main__":   # python -m app: before the imports below (gcmh-app: main() installs them)
+if __name__ == "__main__":   # python -m gcmh_studio: before the imports below (gcmh-app: main() installs them)
     install_interrupt_handlers()
 
 import argparse  # noqa: E402
@@ -110,7 +110,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def _session_screenshot(args) -> int:
     """A screenshot of a saved session: restoring its view needs the panels, so the window's own code runs,
-    unshown (every other screenshot is drawn without Qt, by app.headless)."""
+    unshown (every other screenshot is drawn without Qt, by gcmh_studio.headless)."""
     from qtpy.QtCore import QEventLoop, QTimer
     from qtpy.QtWidgets import QApplication
 

@@ -13,7 +13,7 @@ Three kinds, all as lists of :class:`Frame` (what to change before drawing a fra
 * ``slice``: the centre of the slicing window sweeps from one end of the
   complex to the other and back.
 * ``param``: a parameter of the formulas goes from one value to another, evenly,
-  both ends included; every frame is its own extraction (:mod:`app.headless`
+  both ends included; every frame is its own extraction (:mod:`gcmh_studio.headless`
   draws them with one camera, so the surface changes and the framing does not).
 
 Spec text (the ``--animate`` option): ``rotate:I-J`` (variable names, e.g.
@@ -253,7 +253,7 @@ class Clock:
 
 # A parameter sweep's notice at a critical value (a colour of its own, kept exactly in a GIF)
 CRITICAL_COLOUR = (0xff, 0x8a, 0x5c)
-# Colours a GIF's palette keeps exactly: the title's white, the text greys of app.scene and the critical
+# Colours a GIF's palette keeps exactly: the title's white, the text greys of gcmh_studio.scene and the critical
 # notice (text never recoloured)
 RESERVED_COLOURS = ((255, 255, 255), (0xc8, 0xcf, 0xdc), (0xdf, 0xe4, 0xee), (0, 0, 0), CRITICAL_COLOUR)
 PALETTE_PIXELS = 1_500_000  # pixels (from every frame) the GIF's adaptive palette is learnt from

@@ -3,7 +3,7 @@
 :class:`Geometry` holds what the viewer needs to draw a result and to redraw it
 quickly under any projection: the VTK-style cell array (lines for curves,
 polygons for surfaces and 2-skeletons), the centred float32 vertices
-(:class:`app.projection.Projector`) and, for surfaces, a :class:`NormalField`.
+(:class:`gcmh_studio.projection.Projector`) and, for surfaces, a :class:`NormalField`.
 
 Smooth shading of a projected surface: the area-weighted normal of a triangle
 (a, b) after projection is ``Pa x Pb = sum_{i<j} (a_i b_j - a_j b_i) (P_i x P_j)``
@@ -318,7 +318,7 @@ class Geometry:
 
     @classmethod
     def from_slice(cls, sl, dim: int, n: int, center, radii, cell_ids=None) -> Geometry:
-        """Drawing arrays of an :class:`app.slicing.Slice` of a geometry (its loops stay oriented).
+        """Drawing arrays of an :class:`gcmh_studio.slicing.Slice` of a geometry (its loops stay oriented).
 
         ``center`` and ``radii`` are the full complex's, so the slice does not move.
         """

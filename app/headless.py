@@ -1,8 +1,8 @@
 """Rendering without a window: ``gcmh-app --screenshot`` / ``--animate``, the gallery thumbnails, and the
-window's own animation export all draw here, with the window's drawing code (:class:`app.scene.Scene`) on an
+window's own animation export all draw here, with the window's drawing code (:class:`gcmh_studio.scene.Scene`) on an
 off-screen pyvista plotter.  No Qt is imported.
 
-    from app.headless import Options, render
+    from gcmh_studio.headless import Options, render
     render(Options(example="klein-bottle", screenshot="klein.png", size=(800, 600)))   # 0 on success
     render(Options(example="hyperboloid", animate="param:a=-1:1", frames=24, gif="a.gif"))
 
@@ -89,7 +89,7 @@ ANIMATION_AA = "fxaa"
 
 @contextmanager
 def offscreen_scene(size, anti_aliasing: str | None = ANIMATION_AA):
-    """A :class:`app.scene.Scene` on an off-screen plotter of ``size`` (w, h) pixels, closed afterwards."""
+    """A :class:`gcmh_studio.scene.Scene` on an off-screen plotter of ``size`` (w, h) pixels, closed afterwards."""
     import pyvista as pv
 
     from .scene import Scene
@@ -104,7 +104,7 @@ def offscreen_scene(size, anti_aliasing: str | None = ANIMATION_AA):
 def write_frames(scene, projection, frames, window, paths, fps: float, progress=None, cancel=None) -> int:
     """Draw ``frames`` on ``scene`` and write them to each of ``paths`` (.gif/.mp4); returns the frames written.
 
-    One path: the frames stream to it (``progress(k)``, ``cancel()`` as in :func:`app.animation.write_animation`);
+    One path: the frames stream to it (``progress(k)``, ``cancel()`` as in :func:`gcmh_studio.animation.write_animation`);
     several: rendered once, then written to each.
     """
     from .scene import animation_images
@@ -325,7 +325,7 @@ SWEEP_SAMPLE = 200_000   # vertices of all frames together that fix the common c
 
 
 def sweep_values(spec, frames: int) -> list[float]:
-    """The parameter's value in each frame of a ``param`` spec (:func:`app.animation.param_frames`)."""
+    """The parameter's value in each frame of a ``param`` spec (:func:`gcmh_studio.animation.param_frames`)."""
     from .animation import param_frames
 
     return [f.param_value for f in param_frames(spec.lo, spec.hi, frames)]
@@ -367,7 +367,7 @@ def param_sweep(job, spec, frames: int, progress=None, cancel=None) -> list:
 
     Continuation methods (gcch, ccs) start each frame from the previous frame's result (a small step
     projects its vertices onto the new M at once); when none of them reaches it, the frame starts as
-    :func:`app.jobs.run_job` does (the job's start, else "auto").  The whole-grid methods run every
+    :func:`gcmh_studio.jobs.run_job` does (the job's start, else "auto").  The whole-grid methods run every
     frame afresh.  ``progress(k)`` after frame k; ``cancel()`` true stops (the frames so far come back).
     """
     from gcmh_core.errors import InputError
@@ -419,7 +419,7 @@ def sweep_images(scene, names, view, complexes, spec, style, mapping: str = "ort
     on the centre of all of them (the projection's scales too), the camera is fitted once to all of
     them together (from ``camera``'s direction, a pyvista Camera such as the window's, else the default
     one), and the colour scale spans all of them.  Each frame is captioned with its value and topology
-    (:func:`app.animation.param_caption`) and, at a critical value (``meta["singular_vertices"]``), a
+    (:func:`gcmh_studio.animation.param_caption`) and, at a critical value (``meta["singular_vertices"]``), a
     notice in its own colour.  ``view``: the (fixed) projection."""
     import copy
 
@@ -500,8 +500,8 @@ def export_param_sweep(paths, job, spec, frames: int, names, projection, style, 
     """A parameter sweep from start to file: budget check, output check, the extractions, the frames,
     each of ``paths`` (.gif/.mp4) written atomically.  Returns (frames written, the complexes).
 
-    ``projection``: an :class:`app.projection.ProjectionModel` (its angles and mapping; its principal axes
-    are set from all the frames); ``style``: an :class:`app.scene.Style` (title, colour, labels);
+    ``projection``: an :class:`gcmh_studio.projection.ProjectionModel` (its angles and mapping; its principal axes
+    are set from all the frames); ``style``: an :class:`gcmh_studio.scene.Style` (title, colour, labels);
     ``camera``: a pyvista Camera whose direction the picture keeps (the window's), else the default view.
     ``progress(phase, k)``: phase "extract" then "draw", k frames done.  Bad input, or a sweep that
     won't fit, raises InputError before any work."""

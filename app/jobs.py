@@ -2,7 +2,7 @@
 
 :class:`Job` is everything ``gcmh_core.extract`` needs for one run; ``run_job``
 runs it synchronously (the headless path, and the worker threads of
-:mod:`app.worker`, call it), ``estimate_job`` says beforehand what it will cost;
+:mod:`gcmh_studio.worker`, call it), ``estimate_job`` says beforehand what it will cost;
 ``view_data`` prepares the drawing arrays and the topology report of a result off
 the GUI thread.
 
@@ -205,7 +205,7 @@ def topology_of(cx, job: Job | None = None) -> dict | None:
 
 def view_data(cx, job: Job | None, progress=None, cancel=None):
     """What the GUI thread needs to show ``cx``, made beforehand in a worker: (its drawing
-    arrays, an app.geometry.Geometry or None; its topology report or None; the traceback
+    arrays, an gcmh_studio.geometry.Geometry or None; its topology report or None; the traceback
     when the Geometry failed: the GUI thread then builds it, and reports, itself).
     ``progress(phase, fraction)`` names each step; ``cancel()`` is asked between them
     (a cancelled call returns without the report)."""

@@ -1,15 +1,15 @@
-"""Draw the gallery thumbnails: ``python -m app.make_gallery [NAME ...]``.
+"""Draw the gallery thumbnails: ``python -m gcmh_studio.make_gallery [NAME ...]``.
 
 For every example (or the ones named) this runs the headless screenshot code
-of ``gcmh-app --example NAME --screenshot`` (:func:`app.headless.render`) at
+of ``gcmh-app --example NAME --screenshot`` (:func:`gcmh_studio.headless.render`) at
 twice the thumbnail size and scales the picture down (the overlay text then
 fits and the edges are smooth), writing ``app/resources/gallery/<name>.png``
 (package data: the gallery ships with the app).  A thumbnail that would be
 over ``MAX_BYTES`` is stored with a 256-colour palette instead.
 
-    python -m app.make_gallery                      # all examples
-    python -m app.make_gallery sphere torus         # just these
-    python -m app.make_gallery --size 320x240 --out /tmp/gallery
+    python -m gcmh_studio.make_gallery                      # all examples
+    python -m gcmh_studio.make_gallery sphere torus         # just these
+    python -m gcmh_studio.make_gallery --size 320x240 --out /tmp/gallery
 """
 
 from __future__ import annotations
@@ -72,7 +72,7 @@ def make_thumbnail(name: str, out: Path, size: tuple[int, int] = SIZE) -> int:
 def main(argv=None) -> int:
     from gcmh_core.examples import example_names
 
-    p = argparse.ArgumentParser(prog="python -m app.make_gallery", description=__doc__.splitlines()[0])
+    p = argparse.ArgumentParser(prog="python -m gcmh_studio.make_gallery", description=__doc__.splitlines()[0])
     p.add_argument("names", nargs="*", metavar="NAME", help="examples to draw (default: all)")
     p.add_argument("--out", type=Path, default=None, help="output folder (default: app/resources/gallery)")
     p.add_argument("--size", type=parse_size, default=SIZE, metavar="WxH", help="thumbnail size (default 320x240)")

@@ -174,7 +174,7 @@ class StudioModel:
         self.title = ""                 # its title (an example's, or "" for a system typed in)
         self.labels: dict = {}          # what its variables mean, {"u": "Re w"} (a system typed in complex mode)
         self.serial = 0                 # counts the results shown: a refinement belongs to one
-        self.job = None                 # the app.jobs.Job of the last run started (refinement evaluates its F)
+        self.job = None                 # the gcmh_studio.jobs.Job of the last run started (refinement evaluates its F)
         self.picked: dict | None = None
         self.last_refinement: dict | None = None   # max |F| at the vertices before and after
         self.status = ""

@@ -87,7 +87,7 @@ def ask_big_run(parent, est, gcch: bool):
 
 
 class StudioActions:
-    """The menus of ``window`` (a :class:`app.qt_main_window.QtMainWindow`) and their actions.
+    """The menus of ``window`` (a :class:`gcmh_studio.qt_main_window.QtMainWindow`) and their actions.
 
     Attributes: ``open``, ``save``, ``screenshot``, ``run``, ``cancel``, ``play``, ``gallery`` (None
     without the gallery) and ``examples`` (name -> action) among others.

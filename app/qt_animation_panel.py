@@ -5,15 +5,15 @@ emits ``tick(seconds)`` (the time since the last tick, times the speed) and
 the window moves the view by that much, in place. ``exportRequested(format)``
 ("gif" or "mp4") asks the window to render the animation off screen.
 
-Modes (:data:`MODES`; the periods are in :mod:`app.animation`): ``rotate`` (the chosen plane, one turn per
+Modes (:data:`MODES`; the periods are in :mod:`gcmh_studio.animation`): ``rotate`` (the chosen plane, one turn per
 ``ROTATE_PERIOD`` seconds at speed 1), ``tour`` (the path of
-:func:`app.animation.tour_angles`, one period per ``TOUR_PERIOD`` seconds) and
+:func:`gcmh_studio.animation.tour_angles`, one period per ``TOUR_PERIOD`` seconds) and
 ``slice`` (the slice window's centre sweeps across and back per
 ``SLICE_PERIOD`` seconds; needs the slice turned on in the View tab).
 
 ``param`` (:data:`PARAM_MODE`): a parameter of the formulas sweeps from one value to another, one
 extraction per frame; it is exported (``spec_text()`` gives ``param:a=-1:1`` for
-:func:`app.headless.export_param_sweep`), not played.  The mode is offered only once the window has
+:func:`gcmh_studio.headless.export_param_sweep`), not played.  The mode is offered only once the window has
 given the formulas' parameters with :meth:`QtAnimationPanel.set_parameters`.
 """
 

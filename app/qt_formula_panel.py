@@ -11,12 +11,12 @@ comes, a field keeps its last mark and :meth:`QtFormulaPanel.checking` is True;
 Changing n or k hides fields rather than deleting them: formulas, bounds and
 names come back as they were when n or k grows again.
 
-Under the method, the run's estimate (:func:`app.jobs.estimate_job`: peak memory
+Under the method, the run's estimate (:func:`gcmh_studio.jobs.estimate_job`: peak memory
 and time, made in a worker a moment after the last change) says before Run what
 the run will cost, in red when it won't fit.
 
 Every name in the formulas that is neither a variable nor a constant or function is
-a parameter: it gets a row of :class:`app.qt_parameters.QtParameterPanel` (slider,
+a parameter: it gets a row of :class:`gcmh_studio.qt_parameters.QtParameterPanel` (slider,
 value, range) under the formulas, found by the same checks; the window re-extracts
 as a slider moves.
 
@@ -28,7 +28,7 @@ rows ("u = Re w") and the view's axes.
 
 ``state()`` / ``set_state(d)`` give the panel's contents as a plain dict (the
 session file stores it; in complex mode the equations as typed, not their split);
-``job()`` builds a :class:`app.worker.Job` when valid.
+``job()`` builds a :class:`gcmh_studio.worker.Job` when valid.
 """
 
 from __future__ import annotations

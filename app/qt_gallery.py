@@ -1,7 +1,7 @@
 """QtGallery: pick an example by its picture.
 
 A dialog with one thumbnail per example (``app/resources/gallery/<name>.png``,
-package data read with importlib.resources, drawn by ``python -m app.make_gallery``),
+package data read with importlib.resources, drawn by ``python -m gcmh_studio.make_gallery``),
 its title under it, and the selected example's description beside the grid.  Double-clicking a thumbnail, pressing
 Enter or "Open" emits ``exampleChosen(name)`` and accepts the dialog.
 
@@ -164,7 +164,7 @@ class QtGallery(QDialog):
         if path.is_file():   # (bytes, not a file name: package data need not be a file on disk)
             pm.loadFromData(path.read_bytes())
         if pm.isNull():
-            return _missing_picture(f"{name}\n(no picture yet: python -m app.make_gallery)")
+            return _missing_picture(f"{name}\n(no picture yet: python -m gcmh_studio.make_gallery)")
         return pm
 
     def _show_details(self, item, _previous=None) -> None:

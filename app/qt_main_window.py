@@ -5,7 +5,7 @@ Layout: a side panel (tabs "Manifold" = :class:`QtFormulaPanel`, "View" =
 :class:`QtAnimationPanel` and, when the library has its analysis module,
 "Topology" = ``QtTopologyPanel``; with Run / Cancel, a progress bar and a
 status line always visible below, and the example's description above them) and
-the 3D view (:class:`app.qt_viewer.QtViewer`) in the centre. Double-click a cell
+the 3D view (:class:`gcmh_studio.qt_viewer.QtViewer`) in the centre. Double-click a cell
 to see its vertices' coordinates in R^n and its grid cube.
 
 Parameters are live: moving a slider of the Manifold tab re-extracts on a coarse
@@ -14,17 +14,17 @@ the newest value wins, the view and camera stay, continuation starts from the re
 screen), and a result at a critical value says so.
 
 Waits explain themselves: the kernels compile (once per install) in the
-background from the start (:func:`app.jobs.start_warm_up`, said in the status
+background from the start (:func:`gcmh_studio.jobs.start_warm_up`, said in the status
 bar), a run first shows its estimate (memory and time) and asks before one that
 won't fit. Edit > Undo / Redo (Ctrl+Z, Ctrl+Shift+Z) step through the system
-and the view (:class:`app.model.History`).
+and the view (:class:`gcmh_studio.model.History`).
 
-The parts: the state is an :class:`app.model.StudioModel` (no Qt); runs and
-refinements go through an :class:`app.qt_run_controller.QtRunController` (worker
+The parts: the state is an :class:`gcmh_studio.model.StudioModel` (no Qt); runs and
+refinements go through an :class:`gcmh_studio.qt_run_controller.QtRunController` (worker
 threads: the previous result stays on screen and can be turned while a new one
-computes); menus and file dialogs are :class:`app.qt_actions.StudioActions`;
-sessions and exports are written by :mod:`app.studio_io`, animations rendered
-off screen by :mod:`app.headless`. Only the GUI thread touches VTK.
+computes); menus and file dialogs are :class:`gcmh_studio.qt_actions.StudioActions`;
+sessions and exports are written by :mod:`gcmh_studio.studio_io`, animations rendered
+off screen by :mod:`gcmh_studio.headless`. Only the GUI thread touches VTK.
 """
 
 from __future__ import annotations
@@ -822,7 +822,7 @@ class QtMainWindow(QMainWindow):
 
         The window's view is not changed. Returns the number of frames written
         (0 when cancelled: the file is removed). A parameter sweep extracts the last run's
-        system at each frame's value (app.headless.export_param_sweep).
+        system at each frame's value (gcmh_studio.headless.export_param_sweep).
         """
         from gcmh_core.errors import InputError
 

@@ -1,12 +1,12 @@
 """QtPresentation: the studio as a teacher shows it to a class.
 
-Installed on a :class:`app.qt_main_window.QtMainWindow` (``QtPresentation(window)``; a
+Installed on a :class:`gcmh_studio.qt_main_window.QtMainWindow` (``QtPresentation(window)``; a
 second one replaces the first, so installing is idempotent), it adds:
 
 * **Presentation mode** (F11 toggles, Esc leaves; View menu): full screen, the side
   panel, menus and status bar hidden, the 3D view filling the screen, the title,
   subtitle, colour bar and legend in larger type, and the system typeset in the
-  bottom right corner of the view (:mod:`app.typeset`: sympy's LaTeX drawn by
+  bottom right corner of the view (:mod:`gcmh_studio.typeset`: sympy's LaTeX drawn by
   matplotlib's mathtext into an image drawn by VTK inside the render window, so the
   view's own pixels carry it). Leaving restores the layout as it was.
 * **Axes with ticks** (View menu; key A while presenting): pyvista's bounds axes
@@ -40,7 +40,7 @@ CAPTION_ACTOR = "gcmh-caption"       # what is happening (loading the next examp
 TEXT_ACTORS = ("gcmh-title", "gcmh-subtitle", "gcmh-legend")   # the scene's texts, enlarged while presenting
 FONT_SCALE = 1.5                     # larger type for a room
 AXES_FONT = 13                       # the bounds axes' labels (points; times FONT_SCALE while presenting)
-# where the axes' box may lie (-1..1 across the picture, as app.scene.screen_coordinates): clear of the
+# where the axes' box may lie (-1..1 across the picture, as gcmh_studio.scene.screen_coordinates): clear of the
 # colour bar (right), the title (top) and the card (bottom right), with room for the tick labels outside it
 AXES_X, AXES_TOP, AXES_BOTTOM = 0.70, 0.66, 0.56
 FORMULA_LINES_PER_HEIGHT = 27        # the formula's font: the view's height / this, in pixels
@@ -145,7 +145,7 @@ def add_axes(plotter, key: tuple):
 
 def axis_offsets(scene) -> np.ndarray:
     """(3,): what each screen axis adds back to the drawn coordinates, which are centred on the
-    object's middle (``P (x - c)``, :mod:`app.projection`): the ticks show ``P x``."""
+    object's middle (``P (x - c)``, :mod:`gcmh_studio.projection`): the ticks show ``P x``."""
     try:
         return np.asarray(scene.view.P, dtype=float) @ np.asarray(scene.projector.center, dtype=float)
     except Exception:  # noqa: BLE001 - no projection yet

@@ -1,6 +1,6 @@
 """QtProjectionPanel: how the n-dimensional result is turned and projected to 3D.
 
-Edits an :class:`app.projection.ProjectionModel`: the base projection (three
+Edits an :class:`gcmh_studio.projection.ProjectionModel`: the base projection (three
 coordinates, a generic orthonormal frame, or the principal axes), the mapping
 (orthographic, perspective with an eye distance, stereographic), one rotation
 slider per coordinate plane (i, j) labelled with the variable names, a reset

@@ -1,7 +1,7 @@
 """QtRunController: the life-cycle of runs and refinements (start, progress, cancel, end).
 
-One run (:class:`app.worker.ExtractWorker`) and one refinement
-(:class:`app.worker.RefineWorker`) at a time, each in its own thread. The
+One run (:class:`gcmh_studio.worker.ExtractWorker`) and one refinement
+(:class:`gcmh_studio.worker.RefineWorker`) at a time, each in its own thread. The
 controller relays what the current worker says and drops what a replaced
 one still says; it keeps finished workers until their threads end, and
 waits for all of them on :meth:`shutdown`. It draws nothing: the window
@@ -28,7 +28,7 @@ class QtRunController(QObject):
     progress(phase, fraction, seconds)
         From the running worker only.
     done(cx, geometry, report)
-        The run's complex, its drawing arrays (app.geometry.Geometry or None) and topology report (or None).
+        The run's complex, its drawing arrays (gcmh_studio.geometry.Geometry or None) and topology report (or None).
     failed(message), cancelled(seconds), declined()
         The run ended without a result (declined: the user did not want a run that won't fit).
     estimated(est)

@@ -1,8 +1,8 @@
 """QtViewer: the studio's 3D view (napari's QtViewer, in small).
 
-A ``pyvistaqt.QtInteractor`` drawn by an :class:`app.scene.Scene`, from what
-the :class:`app.model.StudioModel` holds (the result, the picked cell) and what
-the View tab (:class:`app.qt_projection_panel.QtProjectionPanel`) sets: the
+A ``pyvistaqt.QtInteractor`` drawn by an :class:`gcmh_studio.scene.Scene`, from what
+the :class:`gcmh_studio.model.StudioModel` holds (the result, the picked cell) and what
+the View tab (:class:`gcmh_studio.qt_projection_panel.QtProjectionPanel`) sets: the
 projection in place, the style, the slice and the overlays, picking a cell,
 the camera, and pictures of the view. Only the GUI thread touches it; problems
 go to the model's status line.
@@ -10,10 +10,10 @@ go to the model's status line.
 Never frozen: a new result is drawn with one render (pyvista would render after
 every actor it adds) in short GUI steps of their own; a see-through result's still
 picture (0.3 s of software GL for the three-torus) is drawn in a thread on an
-off-screen copy (:class:`app.scene.StillJob`) and shown over the view until the view
+off-screen copy (:class:`gcmh_studio.scene.StillJob`) and shown over the view until the view
 renders again. The window anti-aliases with FXAA (super-sampling only for
 screenshots), and while a slider or a drag moves the view it is drawn in a cheaper
-moving look (:meth:`app.scene.Scene.set_moving`: a very large result at a coarse
+moving look (:meth:`gcmh_studio.scene.Scene.set_moving`: a very large result at a coarse
 level of detail, a see-through one under one headlight), the still look coming
 back, the same picture as before, once it rests (``SETTLE_MS``).
 
@@ -23,7 +23,7 @@ turn carries the object out of the picture; the View tab's "keep camera" holds i
 
 Steering: Shift-drag turns the screen's x (horizontal drag) and y (vertical drag)
 against the hidden direction the View tab names; Ctrl+Shift-drag, or Shift with
-the right button, against the next one (:func:`app.projection.turned_angles`).
+the right button, against the next one (:func:`gcmh_studio.projection.turned_angles`).
 """
 
 from __future__ import annotations
@@ -132,7 +132,7 @@ class QtViewer:
         self._drag = _DragFilter(self)
         self.widget.installEventFilter(self._drag)
         # a see-through result's still picture is drawn in a thread and shown over the view until the
-        # view renders again (:class:`app.scene.StillJob`)
+        # view renders again (:class:`gcmh_studio.scene.StillJob`)
         self.still_off_thread = True
         self._still_job: StillJob | None = None
         self.still_image: np.ndarray | None = None    # the last one shown
@@ -512,11 +512,11 @@ class QtViewer:
 
     # ------------------------------------------------------------ camera and pictures
     def camera_session(self) -> dict:
-        """The camera and the "keep camera" toggle, for a session file (:func:`app.studio_io.session_dict`)."""
+        """The camera and the "keep camera" toggle, for a session file (:func:`gcmh_studio.studio_io.session_dict`)."""
         return {"camera": camera_state(self.plotter.camera), "keep_camera": self.keep_camera()}
 
     def restore_camera(self, camera: dict | None, keep: bool) -> None:
-        """A session's camera (:func:`app.studio_io.session_camera`) as it was saved, and the "keep camera"
+        """A session's camera (:func:`gcmh_studio.studio_io.session_camera`) as it was saved, and the "keep camera"
         toggle as the user left it (held, later results and changes of mapping leave the camera alone)."""
         self.panel.keep_camera_check.setChecked(bool(keep))
         camera = valid_camera(camera)

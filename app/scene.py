@@ -1,21 +1,21 @@
 """Drawing a CellComplex through a projection on any pyvista plotter (no Qt here).
 
 :class:`Scene` owns one pyvista mesh built once per result from an
-:class:`app.geometry.Geometry`: lines for curves (dim 1), filled polygons for
+:class:`gcmh_studio.geometry.Geometry`: lines for curves (dim 1), filled polygons for
 surfaces (dim 2), the 2-skeleton for higher dimensions. Moving a projection
 slider calls :meth:`Scene.set_projection`, which writes the projected points
 (and, for surfaces, the vertex normals of the projected mesh) in place into the
 mesh's VTK arrays and re-renders: no new mesh, no new actor, same topology.
 
 A slice (:meth:`Scene.set_slice`) clips the oriented loops of the full result
-to a window of a linear functional (:mod:`app.slicing`) and draws that instead:
+to a window of a linear functional (:mod:`gcmh_studio.slicing`) and draws that instead:
 new topology, so a new mesh, but the same centre and scales, so nothing jumps.
 Overlays (boundary facets, the grid cubes, a picked cell) are small line meshes
 projected with the same view and clipped by the same slice.
 
-A view is a :class:`app.projection.View` (or a plain (3, n) matrix: linear).
+A view is a :class:`gcmh_studio.projection.View` (or a plain (3, n) matrix: linear).
 Nonlinear views get their normals from the projected mesh
-(:class:`app.geometry.MeshNormals`), linear ones from the bivectors.
+(:class:`gcmh_studio.geometry.MeshNormals`), linear ones from the bivectors.
 
 The same class renders into the Qt window (a ``pyvistaqt.QtInteractor``) and
 into an off-screen ``pyvista.Plotter`` for headless screenshots and animations,
@@ -565,7 +565,7 @@ class Scene:
     def set_slice(self, direction=None, c: float = 0.0, w: float = 0.0, render: bool = True) -> int:
         """Show only the part with ``c - w <= direction . x <= c + w`` (None: everything).
 
-        Cells are clipped at the window's planes (:mod:`app.slicing`). Returns the
+        Cells are clipped at the window's planes (:mod:`gcmh_studio.slicing`). Returns the
         number of cells drawn.
         """
         geo = self.geometry
@@ -1041,10 +1041,10 @@ def copy_camera(src, dst) -> None:
 
 
 def animation_images(scene: Scene, model, frames, window=None, progress=None):
-    """Draw each :class:`app.animation.Frame` on ``scene`` (an off-screen plotter's) and yield its image.
+    """Draw each :class:`gcmh_studio.animation.Frame` on ``scene`` (an off-screen plotter's) and yield its image.
 
     ``model``: the ProjectionModel whose angles the frames set (changed in place);
-    ``window``: an :class:`app.slicing.SliceWindow` to slice with (its centre is
+    ``window``: an :class:`gcmh_studio.slicing.SliceWindow` to slice with (its centre is
     what a slice frame sets), or None. The camera stays where it is.
     """
     for k, fr in enumerate(frames):

@@ -68,7 +68,7 @@ def valid_camera(state) -> dict | None:
 
 
 def session_dict(model, camera: dict, keep_camera: bool = False) -> dict:
-    """The session of an :class:`app.model.StudioModel` with a :func:`camera_state` and the "keep camera"
+    """The session of an :class:`gcmh_studio.model.StudioModel` with a :func:`camera_state` and the "keep camera"
     toggle (the camera is saved either way; opening puts it back exactly when it was held)."""
     return {"format": SESSION_FORMAT, "title": model.title, "system": dict(model.system), "view": dict(model.view),
             "camera": camera, "keep_camera": bool(keep_camera)}

@@ -3,7 +3,7 @@
 No Qt and no TeX installation: the text is parsed by :mod:`gcmh_core.formula` (an
 ast whitelist, never evaluated by Python), printed with ``sympy.latex`` and drawn
 with matplotlib's own mathtext engine into a numpy image, which the presentation
-mode (:mod:`app.qt_presentation`) puts inside the render window.
+mode (:mod:`gcmh_studio.qt_presentation`) puts inside the render window.
 
 Equations are written as on a blackboard: a component ``F_i`` is shown as
 ``lhs = rhs`` with the terms free of variables moved to the right

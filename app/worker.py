@@ -3,7 +3,7 @@
 :class:`ExtractWorker` is a ``QThread``: ``start()`` runs the extraction,
 progress arrives as the ``progress(phase, fraction, seconds)`` signal (queued
 to the GUI thread, at most ~20 per second), and exactly one of
-``done(complex, geometry)`` (the drawing arrays of :class:`app.geometry.Geometry`
+``done(complex, geometry)`` (the drawing arrays of :class:`gcmh_studio.geometry.Geometry`
 are prepared here too, so the GUI thread only hands them to VTK),
 ``failed(message)`` or ``cancelled()`` ends a run. ``cancel()`` sets a flag the
 engine polls through its ``cancel`` callback; the engine then raises
@@ -16,11 +16,11 @@ cancelled call still computes runs out unseen, and the next run waits for it
 ("stopping the cancelled run"), so two runs never hold memory at once.
 
 Before the engine starts, the worker waits (cancellably) for the kernels' warm-up
-(:func:`app.jobs.start_warm_up`) and estimates the run (``estimated(est)``); a run
+(:func:`gcmh_studio.jobs.start_warm_up`) and estimates the run (``estimated(est)``); a run
 that won't fit asks first (``confirm(est)``, answered by :meth:`ExtractWorker.answer`
 from the GUI thread: "run", "gcch" or None, which ends the run with ``declined()``).
-What a run computes (:class:`app.jobs.Job`, ``run_job``, ``view_data``) is in
-:mod:`app.jobs`, without Qt: the headless path runs the same code.
+What a run computes (:class:`gcmh_studio.jobs.Job`, ``run_job``, ``view_data``) is in
+:mod:`gcmh_studio.jobs`, without Qt: the headless path runs the same code.
 """
 
 from __future__ import annotations

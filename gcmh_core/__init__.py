@@ -50,7 +50,18 @@ __all__ = [
     "refine_vertices",
     "topology_report",
 ]
-__version__ = "0.1.0"
+
+def _installed_version() -> str:
+    # One version, written in pyproject.toml and read from the installed metadata.
+    from importlib.metadata import PackageNotFoundError, version  # noqa: PLC0415
+
+    try:
+        return version("gcmh")
+    except PackageNotFoundError:  # run from a source tree that was never installed
+        return "0+unknown"
+
+
+__version__ = _installed_version()
 
 # Loaded on first use (PEP 562): the formula parser brings sympy (a third of a second),
 # and `extract` loads the numba engine only when it first runs, so `gcmh --help`, a

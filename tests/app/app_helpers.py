@@ -41,14 +41,14 @@ def run_and_wait(qtbot, window, timeout=120_000):
 def app_in_process(capsys, monkeypatch, *args):
     """``gcmh-app ARGS`` in this process (the command line's own code, without a new interpreter that loads
     VTK and numba's kernels again): (exit status, stdout, stderr).  For refusals, which come before any
-    work; other tests run the real ``python -m app``."""
-    import app.qt_main_window
-    from app.__main__ import _main
+    work; other tests run the real ``python -m gcmh_studio``."""
+    import gcmh_studio.qt_main_window
+    from gcmh_studio.__main__ import _main
 
     def no_window(*a, **kw):
         raise AssertionError("gcmh-app would open its window here, not refuse")
 
-    monkeypatch.setattr(app.qt_main_window, "QtMainWindow", no_window)
+    monkeypatch.setattr(gcmh_studio.qt_main_window, "QtMainWindow", no_window)
     capsys.readouterr()
     code = _main(list(args))
     out, err = capsys.readouterr()

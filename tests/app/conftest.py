@@ -17,7 +17,7 @@ if not os.environ.get("XDG_RUNTIME_DIR"):
 
 
 def _open_window(qtbot, size):
-    from app.qt_main_window import QtMainWindow
+    from gcmh_studio.qt_main_window import QtMainWindow
 
     w = QtMainWindow(example=None)
     qtbot.addWidget(w)

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from PIL import Image, ImageSequence
 
-from app.animation import critical_note, param_caption, param_frames, parse_spec
+from gcmh_studio.animation import critical_note, param_caption, param_frames, parse_spec
 
 from app_helpers import app_in_process
 
@@ -63,7 +63,7 @@ def test_caption_shows_value_topology_and_the_critical_value():
 
 
 def _hyperboloid_job(method="gcmh", div=20):
-    from app.jobs import Job
+    from gcmh_studio.jobs import Job
     from gcmh_core.examples import load_example
 
     ex = load_example("hyperboloid")
@@ -76,7 +76,7 @@ def _hyperboloid_job(method="gcmh", div=20):
 def test_chi_goes_from_2_to_0_across_the_critical_value(method):
     """The hyperboloid: two sheets (chi 2) for a < 0, one (chi 0) for a > 0; continuation from each
     previous frame finds what the whole grid finds, and a = 0 itself is reported singular."""
-    from app.headless import param_sweep
+    from gcmh_studio.headless import param_sweep
 
     spec = parse_spec("param:a=-1:1", NAMES, params=["a"])
     cxs = param_sweep(_hyperboloid_job(method), spec, 5)
@@ -89,7 +89,7 @@ def test_chi_goes_from_2_to_0_across_the_critical_value(method):
 
 
 def test_budget_of_all_frames_is_checked_first(monkeypatch):
-    from app.headless import check_param_sweep
+    from gcmh_studio.headless import check_param_sweep
     from gcmh_core.budget import TooLargeError
 
     spec = parse_spec("param:a=-1:1", NAMES, params=["a"])
@@ -103,9 +103,9 @@ def test_budget_of_all_frames_is_checked_first(monkeypatch):
 def test_one_camera_for_all_frames_and_every_frame_inside_it():
     """The framing is fitted once to all frames together: the camera never moves, every frame is in the
     picture (below the title), and the colour scale is the same for all."""
-    from app.headless import offscreen_scene, param_sweep, sweep_images
-    from app.projection import ProjectionModel
-    from app.scene import Style, inside_share
+    from gcmh_studio.headless import offscreen_scene, param_sweep, sweep_images
+    from gcmh_studio.projection import ProjectionModel
+    from gcmh_studio.scene import Style, inside_share
 
     spec = parse_spec("param:a=-1:1", NAMES, params=["a"])
     cxs = param_sweep(_hyperboloid_job(), spec, 4)
@@ -128,7 +128,7 @@ def test_one_camera_for_all_frames_and_every_frame_inside_it():
 def _app(*args, timeout=600):
     env = dict(os.environ)
     env["PYTHONPATH"] = REPO + os.pathsep + env.get("PYTHONPATH", "")
-    return subprocess.run([sys.executable, "-m", "app", *args], cwd=REPO, env=env, capture_output=True,
+    return subprocess.run([sys.executable, "-m", "gcmh_studio", *args], cwd=REPO, env=env, capture_output=True,
                           text=True, timeout=timeout)
 
 
@@ -172,11 +172,11 @@ def test_bad_sweeps_are_one_line_and_exit_2(tmp_path, args, message, capsys, mon
 def test_the_animate_tab_offers_a_parameter_sweep_and_exports_it(qtbot, tmp_path):
     """The panel's "param" mode (offered once the formulas' parameters are given) says the sweep in
     --animate syntax, is exported rather than played, and its spec drives the headless export."""
-    from app.animation import parse_spec
-    from app.headless import export_param_sweep
-    from app.projection import ProjectionModel
-    from app.qt_animation_panel import PARAM_MODE, QtAnimationPanel
-    from app.scene import Style
+    from gcmh_studio.animation import parse_spec
+    from gcmh_studio.headless import export_param_sweep
+    from gcmh_studio.projection import ProjectionModel
+    from gcmh_studio.qt_animation_panel import PARAM_MODE, QtAnimationPanel
+    from gcmh_studio.scene import Style
     from gcmh_core.examples import load_example
 
     panel = QtAnimationPanel()

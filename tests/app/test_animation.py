@@ -7,7 +7,7 @@ import sys
 import numpy as np
 import pytest
 
-from app.animation import (
+from gcmh_studio.animation import (
     frames_for,
     parse_spec,
     rotation_frames,
@@ -107,7 +107,7 @@ def test_export_cancel_removes_the_file(tmp_path):
 
 def _run_app(*args, timeout=300):
     env = dict(os.environ, PYTHONPATH=REPO, VTK_DEFAULT_OPENGL_WINDOW="vtkEGLRenderWindow")
-    return subprocess.run([sys.executable, "-m", "app", *args], capture_output=True, text=True, env=env,
+    return subprocess.run([sys.executable, "-m", "gcmh_studio", *args], capture_output=True, text=True, env=env,
                           timeout=timeout, cwd=REPO)
 
 
@@ -178,7 +178,7 @@ def test_gif_dithers_gradients_and_keeps_text_exact(tmp_path):
     nearest palette colour alone would make it; pixels in the text's colours stay exactly as they were."""
     from PIL import Image, ImageSequence
 
-    from app.animation import RESERVED_COLOURS
+    from gcmh_studio.animation import RESERVED_COLOURS
 
     y, x = np.mgrid[0:240, 0:320] / np.array([239.0, 319.0])[:, None, None]
     frames = []

@@ -6,7 +6,7 @@ import pytest
 from qtpy.QtCore import Qt
 from qtpy.QtWidgets import QDialog
 
-from app.qt_gallery import QtGallery
+from gcmh_studio.qt_gallery import QtGallery
 from gcmh_core.examples import example_names, load_example
 
 
@@ -34,7 +34,7 @@ def test_thumbnails_are_real_pictures():
     import numpy as np
     from PIL import Image
 
-    from app.make_gallery import gallery_files
+    from gcmh_studio.make_gallery import gallery_files
 
     folder = gallery_files()      # package data, read as importlib.resources does
     for name in example_names():
@@ -47,7 +47,7 @@ def test_thumbnails_are_real_pictures():
 
 def test_thumbnails_ship_inside_the_app_package():
     import app
-    from app.make_gallery import gallery_dir, thumbnail_path
+    from gcmh_studio.make_gallery import gallery_dir, thumbnail_path
 
     package = Path(app.__file__).resolve().parent
     assert gallery_dir().resolve() == package / "resources" / "gallery"

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from app.geometry import Geometry, cross_table, polygon_faces, vertex_bivectors
-from app.projection import ProjectionModel, generic_basis
+from gcmh_studio.geometry import Geometry, cross_table, polygon_faces, vertex_bivectors
+from gcmh_studio.projection import ProjectionModel, generic_basis
 
 
 def _edges_directed(offsets, vids):
@@ -69,8 +69,8 @@ def test_cross_table_is_the_bilinear_form():
     n = 5
     P = ProjectionModel(n=n, kind="generic").matrix()
     a, b = rng.standard_normal(n), rng.standard_normal(n)
-    from app.geometry import _wedge
-    from app.projection import planes
+    from gcmh_studio.geometry import _wedge
+    from gcmh_studio.projection import planes
 
     w = _wedge(a[None], b[None], planes(n))[0]
     np.testing.assert_allclose(w @ cross_table(P), np.cross(P @ a, P @ b), atol=1e-12)
@@ -87,8 +87,8 @@ def test_curves_are_lines():
 
 def test_mesh_normals_agree_with_bivector_normals_under_a_linear_view():
     """Normals from projected points (nonlinear views) match the exact bivector normals when the view is linear."""
-    from app.geometry import Geometry
-    from app.projection import ProjectionModel
+    from gcmh_studio.geometry import Geometry
+    from gcmh_studio.projection import ProjectionModel
 
     from app_helpers import torus_complex
 
@@ -112,8 +112,8 @@ def test_mesh_normals_agree_with_bivector_normals_under_a_linear_view():
 def test_mesh_normals_of_a_stereographic_sphere_point_outward():
     """A unit 2-sphere in R^4 (x4 = 0) seen stereographically is the same sphere: normals radial."""
     import gcmh_core
-    from app.geometry import Geometry
-    from app.projection import ProjectionModel
+    from gcmh_studio.geometry import Geometry
+    from gcmh_studio.projection import ProjectionModel
 
     cx = gcmh_core.extract(["x1^2 + x2^2 + x3^2 + x4^2 - 1", "x4 - 0.01"], bounds=[(-1.2, 1.2)] * 4, div=10,
                            variables=["x1", "x2", "x3", "x4"])
@@ -132,8 +132,8 @@ def test_klein_seam_swaps_the_sides():
     """Oriented loops (gcmh_core.analysis.orient_2cells when present) of the Klein sheet: where its s = 0 and
     s = 2 pi edges meet in (x, y, z), the faces on the two sides have opposite normals -- the swap of colours
     that two-sided colouring shows."""
-    from app.geometry import Geometry
-    from app.jobs import Job, run_job
+    from gcmh_studio.geometry import Geometry
+    from gcmh_studio.jobs import Job, run_job
     from gcmh_core.examples import load_example
 
     ex = load_example("klein-bottle")
@@ -171,7 +171,7 @@ def test_klein_seam_swaps_the_sides():
 def test_row_ids_number_rows_as_numpy_unique_does(shape, spread):
     """The coarse copy's clusters: the same ids as np.unique over rows (which held the GIL), negative keys,
     ten columns and keys too wide to combine in one int64 included."""
-    from app.geometry import row_ids
+    from gcmh_studio.geometry import row_ids
 
     key = np.random.default_rng(shape[0]).integers(-spread, spread, size=shape)
     key[::7] = key[0]                                 # repeated rows

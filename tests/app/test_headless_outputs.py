@@ -20,7 +20,7 @@ REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 def _app(*args, timeout=300):
     env = dict(os.environ)
     env["PYTHONPATH"] = REPO + os.pathsep + env.get("PYTHONPATH", "")
-    return subprocess.run([sys.executable, "-m", "app", *args], cwd=REPO, env=env, capture_output=True,
+    return subprocess.run([sys.executable, "-m", "gcmh_studio", *args], cwd=REPO, env=env, capture_output=True,
                           text=True, timeout=timeout)
 
 
@@ -33,7 +33,7 @@ def _one_line_refusal(r):
 
 @pytest.mark.parametrize("flag", ["--screenshot", "--gif", "--mp4"])
 def test_missing_folder_is_refused_before_the_run(tmp_path, flag, capsys, monkeypatch):
-    from app import jobs
+    from gcmh_studio import jobs
 
     def no_run(*args, **kwargs):
         raise AssertionError("extracted before the refusal")

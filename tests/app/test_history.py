@@ -1,6 +1,6 @@
-"""Undo / Redo in the Qt-free model (app.model.History, StudioModel.undo/redo): no display needed."""
+"""Undo / Redo in the Qt-free model (gcmh_studio.model.History, StudioModel.undo/redo): no display needed."""
 
-from app.model import History, StudioModel, changed_paths
+from gcmh_studio.model import History, StudioModel, changed_paths
 
 
 class FakeClock:

@@ -1,7 +1,7 @@
-"""Import structure of ``app`` and ``gcmh_core``, read with ast (nothing here imports Qt or the app).
+"""Import structure of ``gcmh_studio`` (the folder app/) and ``gcmh_core``, read with ast (nothing here imports Qt or the app).
 
 Every import a module makes (top level or inside a function) is an edge; the
-graph must have no cycle, nothing may import ``app.__main__``, and the studio's
+graph must have no cycle, nothing may import ``gcmh_studio.__main__``, and the studio's
 Qt-free modules must not reach Qt, VTK or pyvista when imported.
 """
 
@@ -14,15 +14,16 @@ from pathlib import Path
 import pytest
 
 REPO = Path(__file__).resolve().parents[2]
-PACKAGES = ("app", "gcmh_core")
+# package name -> its folder: the folder app/ installs as the package gcmh_studio
+PACKAGES = {"gcmh_studio": "app", "gcmh_core": "gcmh_core"}
 
 
 def module_files() -> dict[str, Path]:
     """Dotted module name -> file, for every module of the packages."""
     out = {}
-    for pkg in PACKAGES:
-        for path in sorted((REPO / pkg).rglob("*.py")):
-            parts = list(path.relative_to(REPO).with_suffix("").parts)
+    for pkg, folder in PACKAGES.items():
+        for path in sorted((REPO / folder).rglob("*.py")):
+            parts = [pkg, *path.relative_to(REPO / folder).with_suffix("").parts]
             if parts[-1] == "__init__":
                 parts = parts[:-1]
             out[".".join(parts)] = path
@@ -92,9 +93,9 @@ def find_cycle(graph: dict[str, set[str]]) -> list[str] | None:
 
 def test_the_graph_is_read():
     g = import_graph()
-    assert "app.qt_main_window" in g and "gcmh_core.extract" in g
-    assert "app.model" in g["app.qt_main_window"]
-    assert "app.headless" in g["app.make_gallery"]
+    assert "gcmh_studio.qt_main_window" in g and "gcmh_core.extract" in g
+    assert "gcmh_studio.model" in g["gcmh_studio.qt_main_window"]
+    assert "gcmh_studio.headless" in g["gcmh_studio.make_gallery"]
 
 
 def test_find_cycle_finds_one():
@@ -109,13 +110,13 @@ def test_no_import_cycle_in_app_or_gcmh_core():
 
 def test_nothing_imports_the_command_line():
     g = import_graph()
-    users = sorted(m for m, deps in g.items() if "app.__main__" in deps)
-    assert users == [], f"{users} import app.__main__"
+    users = sorted(m for m, deps in g.items() if "gcmh_studio.__main__" in deps)
+    assert users == [], f"{users} import gcmh_studio.__main__"
 
 
 def test_gcmh_core_never_imports_the_app():
     g = import_graph()
-    bad = sorted(m for m, deps in g.items() if m.startswith("gcmh_core") and any(d.startswith("app") for d in deps))
+    bad = sorted(m for m, deps in g.items() if m.startswith("gcmh_core") and any(d.startswith("gcmh_studio") for d in deps))
     assert bad == []
 
 
@@ -135,15 +136,15 @@ def loaded_gui_modules(statement: str) -> list[str]:
 
 @pytest.mark.parametrize("statement", [
     "import gcmh_core",
-    "import app.model",
-    "import app.studio_io",
-    "import app.jobs",
-    "import app.inputs",
+    "import gcmh_studio.model",
+    "import gcmh_studio.studio_io",
+    "import gcmh_studio.jobs",
+    "import gcmh_studio.inputs",
 ])
 def test_qt_free_modules_load_no_gui(statement):
     assert loaded_gui_modules(statement) == []
 
 
 def test_headless_loads_no_qt():
-    loaded = loaded_gui_modules("import app.headless, app.make_gallery")
+    loaded = loaded_gui_modules("import gcmh_studio.headless, gcmh_studio.make_gallery")
     assert not set(loaded) & {"PyQt5", "qtpy", "pyvistaqt"}, loaded

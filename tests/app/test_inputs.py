@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from app import inputs
+from gcmh_studio import inputs
 
 
 @pytest.mark.parametrize("text,value", [("1", 1.0), ("-pi/2", -math.pi / 2), ("2*pi", 2 * math.pi),

@@ -8,9 +8,9 @@ import json
 import numpy as np
 import pytest
 
-from app import studio_io
-from app.animation import ROTATE_PERIOD, SLICE_PERIOD, Clock, tour_angles
-from app.model import (
+from gcmh_studio import studio_io
+from gcmh_studio.animation import ROTATE_PERIOD, SLICE_PERIOD, Clock, tour_angles
+from gcmh_studio.model import (
     EMPTY_RESULT,
     Event,
     StudioModel,
@@ -20,8 +20,8 @@ from app.model import (
     summarize,
     telling_plane,
 )
-from app.projection import ProjectionModel
-from app.slicing import SliceWindow
+from gcmh_studio.projection import ProjectionModel
+from gcmh_studio.slicing import SliceWindow
 
 from app_helpers import torus_complex
 
@@ -74,7 +74,7 @@ def test_result_serial_title_and_pick(sphere):
     s2 = m.set_result(sphere, ["x1", "x2", "x3"], "Sphere")
     assert (s1, s2) == (1, 2) and m.serial == 2 and shown == [sphere, sphere]
     assert "\u03c7 = 2" in m.summary() and m.summary() == summarize(sphere)
-    from app.geometry import cell_info
+    from gcmh_studio.geometry import cell_info
 
     m.set_picked(cell_info(sphere, 0))
     text = m.pick_text()
@@ -176,7 +176,7 @@ def test_exports(tmp_path, sphere):
 
 def test_a_parameter_step_that_loses_the_start_point_continues_from_auto():
     # the hyperboloid's start point lies on M for a > 0 only: at a = -0.3 Newton leaves the box
-    from app.jobs import Job, run_job
+    from gcmh_studio.jobs import Job, run_job
     from gcmh_core.examples import load_example
 
     ex = load_example("hyperboloid")

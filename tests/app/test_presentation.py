@@ -1,4 +1,4 @@
-"""Presentation mode (app.qt_presentation): full screen with the typeset formula, axes, walking the gallery."""
+"""Presentation mode (gcmh_studio.qt_presentation): full screen with the typeset formula, axes, walking the gallery."""
 
 import numpy as np
 import pytest
@@ -11,7 +11,7 @@ from app_helpers import small_div  # noqa: E402
 @pytest.fixture
 def presenting(qtbot, window):
     """The window with its presentation controller, active (keys reach it), showing the hyperboloid."""
-    from app.qt_presentation import QtPresentation
+    from gcmh_studio.qt_presentation import QtPresentation
 
     window.activateWindow()
     qtbot.waitActive(window)
@@ -47,7 +47,7 @@ def _key(qtbot, window, key):
 def test_f11_presents_the_view_alone_with_the_typeset_formula(qtbot, presenting):
     from qtpy.QtCore import Qt
 
-    from app.qt_presentation import FORMULA_ACTOR
+    from gcmh_studio.qt_presentation import FORMULA_ACTOR
 
     window, p = presenting
     before = _layout(window)
@@ -156,7 +156,7 @@ def test_axes_with_ticks_are_titled_with_the_projection(qtbot, presenting):
 def test_page_down_and_up_walk_the_gallery(qtbot, presenting):
     from qtpy.QtCore import Qt
 
-    from app.qt_presentation import example_names
+    from gcmh_studio.qt_presentation import example_names
     from gcmh_core.examples import load_example
 
     window, p = presenting
@@ -190,7 +190,7 @@ def test_page_down_and_up_walk_the_gallery(qtbot, presenting):
 def test_installing_twice_leaves_one_set_of_actions(qtbot, window):
     from qtpy.QtGui import QKeySequence
 
-    from app.qt_presentation import QtPresentation
+    from gcmh_studio.qt_presentation import QtPresentation
 
     QtPresentation(window)
     p = QtPresentation(window)
@@ -206,8 +206,8 @@ def test_installing_twice_leaves_one_set_of_actions(qtbot, window):
 def test_decorate_draws_the_card_and_axes_on_an_off_screen_copy(qtbot, presenting):
     import pyvista as pv
 
-    from app.qt_presentation import FORMULA_ACTOR
-    from app.scene import Scene
+    from gcmh_studio.qt_presentation import FORMULA_ACTOR
+    from gcmh_studio.scene import Scene
 
     window, p = presenting
     p.enter()
@@ -254,7 +254,7 @@ def test_screenshots_of_the_view_carry_the_card(qtbot, presenting, tmp_path):
 
 
 def test_a_card_that_cannot_be_drawn_is_plain_text(qtbot, presenting, monkeypatch):
-    import app.qt_presentation as qp
+    import gcmh_studio.qt_presentation as qp
 
     window, p = presenting
 
@@ -270,7 +270,7 @@ def test_a_card_that_cannot_be_drawn_is_plain_text(qtbot, presenting, monkeypatc
 
 
 def test_a_step_during_a_run_cancels_it_and_opens_the_example_when_it_has_stopped(qtbot, presenting, monkeypatch):
-    from app.qt_presentation import example_names
+    from gcmh_studio.qt_presentation import example_names
 
     window, p = presenting
     names = example_names()

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from app import projection as pj
+from gcmh_studio import projection as pj
 
 
 @pytest.mark.parametrize("n", [2, 3, 4, 5, 6, 10])
@@ -128,7 +128,7 @@ def test_model_dict_roundtrip():
 
 # --------------------------------------------------------------------------- nonlinear kinds
 def test_perspective_maps_known_points():
-    from app.projection import perspective
+    from gcmh_studio.projection import perspective
 
     d = 4.0
     # n = 4: one hidden axis; h = 2 is halfway to the eye -> factor d / (d - h) = 2
@@ -145,7 +145,7 @@ def test_perspective_maps_known_points():
 
 
 def test_stereographic_maps_known_points():
-    from app.projection import stereographic
+    from gcmh_studio.projection import stereographic
 
     r = 2.0
     Y = np.array([[2.0, 0.0, 0.0, 0.0],      # on the equator: fixed
@@ -168,7 +168,7 @@ def test_stereographic_maps_known_points():
 
 
 def test_view_frame_and_projector_kinds():
-    from app.projection import ProjectionModel, Projector
+    from gcmh_studio.projection import ProjectionModel, Projector
 
     m = ProjectionModel(n=4)
     F = m.frame()
@@ -199,7 +199,7 @@ def test_view_frame_and_projector_kinds():
 
 
 def test_colour_range_is_symmetric_when_nearly_so():
-    from app.scene import colour_range
+    from gcmh_studio.scene import colour_range
 
     assert colour_range(np.array([-1.5701, 0.2, 1.5698])) == [-1.5701, 1.5701]
     assert colour_range(np.array([-1.0, 1.1])) == [-1.0, 1.1]  # 5% off: left as it is

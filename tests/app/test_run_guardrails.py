@@ -142,22 +142,22 @@ def test_the_estimate_is_shown_before_the_run(qtbot, window):
 @pytest.fixture
 def slow_warm_up(monkeypatch):
     """A warm-up that lasts until released (a new install's compile), instead of the real one."""
-    import app.jobs
+    import gcmh_studio.jobs
 
     release = threading.Event()
 
     def fake(methods, cancel=None, ready=None):
         release.wait(60)
 
-    monkeypatch.setattr(app.jobs, "_WARM_UP", None)
-    monkeypatch.setattr(app.jobs, "warm_up_kernels", fake)
+    monkeypatch.setattr(gcmh_studio.jobs, "_WARM_UP", None)
+    monkeypatch.setattr(gcmh_studio.jobs, "warm_up_kernels", fake)
     yield release
     release.set()
 
 
 def test_first_run_says_the_kernels_compile(qtbot, slow_warm_up):
-    from app.qt_main_window import QtMainWindow
-    from app.worker import COMPILING
+    from gcmh_studio.qt_main_window import QtMainWindow
+    from gcmh_studio.worker import COMPILING
 
     w = QtMainWindow(example=None)
     qtbot.addWidget(w)
@@ -193,9 +193,9 @@ def test_a_slow_formula_check_never_blocks_the_window(qtbot, window, monkeypatch
     and the answer of a stale text is dropped."""
     from qtpy.QtCore import QTimer
 
-    import app.qt_formula_panel
+    import gcmh_studio.qt_formula_panel
 
-    real = app.qt_formula_panel.check_key
+    real = gcmh_studio.qt_formula_panel.check_key
     spans = []
 
     def slow(key):   # pure Python work, as a slow parse would be (holds the GIL by turns)
@@ -206,7 +206,7 @@ def test_a_slow_formula_check_never_blocks_the_window(qtbot, window, monkeypatch
         spans.append((t0, time.perf_counter(), key[1]))
         return real(key)
 
-    monkeypatch.setattr(app.qt_formula_panel, "check_key", slow)
+    monkeypatch.setattr(gcmh_studio.qt_formula_panel, "check_key", slow)
     p = window.formula_panel
     ticks = []
     timer = QTimer()
@@ -248,7 +248,7 @@ def test_run_pressed_during_a_check_waits_for_it(qtbot, window):
 def _app(*args, **kw):
     env = dict(os.environ)
     env["PYTHONPATH"] = REPO + os.pathsep + env.get("PYTHONPATH", "")
-    return subprocess.run([sys.executable, "-m", "app", *args], cwd=REPO, env=env, capture_output=True, text=True,
+    return subprocess.run([sys.executable, "-m", "gcmh_studio", *args], cwd=REPO, env=env, capture_output=True, text=True,
                           timeout=kw.get("timeout", 120))
 
 
@@ -271,7 +271,7 @@ def test_ctrl_c_ends_with_one_line_and_130(tmp_path):
     env = dict(os.environ)
     env["PYTHONPATH"] = REPO + os.pathsep + env.get("PYTHONPATH", "")
     for delay in (0.1, 1.5):   # during the imports, and during the run
-        proc = subprocess.Popen([sys.executable, "-m", "app", "--example", "complex-cosine", "--div", "160",
+        proc = subprocess.Popen([sys.executable, "-m", "gcmh_studio", "--example", "complex-cosine", "--div", "160",
                                  "--screenshot", str(tmp_path / "x.png"), "--size", "400x300"],
                                 cwd=REPO, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         time.sleep(delay)
@@ -286,11 +286,11 @@ def test_ctrl_c_ends_with_one_line_and_130(tmp_path):
 def test_cancel_does_not_wait_for_an_engine_phase_that_never_polls(qtbot, window, monkeypatch):
     """An engine call that ignores cancel (as the assembly does) for up to 60 s: Cancel still ends the run
     at once; the next run says it waits for the cancelled one and starts when that has stopped."""
-    import app.worker
-    from app.worker import STOPPING
+    import gcmh_studio.worker
+    from gcmh_studio.worker import STOPPING
 
     release = threading.Event()
-    real = app.worker.run_job
+    real = gcmh_studio.worker.run_job
 
     def deaf(job, progress=None, cancel=None):
         progress("assembling", 1.0)
@@ -298,14 +298,14 @@ def test_cancel_does_not_wait_for_an_engine_phase_that_never_polls(qtbot, window
         return real(job)
 
     fill(qtbot, window.formula_panel, 4, 2, [SPHERE, "x1 - x2"])
-    monkeypatch.setattr(app.worker, "run_job", deaf)
+    monkeypatch.setattr(gcmh_studio.worker, "run_job", deaf)
     try:
         assert window.run()
         qtbot.waitUntil(lambda: window.progress.format().startswith("assembling"), timeout=20_000)
         with qtbot.waitSignal(window.runFinished, timeout=5000) as b:
             window.cancel()
         assert b.args[0] == "cancelled" and not release.is_set()
-        monkeypatch.setattr(app.worker, "run_job", real)
+        monkeypatch.setattr(gcmh_studio.worker, "run_job", real)
         assert window.run()
         qtbot.waitUntil(lambda: window.progress.format().startswith(STOPPING), timeout=5000)
         with qtbot.waitSignal(window.runFinished, timeout=60_000) as b:
@@ -318,14 +318,14 @@ def test_cancel_does_not_wait_for_an_engine_phase_that_never_polls(qtbot, window
 def test_the_panel_shows_the_runs_estimate_before_run(qtbot, window, monkeypatch):
     import dataclasses
 
-    import app.qt_formula_panel
+    import gcmh_studio.qt_formula_panel
 
     p = window.formula_panel
     fill(qtbot, p, 4, 2, [SPHERE, "x1 - x2"], div="6")
     qtbot.waitUntil(lambda: p.run_estimate is not None, timeout=20_000)
     assert p.run_estimate.fits and "of memory" in p.estimate_label.text()
-    real = app.qt_formula_panel.estimate_job
-    monkeypatch.setattr(app.qt_formula_panel, "estimate_job",
+    real = gcmh_studio.qt_formula_panel.estimate_job
+    monkeypatch.setattr(gcmh_studio.qt_formula_panel, "estimate_job",
                         lambda job: dataclasses.replace(real(job), peak_bytes=10**15))
     p.div_edit.setText("7")
     qtbot.waitUntil(lambda: p.run_estimate is not None and not p.run_estimate.fits, timeout=20_000)

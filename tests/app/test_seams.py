@@ -1,11 +1,11 @@
-"""Seams of identified axes drawn whole (app.geometry.display_complex): a 2-cell that crosses a seam is
+"""Seams of identified axes drawn whole (gcmh_studio.geometry.display_complex): a 2-cell that crosses a seam is
 drawn on both sides of it, next to its neighbours, not stretched across the box or painted through the
 whole colour range; the topology stays the complex's own."""
 
 import numpy as np
 import pytest
 
-from app.geometry import Geometry, display_complex
+from gcmh_studio.geometry import Geometry, display_complex
 from gcmh_core import extract
 from gcmh_core.examples import load_example
 

@@ -8,8 +8,8 @@ import json
 import numpy as np
 import pytest
 
-from app import studio_io
-from app.model import StudioModel
+from gcmh_studio import studio_io
+from gcmh_studio.model import StudioModel
 
 CAMERA = {"position": [4.0, -6.0, 3.0], "focal_point": [0.0, 0.0, 0.5], "up": [0.0, 0.0, 1.0],
           "parallel_scale": 1.5, "view_angle": 24.0}
@@ -62,7 +62,7 @@ def test_a_hand_edited_camera_that_cannot_be_used_is_dropped(tmp_path, camera):
 def test_a_held_camera_comes_back_held_in_a_new_window(qtbot, window, tmp_path):
     """What the window saves and opens (its session() and open_session() pass the viewer's camera_session and
     restore_camera): the toggle comes back on, the camera as it was, and a new run leaves it alone."""
-    from app.qt_main_window import QtMainWindow
+    from gcmh_studio.qt_main_window import QtMainWindow
 
     with qtbot.waitSignal(window.runFinished, timeout=60_000):
         window.load_example("sphere", div=10)

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from app.slicing import clip_polygons, clip_segments, hidden_directions, window_range
+from gcmh_studio.slicing import clip_polygons, clip_segments, hidden_directions, window_range
 
 
 @pytest.fixture(scope="module")
@@ -121,8 +121,8 @@ def test_window_range_and_bad_input():
 
 def test_any_n_along_a_hidden_direction():
     """A flat torus in R^10, sliced along a direction a generic view hides."""
-    from app.projection import ProjectionModel
-    from app.slicing import SliceWindow
+    from gcmh_studio.projection import ProjectionModel
+    from gcmh_studio.slicing import SliceWindow
 
     from app_helpers import torus_complex
 

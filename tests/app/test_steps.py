@@ -1,4 +1,4 @@
-"""Parameter steps without Qt (app.steps): the coarse grid, what a step keeps, the critical-value notice."""
+"""Parameter steps without Qt (gcmh_studio.steps): the coarse grid, what a step keeps, the critical-value notice."""
 
 import math
 from types import SimpleNamespace
@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from app.steps import (
+from gcmh_studio.steps import (
     COARSE_FLOOR,
     COARSE_MAX_CUBES,
     COARSE_MIN_DIV,

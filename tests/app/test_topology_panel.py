@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from app.qt_topology_panel import QtTopologyPanel
+from gcmh_studio.qt_topology_panel import QtTopologyPanel
 from gcmh_core import CellComplex, extract
 from gcmh_core.analysis import refine_vertices
 from gcmh_core.examples import load_example

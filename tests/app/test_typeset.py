@@ -1,9 +1,9 @@
-"""app.typeset: formula text -> LaTeX -> RGBA image, written as on a blackboard, failing soft to plain text."""
+"""gcmh_studio.typeset: formula text -> LaTeX -> RGBA image, written as on a blackboard, failing soft to plain text."""
 
 import numpy as np
 import pytest
 
-from app.typeset import Line, complex_equation_latex, equation_latex, render_lines, system_lines, typeset_system
+from gcmh_studio.typeset import Line, complex_equation_latex, equation_latex, render_lines, system_lines, typeset_system
 
 
 def ink(img):
@@ -115,7 +115,7 @@ def test_terms_keep_the_order_they_were_typed_in():
 
 
 def test_a_moving_parameter_redraws_only_its_own_line():
-    from app.typeset import _line_image
+    from gcmh_studio.typeset import _line_image
 
     typeset_system(["x^2 + y^2 - z^2 - a"], ["x", "y", "z"], {"a": 0.3}, font_px=30)
     before = _line_image.cache_info()

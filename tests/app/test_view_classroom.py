@@ -39,7 +39,7 @@ def _run_example(qtbot, window, name, div=None):
 
 
 def _inside(window):
-    from app.scene import inside_share
+    from gcmh_studio.scene import inside_share
 
     return inside_share(window.plotter)
 
@@ -130,10 +130,10 @@ def test_screenshots_of_any_size_frame_the_object(qtbot, window, tmp_path, size)
 def test_every_example_opens_framed(name):
     """First open, as the headless screenshot and the gallery draw it: every vertex inside the picture,
     below the title."""
-    from app.headless import offscreen_scene
-    from app.jobs import Job, run_job
-    from app.projection import ProjectionModel
-    from app.scene import Style, default_camera, inside_share
+    from gcmh_studio.headless import offscreen_scene
+    from gcmh_studio.jobs import Job, run_job
+    from gcmh_studio.projection import ProjectionModel
+    from gcmh_studio.scene import Style, default_camera, inside_share
 
     ex = load_example(name)
     cx = run_job(Job(list(ex.formulas), list(ex.variables), [tuple(b) for b in ex.bounds], small_div(ex),
@@ -183,7 +183,7 @@ def test_shift_drag_turns_hidden_planes(qtbot, window):
 
 
 def test_turned_angles_rotate_the_screen_against_the_hidden_axis():
-    from app.projection import ProjectionModel, givens_angles, rotation, turned_angles
+    from gcmh_studio.projection import ProjectionModel, givens_angles, rotation, turned_angles
 
     for n in (4, 6, 10):
         R = rotation(n, np.random.default_rng(n).uniform(-np.pi, np.pi, n * (n - 1) // 2))
@@ -197,7 +197,7 @@ def test_turned_angles_rotate_the_screen_against_the_hidden_axis():
 
 
 def test_plane_list_scales_to_ten_dimensions(qtbot):
-    from app.qt_projection_panel import QtProjectionPanel
+    from gcmh_studio.qt_projection_panel import QtProjectionPanel
 
     pp = QtProjectionPanel()
     qtbot.addWidget(pp)
@@ -217,9 +217,9 @@ def test_plane_list_scales_to_ten_dimensions(qtbot):
 def test_large_results_move_at_a_coarse_level_of_detail(qtbot):
     import pyvista as pv
 
-    from app.geometry import Geometry
-    from app.projection import ProjectionModel
-    from app.scene import Scene, Style
+    from gcmh_studio.geometry import Geometry
+    from gcmh_studio.projection import ProjectionModel
+    from gcmh_studio.scene import Scene, Style
 
     cx = torus_complex(420, 4)            # 176,400 vertices: above the threshold
     geo = Geometry.build(cx)
@@ -250,8 +250,8 @@ def test_a_see_through_view_moves_under_one_headlight_and_rests_as_the_same_pict
     is the still one, pixel for pixel."""
     import pyvista as pv
 
-    from app.projection import ProjectionModel
-    from app.scene import Scene, Style
+    from gcmh_studio.projection import ProjectionModel
+    from gcmh_studio.scene import Scene, Style
 
     cx = torus_complex(40, 4)
     pl = pv.Plotter(off_screen=True, window_size=[320, 240])
@@ -290,8 +290,8 @@ def test_an_opaque_surface_moves_with_its_own_lights_and_only_fxaa_paused():
     still picture comes back pixel for pixel."""
     import pyvista as pv
 
-    from app.projection import ProjectionModel
-    from app.scene import Scene, Style
+    from gcmh_studio.projection import ProjectionModel
+    from gcmh_studio.scene import Scene, Style
 
     cx = torus_complex(30, 4)
     pl = pv.Plotter(off_screen=True, window_size=[200, 150])
@@ -323,7 +323,7 @@ def test_the_three_torus_rests_as_the_picture_it_opened_with(qtbot, window):
     """In the window: a slider step draws the moving look, and once the view rests (the settle timer) the
     slider set back gives the very picture the result opened with (the camera held, so that nothing
     refits it)."""
-    from app.qt_viewer import SETTLE_MS
+    from gcmh_studio.qt_viewer import SETTLE_MS
 
     _run_example(qtbot, window, "three-torus")
     v = window.viewer
@@ -348,7 +348,7 @@ def test_the_three_torus_rests_as_the_picture_it_opened_with(qtbot, window):
 def test_gif_counts_frames_exactly_and_keeps_the_titles_white(tmp_path):
     from PIL import Image
 
-    from app.animation import write_animation
+    from gcmh_studio.animation import write_animation
 
     h, w = 60, 80
     y = np.linspace(0, 1, h)[:, None, None]
@@ -389,7 +389,7 @@ def test_ply_and_obj_exports_carry_the_colours(qtbot, window, tmp_path):
 def test_colour_bar_and_axes_say_what_the_variables_mean(qtbot, window):
     """The complex cosine's file says y is Im z: the colour bar, the subtitle and the axes say so too;
     a system typed in (no example) keeps the bare names."""
-    from app.scene import example_labels
+    from gcmh_studio.scene import example_labels
 
     ex = _run_example(qtbot, window, "complex-cosine", div=12)
     assert example_labels(ex)["y"] == "Im z"
@@ -405,7 +405,7 @@ def test_a_turn_pad_per_hidden_direction(qtbot):
     from qtpy.QtCore import QPoint, Qt
     from qtpy.QtTest import QTest
 
-    from app.qt_projection_panel import QtProjectionPanel
+    from gcmh_studio.qt_projection_panel import QtProjectionPanel
 
     pp = QtProjectionPanel()
     qtbot.addWidget(pp)

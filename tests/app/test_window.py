@@ -100,7 +100,7 @@ def test_worker_error_goes_to_status_not_a_crash(qtbot, window):
     assert run_and_wait(qtbot, window) == "done"
     job = window.formula_panel.job()
     job.bounds = [(1.0, 0.0)] * 3    # invalid: bypasses the panel's checks, reaches the engine
-    from app.worker import ExtractWorker
+    from gcmh_studio.worker import ExtractWorker
 
     w = ExtractWorker(job)
     with qtbot.waitSignal(w.failed, timeout=30_000) as b:
@@ -348,13 +348,13 @@ def test_bad_input_is_refused_next_to_the_field(qtbot, window):
 def test_big_run_asks_first(qtbot, window, monkeypatch):
     import dataclasses
 
-    import app.worker
-    from app.qt_actions import big_run_text
+    import gcmh_studio.worker
+    from gcmh_studio.qt_actions import big_run_text
 
     set_system(qtbot, window, 3, 1, ["x1^2 + x2^2 + x3^2 - 1"], div="8")
-    real = app.worker.estimate_job
+    real = gcmh_studio.worker.estimate_job
     # the real estimate of this run, said to need a petabyte (gcmh) so that it won't fit
-    monkeypatch.setattr(app.worker, "estimate_job", lambda job: dataclasses.replace(
+    monkeypatch.setattr(gcmh_studio.worker, "estimate_job", lambda job: dataclasses.replace(
         real(job), peak_bytes=10**15 if job.method == "gcmh" else real(job).peak_bytes))
     asked, forced = [], []
     monkeypatch.setattr(window, "confirm_big_run", lambda est: asked.append(est) or None)
@@ -366,8 +366,8 @@ def test_big_run_asks_first(qtbot, window, monkeypatch):
     assert "TB of memory" in text and "available" in text and "GCCH" in text
     assert not window.is_running()
 
-    real_run = app.worker.run_job
-    monkeypatch.setattr(app.worker, "run_job", lambda job, **kw: forced.append(job.force) or real_run(job, **kw))
+    real_run = gcmh_studio.worker.run_job
+    monkeypatch.setattr(gcmh_studio.worker, "run_job", lambda job, **kw: forced.append(job.force) or real_run(job, **kw))
     monkeypatch.setattr(window, "confirm_big_run", lambda est: "run")   # the user agrees: force=True
     assert run_and_wait(qtbot, window) == "done"
     assert forced == [True]
@@ -406,7 +406,7 @@ def test_session_save_and_open_restores_state(qtbot, window, tmp_path):
     assert d["format"] == "gcmh-session/1"
     points = np.array(window.scene.mesh.points)
 
-    from app.qt_main_window import QtMainWindow
+    from gcmh_studio.qt_main_window import QtMainWindow
 
     w2 = QtMainWindow(example=None)
     qtbot.addWidget(w2)
@@ -484,7 +484,7 @@ def test_headless_screenshot_command(tmp_path):
     out = tmp_path / "klein.png"
     env = dict(os.environ)
     env["PYTHONPATH"] = REPO + os.pathsep + env.get("PYTHONPATH", "")
-    r = subprocess.run([sys.executable, "-m", "app", "--example", "klein-bottle", "--screenshot", str(out),
+    r = subprocess.run([sys.executable, "-m", "gcmh_studio", "--example", "klein-bottle", "--screenshot", str(out),
                         "--size", "400x300", "--div", "10"], cwd=REPO, env=env,
                        capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr
@@ -513,7 +513,7 @@ def test_empty_result_is_explained(qtbot, window):
 
 
 def test_engine_error_in_the_window_goes_to_the_status(qtbot, window, monkeypatch):
-    import app.worker
+    import gcmh_studio.worker
 
     set_system(qtbot, window, 3, 1, ["x1^2 + x2^2 + x3^2 - 1"], div="6")
     assert run_and_wait(qtbot, window) == "done"
@@ -522,7 +522,7 @@ def test_engine_error_in_the_window_goes_to_the_status(qtbot, window, monkeypatc
     def broken(job, progress=None, cancel=None):
         raise RuntimeError("simulated failure inside the engine")
 
-    monkeypatch.setattr(app.worker, "run_job", broken)
+    monkeypatch.setattr(gcmh_studio.worker, "run_job", broken)
     assert run_and_wait(qtbot, window) == "failed"
     assert "simulated failure" in window.last_status
     assert window.result is old and window.scene.mesh is not None
@@ -538,7 +538,7 @@ def test_methods_offered_are_the_engines(window):
 
 
 def test_opens_on_the_klein_bottle(qtbot):
-    from app.qt_main_window import QtMainWindow
+    from gcmh_studio.qt_main_window import QtMainWindow
 
     w = QtMainWindow()          # the default: the Klein bottle, run at start
     qtbot.addWidget(w)
@@ -638,7 +638,7 @@ def test_headless_view_options(tmp_path, capsys, monkeypatch):
     env = dict(os.environ)
     env["PYTHONPATH"] = REPO + os.pathsep + env.get("PYTHONPATH", "")
     out = tmp_path / "c.png"
-    r = subprocess.run([sys.executable, "-m", "app", "--example", "complex-cosine", "--screenshot", str(out),
+    r = subprocess.run([sys.executable, "-m", "gcmh_studio", "--example", "complex-cosine", "--screenshot", str(out),
                         "--size", "320x240", "--div", "8", "--project", "u,v,y", "--color", "x",
                         "--rotate", "v-x=30", "--transparent"], cwd=REPO, env=env,
                        capture_output=True, text=True, timeout=300)
@@ -706,7 +706,7 @@ def test_slice_outside_is_empty_and_the_view_survives(qtbot, window):
 
 
 def test_mapping_kinds_keep_the_rotation(qtbot, window):
-    from app.projection import stereographic
+    from gcmh_studio.projection import stereographic
 
     with qtbot.waitSignal(window.runFinished, timeout=60_000):
         window.load_example("clifford-torus", div=10)

@@ -8,7 +8,7 @@ from app_helpers import wait_run
 
 
 def test_the_window_has_the_presentation_mode(window):
-    from app.qt_presentation import QtPresentation
+    from gcmh_studio.qt_presentation import QtPresentation
 
     assert isinstance(window.presentation, QtPresentation)
     texts = [a.text() for a in window.actions()]
@@ -17,7 +17,7 @@ def test_the_window_has_the_presentation_mode(window):
 
 
 def test_a_session_saved_by_the_window_brings_the_held_camera_back(qtbot, window, tmp_path):
-    from app.qt_main_window import QtMainWindow
+    from gcmh_studio.qt_main_window import QtMainWindow
 
     with qtbot.waitSignal(window.runFinished, timeout=60_000):
         window.load_example("sphere", div=10)

@@ -71,7 +71,7 @@ def _hyperboloid_state():
 
 def _peer_ms(job, repeats: int = 3) -> float:
     """gcmh_core.extract alone on the step's job (median ms), the window's run_job without the window."""
-    from app.jobs import run_job
+    from gcmh_studio.jobs import run_job
 
     ts = []
     for _ in range(repeats):
@@ -83,7 +83,7 @@ def _peer_ms(job, repeats: int = 3) -> float:
 
 def bench_case(app, label: str, state: dict, name: str, view: dict, method: str, steps: int,
                args_verbose: bool = False) -> list[dict]:
-    from app.qt_main_window import QtMainWindow
+    from gcmh_studio.qt_main_window import QtMainWindow
 
     w = QtMainWindow(example=None, warm_up=False)
     w.resize(1200, 800)
@@ -172,7 +172,7 @@ def main() -> None:
     ap.add_argument("-v", "--verbose", action="store_true", help="each step's time on stderr")
     args = ap.parse_args()
     app = _app()
-    from app.jobs import warm_up_kernels
+    from gcmh_studio.jobs import warm_up_kernels
 
     warm_up_kernels(("gcmh", "gcch"))
     rows = []

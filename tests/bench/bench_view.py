@@ -9,7 +9,7 @@
 The test surface is a flat torus (a product of two circles) of V vertices,
 turned into R^n by a fixed orthogonal map and built as a real
 ``gcmh_core.CellComplex`` of quads; the step is exactly what the window does
-when a slider moves (:meth:`app.scene.Scene.set_projection`): one
+when a slider moves (:meth:`gcmh_studio.scene.Scene.set_projection`): one
 ``(V, n) @ (n, 3)`` float32 matmul into the VTK points buffer, one
 ``(V, m) @ (m, 3)`` matmul for the vertex normals (m = n(n-1)/2), and the
 VTK Modified() calls. Render time depends on the GPU (software Mesa here).
@@ -33,8 +33,8 @@ from app_helpers import torus_complex  # noqa: E402
 def bench(V: int, n: int, steps: int = 20, render: bool = False, mapping: str = "orthographic") -> dict:
     import pyvista as pv
 
-    from app.projection import ProjectionModel
-    from app.scene import Scene, Style
+    from gcmh_studio.projection import ProjectionModel
+    from gcmh_studio.scene import Scene, Style
 
     side = int(round(math.sqrt(V)))
     cx = torus_complex(side, n)

@@ -351,7 +351,7 @@ def test_every_example_has_a_gallery_thumbnail():
         pytest.xfail(f"examples with parameters wait for the app to draw them (issue 17): {missing}")
     for name in NAMES:
         png = gallery / f"{name}.png"
-        assert png.is_file(), f"run python -m app.make_gallery to draw {png.name}"
+        assert png.is_file(), f"run python -m gcmh_studio.make_gallery to draw {png.name}"
         data = png.read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) < 100_000
 
