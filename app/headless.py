@@ -104,7 +104,8 @@ def offscreen_scene(size, anti_aliasing: str | None = ANIMATION_AA):
 def write_frames(scene, projection, frames, window, paths, fps: float, progress=None, cancel=None) -> int:
     """Draw ``frames`` on ``scene`` and write them to each of ``paths`` (.gif/.mp4); returns the frames written.
 
-    One path: the frames stream to it (``progress(k)``, ``cancel()`` as in :func:`gcmh_studio.animation.write_animation`);
+    One path: the frames stream to it (``progress(k)``, ``cancel()`` as in
+    :func:`gcmh_studio.animation.write_animation`);
     several: rendered once, then written to each.
     """
     from .scene import animation_images

@@ -63,8 +63,8 @@ def test_caption_shows_value_topology_and_the_critical_value():
 
 
 def _hyperboloid_job(method="gcmh", div=20):
-    from gcmh_studio.jobs import Job
     from gcmh_core.examples import load_example
+    from gcmh_studio.jobs import Job
 
     ex = load_example("hyperboloid")
     return Job(formulas=list(ex.formulas), variables=list(ex.variables), bounds=[tuple(b) for b in ex.bounds],
@@ -89,8 +89,8 @@ def test_chi_goes_from_2_to_0_across_the_critical_value(method):
 
 
 def test_budget_of_all_frames_is_checked_first(monkeypatch):
-    from gcmh_studio.headless import check_param_sweep
     from gcmh_core.budget import TooLargeError
+    from gcmh_studio.headless import check_param_sweep
 
     spec = parse_spec("param:a=-1:1", NAMES, params=["a"])
     job = _hyperboloid_job(div=64)
@@ -172,12 +172,12 @@ def test_bad_sweeps_are_one_line_and_exit_2(tmp_path, args, message, capsys, mon
 def test_the_animate_tab_offers_a_parameter_sweep_and_exports_it(qtbot, tmp_path):
     """The panel's "param" mode (offered once the formulas' parameters are given) says the sweep in
     --animate syntax, is exported rather than played, and its spec drives the headless export."""
+    from gcmh_core.examples import load_example
     from gcmh_studio.animation import parse_spec
     from gcmh_studio.headless import export_param_sweep
     from gcmh_studio.projection import ProjectionModel
     from gcmh_studio.qt_animation_panel import PARAM_MODE, QtAnimationPanel
     from gcmh_studio.scene import Style
-    from gcmh_core.examples import load_example
 
     panel = QtAnimationPanel()
     qtbot.addWidget(panel)

@@ -6,8 +6,8 @@ import pytest
 from qtpy.QtCore import Qt
 from qtpy.QtWidgets import QDialog
 
-from gcmh_studio.qt_gallery import QtGallery
 from gcmh_core.examples import example_names, load_example
+from gcmh_studio.qt_gallery import QtGallery
 
 
 @pytest.fixture

@@ -132,9 +132,9 @@ def test_klein_seam_swaps_the_sides():
     """Oriented loops (gcmh_core.analysis.orient_2cells when present) of the Klein sheet: where its s = 0 and
     s = 2 pi edges meet in (x, y, z), the faces on the two sides have opposite normals -- the swap of colours
     that two-sided colouring shows."""
+    from gcmh_core.examples import load_example
     from gcmh_studio.geometry import Geometry
     from gcmh_studio.jobs import Job, run_job
-    from gcmh_core.examples import load_example
 
     ex = load_example("klein-bottle")
     cx = run_job(Job(formulas=list(ex.formulas), variables=list(ex.variables),

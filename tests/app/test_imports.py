@@ -1,4 +1,5 @@
-"""Import structure of ``gcmh_studio`` (the folder app/) and ``gcmh_core``, read with ast (nothing here imports Qt or the app).
+"""Import structure of ``gcmh_studio`` (the folder app/) and ``gcmh_core``, read with ast (nothing here imports
+Qt or the app).
 
 Every import a module makes (top level or inside a function) is an edge; the
 graph must have no cycle, nothing may import ``gcmh_studio.__main__``, and the studio's
@@ -116,7 +117,8 @@ def test_nothing_imports_the_command_line():
 
 def test_gcmh_core_never_imports_the_app():
     g = import_graph()
-    bad = sorted(m for m, deps in g.items() if m.startswith("gcmh_core") and any(d.startswith("gcmh_studio") for d in deps))
+    bad = sorted(m for m, deps in g.items()
+                 if m.startswith("gcmh_core") and any(d.startswith("gcmh_studio") for d in deps))
     assert bad == []
 
 

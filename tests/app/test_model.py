@@ -176,8 +176,8 @@ def test_exports(tmp_path, sphere):
 
 def test_a_parameter_step_that_loses_the_start_point_continues_from_auto():
     # the hyperboloid's start point lies on M for a > 0 only: at a = -0.3 Newton leaves the box
-    from gcmh_studio.jobs import Job, run_job
     from gcmh_core.examples import load_example
+    from gcmh_studio.jobs import Job, run_job
 
     ex = load_example("hyperboloid")
     job = Job(formulas=ex.formulas, variables=ex.variables, bounds=ex.bounds, div=16, method="gcch",

@@ -156,8 +156,8 @@ def test_axes_with_ticks_are_titled_with_the_projection(qtbot, presenting):
 def test_page_down_and_up_walk_the_gallery(qtbot, presenting):
     from qtpy.QtCore import Qt
 
-    from gcmh_studio.qt_presentation import example_names
     from gcmh_core.examples import load_example
+    from gcmh_studio.qt_presentation import example_names
 
     window, p = presenting
     names = example_names()

@@ -248,7 +248,8 @@ def test_run_pressed_during_a_check_waits_for_it(qtbot, window):
 def _app(*args, **kw):
     env = dict(os.environ)
     env["PYTHONPATH"] = REPO + os.pathsep + env.get("PYTHONPATH", "")
-    return subprocess.run([sys.executable, "-m", "gcmh_studio", *args], cwd=REPO, env=env, capture_output=True, text=True,
+    return subprocess.run([sys.executable, "-m", "gcmh_studio", *args], cwd=REPO, env=env, capture_output=True,
+                          text=True,
                           timeout=kw.get("timeout", 120))
 
 

@@ -5,9 +5,9 @@ whole colour range; the topology stays the complex's own."""
 import numpy as np
 import pytest
 
-from gcmh_studio.geometry import Geometry, display_complex
 from gcmh_core import extract
 from gcmh_core.examples import load_example
+from gcmh_studio.geometry import Geometry, display_complex
 
 
 def _run(name, div):

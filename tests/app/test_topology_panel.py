@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from gcmh_studio.qt_topology_panel import QtTopologyPanel
 from gcmh_core import CellComplex, extract
 from gcmh_core.analysis import refine_vertices
 from gcmh_core.examples import load_example
 from gcmh_core.formula import parse_system
+from gcmh_studio.qt_topology_panel import QtTopologyPanel
 
 
 def _example(name):

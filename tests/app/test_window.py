@@ -367,7 +367,8 @@ def test_big_run_asks_first(qtbot, window, monkeypatch):
     assert not window.is_running()
 
     real_run = gcmh_studio.worker.run_job
-    monkeypatch.setattr(gcmh_studio.worker, "run_job", lambda job, **kw: forced.append(job.force) or real_run(job, **kw))
+    monkeypatch.setattr(gcmh_studio.worker, "run_job",
+                        lambda job, **kw: forced.append(job.force) or real_run(job, **kw))
     monkeypatch.setattr(window, "confirm_big_run", lambda est: "run")   # the user agrees: force=True
     assert run_and_wait(qtbot, window) == "done"
     assert forced == [True]

@@ -206,8 +206,8 @@ def step_million(app, side: int = 1000) -> dict:
 
 
 def first_open(app) -> list:
-    from gcmh_studio.scene import inside_share
     from gcmh_core.examples import example_names, load_example
+    from gcmh_studio.scene import inside_share
 
     out = []
     w = _window(app)
