@@ -34,10 +34,9 @@ session file stores it; in complex mode the equations as typed, not their split)
 from __future__ import annotations
 
 import math
-import threading
 from fractions import Fraction
 
-from qtpy.QtCore import QObject, Qt, QTimer, Signal
+from qtpy.QtCore import Qt, QTimer, Signal
 from qtpy.QtGui import QColor
 from qtpy.QtWidgets import (
     QAbstractItemView,
@@ -60,7 +59,7 @@ from qtpy.QtWidgets import (
 from . import inputs
 from .jobs import Job, estimate_job
 from .qt_parameters import QtParameterPanel
-from .qt_widgets import clear_layout, error_label, group, panel_layout
+from .qt_widgets import QtLatestCall, clear_layout, error_label, group, panel_layout
 
 N_MAX = 12
 ERROR_STYLE = "QLineEdit { border: 2px solid #d33; background: #fff0f0; }"
@@ -178,99 +177,6 @@ def engine_methods() -> tuple[str, ...]:
     return ("gcmh",)
 
 
-class FormulaChecker(QObject):
-    """Checks formulas in a worker thread, one batch at a time.
-
-    ``submit(keys)`` (keys of :func:`check_key`) replaces any batch not yet
-    started: only the newest texts are checked; the rest of a batch is dropped
-    when a newer one arrives. Each answer comes as ``checked(key, answer)``
-    (:func:`check_key`'s), queued to the GUI thread.
-    """
-
-    checked = Signal(object, object)
-
-    def __init__(self, parent=None):
-        super().__init__(parent)
-        self._lock = threading.Lock()
-        self._next: list | None = None
-        self._busy = False
-
-    def submit(self, keys) -> None:
-        with self._lock:
-            self._next = list(keys)
-            if self._busy:
-                return
-            self._busy = True
-        threading.Thread(target=self._loop, name="gcmh-formula-check", daemon=True).start()
-
-    def busy(self) -> bool:
-        with self._lock:
-            return self._busy
-
-    def _loop(self) -> None:
-        while True:
-            with self._lock:
-                batch, self._next = self._next, None
-                if batch is None:
-                    self._busy = False
-                    return
-            for key in batch:
-                with self._lock:
-                    if self._next is not None:   # newer texts came: this batch is stale
-                        break
-                answer = check_key(key)
-                try:
-                    self.checked.emit(key, answer)
-                except RuntimeError:   # the panel is gone
-                    with self._lock:
-                        self._busy = False
-                    return
-
-
-class LatestCall(QObject):
-    """Calls one function at a time in a worker thread and answers only the newest question:
-    ``ask(key, fn)``; ``answered(key, value, error)`` (error: a one-line message or None)."""
-
-    answered = Signal(object, object, object)
-
-    def __init__(self, parent=None):
-        super().__init__(parent)
-        self._lock = threading.Lock()
-        self._next = None
-        self._busy = False
-
-    def ask(self, key, fn) -> None:
-        with self._lock:
-            self._next = (key, fn)
-            if self._busy:
-                return
-            self._busy = True
-        threading.Thread(target=self._loop, name="gcmh-latest-call", daemon=True).start()
-
-    def _loop(self) -> None:
-        while True:
-            with self._lock:
-                task, self._next = self._next, None
-                if task is None:
-                    self._busy = False
-                    return
-            key, fn = task
-            value, error = None, None
-            try:
-                value = fn()
-            except Exception as e:  # noqa: BLE001 - InputError and the like, as a message
-                error = str(e)
-            with self._lock:
-                stale = self._next is not None
-            if not stale:
-                try:
-                    self.answered.emit(key, value, error)
-                except RuntimeError:   # the panel is gone
-                    with self._lock:
-                        self._busy = False
-                    return
-
-
 def format_number(v: float) -> str:
     """Short text for a bound: simple multiples of pi as ``-pi/2``, others as ``%g``."""
     v = float(v)
@@ -318,10 +224,10 @@ class QtFormulaPanel(QWidget):
         self._kept_rows: list[tuple[str, str, str]] = []
         self._kept_names: list[str] = []
         # formula checks: answers by (text, names, index), and the keys still waiting for one
-        self._answers: dict[tuple, str | None] = {}
+        self._answers: dict[tuple, tuple] = {}
         self._waiting: set[tuple] = set()
-        self.checker = FormulaChecker(self)
-        self.checker.checked.connect(self._on_checked)
+        self.checker = QtLatestCall(self, "gcmh-formula-check")   # (sympy may take a moment on a long formula)
+        self.checker.answered.connect(self._on_checked)
         self._check_timer = QTimer(self)
         self._check_timer.setSingleShot(True)
         self._check_timer.setInterval(self.CHECK_DELAY_MS)
@@ -329,7 +235,7 @@ class QtFormulaPanel(QWidget):
         # the run's estimate (memory and time), made in a worker
         self.run_estimate = None   # the gcmh_core.budget.Estimate of the panel's job, once known
         self._estimate_key = None
-        self._estimator = LatestCall(self)
+        self._estimator = QtLatestCall(self, "gcmh-estimate")
         self._estimator.answered.connect(self._on_estimate)
         self._estimate_timer = QTimer(self)
         self._estimate_timer.setSingleShot(True)
@@ -912,18 +818,20 @@ class QtFormulaPanel(QWidget):
         """Send the formulas waiting for a check to the worker now (Run does not wait for the debounce)."""
         self._check_timer.stop()
         if self._waiting:
-            self.checker.submit(sorted(self._waiting, key=lambda key: key[-1] if key[0] == "real" else -1))
+            keys = sorted(self._waiting, key=lambda key: key[-1] if key[0] == "real" else -1)
+            self.checker.submit([(key, lambda key=key: check_key(key)) for key in keys])
 
     def checking(self) -> bool:
         """Is a formula on show still waiting for its check?"""
         return bool(self._waiting)
 
-    def _on_checked(self, key, message) -> None:
+    def _on_checked(self, key, answer, error) -> None:
+        """``answer``: :func:`check_key`'s (message, found); ``error``: what a check that broke said."""
         if key not in self._waiting:
             return   # stale: the field changed since
         if len(self._answers) > 512:
             self._answers.clear()
-        self._answers[key] = message
+        self._answers[key] = answer if error is None else (error, () if key[0] == "real" else None)
         self._waiting = self._waiting - {key}
         self._validate()
         if not self._waiting:

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
-from qtpy.QtCore import Qt
+from qtpy.QtCore import QObject, Qt, Signal
 from qtpy.QtWidgets import QGroupBox, QLabel, QSlider, QVBoxLayout
+
+from .latest import LatestCall
 
 ERROR_LABEL_STYLE = "color: #c22; font-size: 11px;"
 
@@ -67,3 +69,15 @@ def clear_layout(layout) -> None:
             w.hide()
             w.setParent(None)
             w.deleteLater()
+
+
+class QtLatestCall(QObject):
+    """A :class:`gcmh_studio.latest.LatestCall` whose answers come on the GUI thread:
+    ``answered(key, value, error)``, queued from the worker (the newest request wins)."""
+
+    answered = Signal(object, object, object)
+
+    def __init__(self, parent=None, name: str = "gcmh-latest-call"):
+        super().__init__(parent)
+        self.calls = LatestCall(self.answered.emit, name)   # (emit raises RuntimeError once this is deleted)
+        self.ask, self.submit, self.busy = self.calls.ask, self.calls.submit, self.calls.busy
