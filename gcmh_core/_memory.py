@@ -68,7 +68,7 @@ def available_memory() -> int:
         except (ValueError, OSError, AttributeError):
             avail = 1 << 62  # unknown: don't refuse on memory
     try:
-        import resource  # noqa: PLC0415  (POSIX only)
+        import resource  # (POSIX only)
 
         soft = resource.getrlimit(resource.RLIMIT_AS)[0]
         if soft != resource.RLIM_INFINITY:

@@ -47,7 +47,7 @@ def as_div(div, n: int) -> np.ndarray:
 
 def _number(x, what: str) -> float:
     if isinstance(x, str):
-        from .formula import evaluate_constant  # noqa: PLC0415  (numbers like "-pi/2", parsed safely)
+        from .formula import evaluate_constant  # (numbers like "-pi/2", parsed safely)
 
         try:
             x = evaluate_constant(x)
@@ -112,7 +112,7 @@ def _periodic_entries(periodic):
             items.append((name.strip(), {"flip": [f.strip() for f in flips.split(",") if f.strip()]}))
     else:
         raise InputError(f"{_PERIODIC_FORMS}; got {periodic!r}")
-    out = []
+    out: list[tuple[str, bool | list[str]]] = []
     for name, value in items:
         if value is True or value is False:
             out.append((name, value))
@@ -148,7 +148,7 @@ def as_periodic(periodic, variables, div) -> tuple[tuple[int, tuple[int, ...]], 
             raise InputError(f"{what} {name!r} is not a variable (variables: {', '.join(names)})")
         return index[name]
 
-    spec = {}
+    spec: dict[int, tuple[int, ...] | None] = {}  # None: named but not periodic (False)
     for name, value in _periodic_entries(periodic):
         p = axis_of(name, "periodic axis")
         if p in spec:
@@ -162,18 +162,18 @@ def as_periodic(periodic, variables, div) -> tuple[tuple[int, tuple[int, ...]], 
         if len(set(flips)) != len(flips):
             raise InputError(f"periodic axis {name!r} reverses an axis twice")
         spec[p] = tuple(sorted(flips))
-    spec = {p: f for p, f in spec.items() if f is not None}
-    for p, flips in spec.items():
+    glued = {p: f for p, f in spec.items() if f is not None}
+    for p, flipped in glued.items():
         if int(div[p]) < 3:
             raise InputError(f"periodic axis {names[p]!r} needs at least 3 cubes around it, div is {int(div[p])}")
-        for b in flips:
+        for b in flipped:
             if int(div[b]) % 2:
                 raise InputError(f"axis {names[b]!r} is reversed across the seam of {names[p]!r}, so its grid is "
                                  f"mirror-symmetric and needs an even div, got {int(div[b])}")
-            if spec.get(b):
+            if glued.get(b):
                 raise InputError(f"axis {names[b]!r} is reversed across the seam of {names[p]!r} and cannot "
                                  f"reverse axes across its own seam too")
-    return tuple((p, spec[p]) for p in sorted(spec))
+    return tuple((p, glued[p]) for p in sorted(glued))
 
 
 def describe_periodic(spec, variables) -> list[str]:
@@ -200,7 +200,7 @@ def parse_params(items, option: str = "--param") -> dict[str, float] | None:
     of the formulas is for `formula.parse_system` to say (it knows them)."""
     if not items:
         return None
-    from .formula import evaluate_constant  # noqa: PLC0415  (sympy's parser: not for `import gcmh_core`)
+    from .formula import evaluate_constant  # (sympy's parser: not for `import gcmh_core`)
 
     out: dict[str, float] = {}
     for item in items:
@@ -264,7 +264,7 @@ def prepare(F, variables, n, k, bounds, div, params=None):
         if not 1 <= k_ < n_:
             raise InputError(f"need 1 <= k < n, got n = {n_}, k = {k_}")
         return n_, k_, as_bounds(bounds, n_), shape_div, None, np.ascontiguousarray(values, np.float64)
-    from .formula import System, parse_system  # noqa: PLC0415  (sympy: not for sampled values)
+    from .formula import System, parse_system  # (sympy: not for sampled values)
 
     if isinstance(F, System):
         system = F if params is None else parse_system(F.texts, F.variables, params={**F.params, **params})

@@ -38,7 +38,7 @@ from math import comb, factorial
 
 import numpy as np
 
-from ._cost import (  # noqa: F401
+from ._cost import (
     _KERNEL_SECONDS_PER_ENTRY,
     _functionals,
     check_seconds,
@@ -372,7 +372,7 @@ def estimate_run(
     (small runs don't pay for the probe); True always (`gcmh extract --dry-run`).
     Raises InputError (never forceable) for a grid too large to index.
     """
-    from ._methods import CONTINUATION_METHODS, SIMPLICIAL_METHODS  # noqa: PLC0415
+    from ._methods import CONTINUATION_METHODS, SIMPLICIAL_METHODS
 
     div_t = tuple(int(d) for d in np.broadcast_to(np.asarray(div, np.int64), (n,)))
     vertices = math.prod(d + 1 for d in div_t)
@@ -411,7 +411,7 @@ def _pruned_vertices(n: int, k: int, expected: float, vertices: int):
 
 def _marching() -> bool:
     """Whether a full sweep with n = 3, k = 1 takes the marching pass (`sweep.MARCHING3`)."""
-    from . import sweep  # noqa: PLC0415
+    from . import sweep
 
     marching = getattr(sweep, "MARCHING3", False)
     return bool(sweep.PRUNE is not True if marching is None else marching)
@@ -419,7 +419,7 @@ def _marching() -> bool:
 
 def _prunable(system, sampled, cubes: int) -> bool:
     """Whether the full sweep will drop blocks by F's interval bounds (`sweep`)."""
-    from . import sweep  # noqa: PLC0415
+    from . import sweep
 
     prune = sweep.PRUNE
     if prune is None:
@@ -429,7 +429,7 @@ def _prunable(system, sampled, cubes: int) -> bool:
 
 def _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, expected, faces, pruned,
           checked=False) -> Estimate:
-    from .sweep import SLAB_VERTICES  # noqa: PLC0415
+    from .sweep import SLAB_VERTICES
 
     dims = [d + 1 for d in div_t]
     vertices = math.prod(dims)
@@ -502,8 +502,8 @@ def estimate(
     """The cost of `extract(F, bounds, div, ...)` with the same arguments, without running it
     (`gcmh extract --dry-run`; the app shows it before a run).  Bad arguments raise the
     InputError `extract` would."""
-    from ._methods import METHODS  # noqa: PLC0415
-    from ._validate import prepare  # noqa: PLC0415
+    from ._methods import METHODS
+    from ._validate import prepare
 
     if method not in METHODS:
         raise InputError(f"unknown method {method!r}; choose from {', '.join(METHODS)}")

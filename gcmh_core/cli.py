@@ -35,6 +35,7 @@ import sys
 import threading
 from collections.abc import Sequence
 
+from . import __version__
 from ._validate import glued_axes, parse_params
 from .errors import InputError
 from .safe_io import AtomicFile, check_output
@@ -53,7 +54,7 @@ class _UsageError(Exception):
 
 
 class _Parser(argparse.ArgumentParser):
-    def error(self, message: str):  # noqa: D401 - argparse hook
+    def error(self, message: str):  # argparse hook
         raise _UsageError(message)
 
 
@@ -88,7 +89,7 @@ def _build_parser() -> _Parser:
         description="Extract implicit manifolds F^-1(0), F: R^n -> R^k, as cell complexes (GCMH).",
         allow_abbrev=False,
     )
-    parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
 
     p_ex = sub.add_parser(
@@ -180,15 +181,6 @@ def _build_parser() -> _Parser:
     return parser
 
 
-def _version() -> str:
-    try:
-        from importlib.metadata import version
-
-        return version("gcmh")
-    except Exception:  # not installed
-        return "unknown"
-
-
 # --------------------------------------------------------------------------
 # Argument parsing helpers (each raises InputError with a one-line message)
 # --------------------------------------------------------------------------
@@ -219,7 +211,7 @@ def _parse_per_axis(text: str, flag: str, n: int | None) -> int | list[int]:
 
 
 def _parse_scheduler(text: str) -> str:
-    from .distributed import check_scheduler  # noqa: PLC0415  (dask itself is imported only to run)
+    from .distributed import check_scheduler  # (dask itself is imported only to run)
 
     try:
         return check_scheduler(text)
@@ -351,7 +343,7 @@ def _job_from_args(args) -> dict:
         from .extract import CONTINUATION_METHODS
 
         periodic = list(ex.periodic) or None
-        start = ex.start if args.method.strip().lower() in CONTINUATION_METHODS else None
+        start: list[float] | str | None = ex.start if args.method.strip().lower() in CONTINUATION_METHODS else None
         if start is not None and params != (ex.param_values() or None):
             start = "auto"  # (the example's start point lies on M at its default values only)
         name = ex.name
@@ -560,7 +552,7 @@ def _dry_run(args, job) -> int:
 def _isatty(stream) -> bool:
     try:
         return stream.isatty()
-    except Exception:
+    except (AttributeError, OSError, ValueError):  # no such method, or a closed / detached stream
         return False
 
 
@@ -759,7 +751,7 @@ class _Signals:
         """Hold signals while numba holds its compiler lock (it loads a cached kernel or compiles
         one there): llvmlite calls back into Python through ctypes then, and a KeyboardInterrupt
         raised inside such a callback is printed and dropped, so the run went on to the end."""
-        from ._config import numba_events  # noqa: PLC0415  (numba itself loads when the block starts)
+        from ._config import numba_events  # (numba itself loads when the block starts)
 
         lock = threading.Lock()
 

@@ -86,7 +86,7 @@ def _int_array(value, name, ndim):
     any numeric dtype is accepted)."""
     try:
         arr = np.asarray(value)
-    except Exception as exc:  # ragged lists and the like
+    except Exception as exc:  # noqa: BLE001 - ragged lists and whatever an __array__ raises
         raise ValueError(f"{name} must be an integer array: {exc}") from None
     if arr.size == 0:
         if arr.dtype.kind not in "iufb" and arr.dtype != object:
@@ -323,7 +323,7 @@ def _read_checked(archive, bad) -> dict:
             shape, dtype = headers[name]
             if math.prod(shape) * dtype.itemsize > _SMALL_MEMBER:
                 raise bad(f"extra member {name!r} is larger than {_SMALL_MEMBER:,} bytes")
-    from ._memory import available_memory, format_bytes  # noqa: PLC0415
+    from ._memory import available_memory, format_bytes
 
     avail = available_memory()
     if total > avail:
@@ -382,7 +382,7 @@ class CellComplex:
         # vertices
         try:
             v = np.asarray(vertices)
-        except Exception as exc:
+        except Exception as exc:  # noqa: BLE001 - ragged lists and whatever an __array__ raises
             raise ValueError(f"vertices must be a (V, {n}) float array: {exc}") from None
         if v.size == 0 and v.ndim < 2:
             v = np.zeros((0, n))
@@ -744,7 +744,7 @@ class CellComplex:
                 data = _read_checked(archive, bad)
             except ValueError:
                 raise
-            except Exception as exc:  # corrupt member, bad CRC, truncated stream, ...
+            except Exception as exc:  # noqa: BLE001 - corrupt member, bad CRC, truncated stream, ...
                 raise bad(exc) from None
         n, k = int(data["n"]), int(data["k"])
         vertices, edges = data["vertices"], data["cells_1"]

@@ -93,7 +93,7 @@ def _text(expr: sympy.Expr, order: dict) -> str:
         first = min((order[s] for s in term.free_symbols if s in order), default=len(order))
         if first == len(order):
             return (first, 0.0)
-        power = term.as_coeff_exponent(sorted(order, key=order.get)[first])[1]
+        power = term.as_coeff_exponent(sorted(order, key=order.__getitem__)[first])[1]
         return (first, -float(power) if power.is_number else 0.0)
 
     text = ""

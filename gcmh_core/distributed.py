@@ -53,6 +53,7 @@ import tempfile
 import threading
 import time
 import uuid
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -61,6 +62,9 @@ from .continuation import run_continuation
 from .errors import Cancelled, InputError
 from .formula import parse_system
 from .runner import CONTINUATION_METHODS, Grid, block_values
+
+if TYPE_CHECKING:  # (dask is optional: imported where a run needs it)
+    from distributed import Client, LocalCluster
 
 # Default block: at most this many vertices (bounds a worker's memory, see the module doc) ...
 BLOCK_VERTICES = 1 << 23
@@ -101,7 +105,7 @@ def run_distributed(method, n, k, axes, bounds, system, sampled, starts, schedul
     if block_ is not None and method in CONTINUATION_METHODS:
         raise InputError(f"block applies to whole-grid methods; {method!r} sends waves of cubes, not blocks")
     try:
-        import distributed  # noqa: F401, PLC0415
+        import distributed  # noqa: F401 - only whether it is installed
     except ImportError:
         raise InputError(
             'scheduler needs dask.distributed, which is not installed: pip install -e ".[cluster]"'
@@ -180,7 +184,7 @@ def _identification(spec, bounds, sampled) -> tuple | None:
 def _new_grid(n, k, axes, method, ident, check_cells=None) -> Grid:
     if ident is None:
         return Grid(n, k, axes, method, check_cells=check_cells)
-    from .identify import IdentifiedGrid  # noqa: PLC0415
+    from .identify import IdentifiedGrid
 
     return IdentifiedGrid(n, k, axes, method, spec=ident[0], bounds=np.array(ident[1], np.float64),
                           check_cells=check_cells)
@@ -194,12 +198,13 @@ class _Session:
 
     def __init__(self, address: str, sampled):
         self.address, self.sampled = address, sampled
-        self.cluster = self._client = None
-        self.tmpdir = None
-        self.sampled_ref = None  # how tasks reach the sampled array: ("npy", path) or a future
+        self.cluster: LocalCluster | None = None
+        self._client: Client | None = None
+        self.tmpdir: str | None = None
+        self.sampled_ref: object = None  # how tasks reach the sampled array: ("npy", path) or a future
         self.workers = 0
         self.tasks = 0
-        self._per_host = None
+        self._per_host: dict[str, int] | None = None
         self.run = uuid.uuid4().hex[:12]
 
     def __enter__(self):
@@ -231,7 +236,7 @@ class _Session:
         return self._client
 
     def _connect(self):
-        from distributed import Client, LocalCluster  # noqa: PLC0415
+        from distributed import Client, LocalCluster
 
         if self.address == "local":
             cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
@@ -283,7 +288,7 @@ class _Session:
         one thread per core in every worker process, and the processes would fight)."""
         if self._per_host is not None:
             return self._per_host
-        from distributed.comm import get_address_host  # noqa: PLC0415
+        from distributed.comm import get_address_host
 
         per_host: dict = {}
         for address, info in self.client.scheduler_info(n_workers=-1)["workers"].items():
@@ -302,6 +307,7 @@ def _probe(address: str) -> None:
     """A plain TCP connect first: fails in well under a second for a closed port or an
     unknown host (a failed dask Client waits out its timeout, then again when collected)."""
     m = _ADDRESS.match(address)
+    assert m is not None  # (check_scheduler accepted the address)
     host, port = m.group(1).strip("[]"), int(m.group(2))
     try:
         socket.create_connection((host, port), timeout=CONNECT_TIMEOUT).close()
@@ -316,9 +322,9 @@ def _identify(address: str) -> None:
     server, say).  The question runs on its own thread and event loop, so this works
     from a thread that already runs one (a notebook); on a timeout the thread is
     abandoned (a daemon, it holds one socket)."""
-    import asyncio  # noqa: PLC0415
+    import asyncio
 
-    from distributed.core import rpc  # noqa: PLC0415
+    from distributed.core import rpc
 
     answer: dict = {}
 
@@ -357,8 +363,8 @@ def _gather(session, futures, cancel, on_done=None) -> list:
     on_done(done, total) after each completion.  On cancel or on a task's error the
     other futures are cancelled.
     """
-    from distributed import as_completed  # noqa: PLC0415
-    from distributed.scheduler import KilledWorker  # noqa: PLC0415
+    from distributed import as_completed
+    from distributed.scheduler import KilledWorker
 
     index = {f.key: i for i, f in enumerate(futures)}
     results = [None] * len(futures)
@@ -494,14 +500,16 @@ def _sampled_array(data):
 
 def _set_threads(per_host) -> None:
     """Numba threads for this task: this host's cores / the task threads its workers run."""
-    import numba  # noqa: PLC0415
-    from distributed import get_worker  # noqa: PLC0415
-    from distributed.comm import get_address_host  # noqa: PLC0415
+    import numba
+    from distributed import get_worker
+    from distributed.comm import get_address_host
 
     worker = get_worker()
     busy = per_host.get(get_address_host(worker.address), worker.state.nthreads)
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
-    numba.set_num_threads(max(1, min(cores // max(busy, 1), numba.config.NUMBA_NUM_THREADS)))  # this thread only
+    # (numba.config sets its names at run time: mypy cannot see them)
+    most = numba.config.NUMBA_NUM_THREADS  # type: ignore[attr-defined]
+    numba.set_num_threads(max(1, min(cores // max(busy, 1), most)))  # this thread only
 
 
 def _block_task(n, k, method, axes, formula, data, lo, hi, threads, ident=None, check_cells=None) -> dict:

@@ -129,10 +129,10 @@ def extract(
     2
     """
     # the engine (numba kernels) loads with the first run: `import gcmh_core` stays light
-    from .continuation import as_starts, run_continuation  # noqa: PLC0415
-    from .grid import PERTURBATION, perturbed_axes  # noqa: PLC0415
-    from .runner import Grid  # noqa: PLC0415
-    from .sweep import run_sweep  # noqa: PLC0415
+    from .continuation import as_starts, run_continuation
+    from .grid import PERTURBATION, perturbed_axes
+    from .runner import Grid
+    from .sweep import run_sweep
 
     t0 = time.perf_counter()
     if method not in METHODS:
@@ -149,7 +149,7 @@ def extract(
     names = list(system.variables) if system is not None else [f"x{i + 1}" for i in range(n_)]
     spec = as_periodic(periodic, names, div_)
     if spec:
-        from .identify import IdentifiedGrid, check_invariance, identified_axes  # noqa: PLC0415
+        from .identify import IdentifiedGrid, check_invariance, identified_axes
 
         if sampled is not None:
             raise InputError("periodic axes need F as formulas: sampled values can't be checked for periodicity")
@@ -182,7 +182,7 @@ def extract(
     if block is not None and scheduler is None:
         raise InputError("block is the block size of a distributed run: pass scheduler too")
     if scheduler is not None:
-        from .distributed import run_distributed  # noqa: PLC0415  (dask is imported only when asked for)
+        from .distributed import run_distributed  # (dask is imported only when asked for)
 
         result = run_distributed(method, n_, k_, axes, bounds_, system, sampled, starts, scheduler, block,
                                  progress, cancel, spec=spec, check_cells=check_cells)

@@ -302,6 +302,7 @@ class IdentifiedGrid(Grid):
     def empty_copy(self) -> IdentifiedGrid:
         """`Grid.empty_copy`, with no frame records and frames of its own."""
         grid = super().empty_copy()
+        assert isinstance(grid, IdentifiedGrid)  # (a copy of self)
         grid._frames = {}
         grid._vk_frames = {}
         return grid
@@ -328,7 +329,7 @@ class IdentifiedGrid(Grid):
             base = self._key_base
             anchor, code = np.divmod(keys, base)
             free = (code[:, None] // (n + 1) ** np.arange(n, dtype=np.int64)[None]) % (n + 1) > 0
-            rest = (code,)
+            rest: tuple[np.ndarray, ...] = (code,)
         else:  # (anchor * C(n, dim) + rank) * n_codes[dim] + local code
             q, code = np.divmod(keys, self._n_codes[dim])
             anchor, rank = np.divmod(q, self._n_subsets[dim])
@@ -396,16 +397,16 @@ class IdentifiedGrid(Grid):
             return keys, moved_any
         multi, free, rest = self._decode(keys, dim)
         for _ in range(len(self.spec) + 1):
-            moved = False
+            shifted = False
             for p, flips in self.spec:
                 sel = multi[:, p] == self.div[p]  # (a face with p free has its anchor below d)
                 if sel.any():
-                    moved = True
+                    shifted = True
                     moved_any |= sel
                     multi[sel, p] = 0
                     for b in flips:
                         multi[sel, b] = self.div[b] - multi[sel, b] - free[sel, b]
-            if not moved:
+            if not shifted:
                 break
         return self._encode(multi, rest, dim), moved_any
 
@@ -418,7 +419,7 @@ class IdentifiedGrid(Grid):
         k = self.k
         t = time.perf_counter()
         cat = {key: np.concatenate(arrs) if arrs else None for key, arrs in self.parts.items()}
-        if cat["vk"] is not None:
+        if cat["vk"] is not None and cat["vp"] is not None:  # (always both or neither)
             vk, moved = self._seam_keys(cat["vk"], k)
             order = np.lexsort((self._vk_patterns(), moved))
             self.parts["vk"] = [vk[order]]
@@ -587,8 +588,8 @@ class IdentifiedGrid(Grid):
             for p, flips in self.spec:
                 if p == skip:
                     continue
-                src = [slice(None)] * n
-                dst = [slice(None)] * n
+                src: list[slice | int] = [slice(None)] * n
+                dst: list[slice | int] = [slice(None)] * n
                 src[p], dst[p] = 0, -1
                 view = values[tuple(src)]
                 for b in flips:
@@ -635,7 +636,7 @@ class IdentifiedGrid(Grid):
                           else slice(None) for a in range(n))
             if len(lines[sa]):
                 values[inner] = system.evaluate_grid(lines)
-            at = [slice(None)] * n
+            at: list[slice | int] = [slice(None)] * n
             if first:
                 at[sa] = 0
                 values[tuple(at)] = previous
@@ -644,6 +645,7 @@ class IdentifiedGrid(Grid):
                 at[sa] = 0
                 layer0 = values[tuple(at)].copy()
             if copied:
+                assert layer0 is not None  # (kept at the first slab, i0 == 0, of the glued axis sa)
                 view = layer0
                 for b in flips_sa:
                     view = np.flip(view, axis=b if b < sa else b - 1)

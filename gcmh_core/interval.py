@@ -195,7 +195,7 @@ def _power(b, q):
 def _tables():
     """(sympy function -> bound, its argument counts), built on first use: sympy is
     imported only when a formula is bounded (`import gcmh_core` loads no sympy)."""
-    import sympy  # noqa: PLC0415
+    import sympy
 
     functions = {
         sympy.sin: _sin_cos(np.sin, math.pi / 2, -math.pi / 2),
@@ -279,7 +279,7 @@ class Enclosure:
     def _rule(self, expr):
         """(function of the argument triples, argument slots) for one node; mirrors the
         evaluator's reading of the tree (formula._compile) so that the induction holds."""
-        import sympy  # noqa: PLC0415  (loaded already: expr is a sympy expression)
+        import sympy  # (loaded already: expr is a sympy expression)
 
         if expr.is_Number or expr.is_NumberSymbol or expr in (sympy.I, sympy.zoo):
             try:

@@ -106,7 +106,7 @@ class Grid:
         self.timings = dict(evaluate=0.0, candidates=0.0, kernel=0.0, assemble=0.0)
         self.stats = dict(candidate_cubes=0, cubes=int(np.prod(self.dims - 1)), nonfinite_vertices=0, degenerate=0,
                           non_ball_cells=0, non_ball_split=0)
-        self.parts = dict(vk=[], vp=[], e=[], c=[], i=[])
+        self.parts: dict[str, list[np.ndarray]] = dict(vk=[], vp=[], e=[], c=[], i=[])
         # the kernel's tables, one named tuple (`_tables.CubeTables` or `SimplexTables`)
         self.kernel_tables = self.stab if self.simplicial else self.tab
 

@@ -137,6 +137,7 @@ def _plain_sweep(grid, axes, system, sampled, progress, cancel) -> CellComplex:
         if sampled is not None:
             values = sampled[i0 : i1 + 1]
         else:  # the slab's first layer is the previous slab's last: evaluate it once
+            assert buffer is not None  # (made when nothing is sampled)
             if values is not None:
                 buffer[0] = values[-1]
             values = buffer[: i1 - i0 + 1]
@@ -200,6 +201,7 @@ def _march(grid, axes, system, sampled, progress, cancel) -> CellComplex | None:
         if sampled is not None:
             values = np.ascontiguousarray(sampled[i0 : i1 + 1, :, :, 0], np.float64)
         else:
+            assert buffer is not None  # (made when nothing is sampled)
             if values is not None:
                 buffer[0] = values[-1]
             values = buffer[: i1 - i0 + 1]

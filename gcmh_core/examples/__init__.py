@@ -226,7 +226,7 @@ def _from_dict(name: str, data: dict[str, Any], path: Traversable | None = None)
         extra = data.get("formulas", [])
         if not isinstance(extra, list) or not all(isinstance(f, str) and f.strip() for f in extra):
             raise fail("'formulas' must be a list of non-empty strings")
-        from ..complex_equations import split_complex  # noqa: PLC0415
+        from ..complex_equations import split_complex
 
         try:
             texts, variables, labels = split_complex(complex_eqs, complex_vars, data.get("variables"),
