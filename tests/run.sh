@@ -5,10 +5,12 @@
 #   1. installs the Debian packages for a headless Qt + VTK (Xvfb and friends,
 #      see DESIGN.md) when some are missing, with apt-get (sudo when not root);
 #   2. creates the virtual environment .venv in the repository (once) and
-#      installs the project into it with `pip install -e .[test]` (again only
-#      when pyproject.toml changed);
-#   3. checks the code: `ruff check .` and `mypy` on the public API (their
-#      settings are in pyproject.toml);
+#      installs the project into it with
+#      `pip install -c tests/constraints.txt -e .[test]` (the test tools at the
+#      versions pinned there; again only when pyproject.toml or the constraints
+#      changed);
+#   3. checks the code: `ruff check .` and `mypy` on gcmh_core and the Qt-free
+#      modules of gcmh_studio (their settings are in pyproject.toml);
 #   4. runs `python -m pytest --xvfb-backend xvfb "$@"` (tests/app run on Xvfb).
 # The tests run even when step 3 finds something; the exit status is then 1 and the
 # last line says which check failed.
@@ -75,12 +77,14 @@ if ! venv_ok; then
 fi
 VPY="$ROOT/.venv/bin/python"
 export PIP_DISABLE_PIP_VERSION_CHECK=1
+# The stamp is what was installed from: a change of either file installs again.
 STAMP=.venv/.gcmh-installed
-if ! cmp -s pyproject.toml "$STAMP" \
-    || ! "$VPY" -c 'import gcmh_core, pytest, pytestqt, pytest_xvfb, ruff, mypy' >/dev/null 2>&1; then
-    say "installing the project: pip install -e .[test]"
-    "$VPY" -m pip install -q -e ".[test]"
-    cp pyproject.toml "$STAMP"
+WANTED="$(cat pyproject.toml tests/constraints.txt)"
+if [[ "$WANTED" != "$(cat "$STAMP" 2>/dev/null)" ]] \
+    || ! "$VPY" -c 'import gcmh_core, gcmh_studio, pytest, pytestqt, pytest_xvfb, ruff, mypy' >/dev/null 2>&1; then
+    say "installing the project: pip install -c tests/constraints.txt -e .[test]"
+    "$VPY" -m pip install -q -c tests/constraints.txt -e ".[test]"
+    printf '%s' "$WANTED" > "$STAMP"
 fi
 
 # ---------------------------------------------------------------- environment
@@ -97,7 +101,7 @@ failed=()
 if [[ "${GCMH_SKIP_LINT:-0}" != 1 ]]; then
     say "ruff check . (pyproject.toml [tool.ruff])"
     RUFF_CACHE_DIR=.venv/.ruff_cache "$VPY" -m ruff check . || failed+=(ruff)
-    say "mypy on the public API (pyproject.toml [tool.mypy])"
+    say "mypy on gcmh_core and the Qt-free modules of gcmh_studio (pyproject.toml [tool.mypy])"
     "$VPY" -m mypy --cache-dir .venv/.mypy_cache || failed+=(mypy)
 fi
 
