@@ -2,8 +2,10 @@
 as package data, and the benchmark scripts that live outside the library."""
 
 import json
+import shutil
 import subprocess
 import sys
+import zipfile
 from importlib import resources
 from pathlib import Path
 
@@ -100,3 +102,51 @@ def test_benchmark_scripts_start_from_the_repository_root(script):
     assert proc.returncode == 0, proc.stderr
     assert f"python tests/bench/{script}" in proc.stdout
     assert not (ROOT / "gcmh_core" / script).exists()
+
+
+def _source_files(folder: str, pattern: str) -> set[str]:
+    return {p.relative_to(ROOT / folder).as_posix() for p in (ROOT / folder).rglob(pattern)
+            if "__pycache__" not in p.parts}
+
+
+def test_the_wheel_holds_both_packages_and_their_data(tmp_path):
+    # Built from a copy (a build in the repository would leave build/ behind) with this
+    # environment's setuptools (no download); its file list is what `pip install .` installs.
+    src = tmp_path / "src"
+    skip = shutil.ignore_patterns("__pycache__", "*.pyc", "*.nbi", "*.nbc")
+    for folder in ("gcmh_core", "app"):
+        shutil.copytree(ROOT / folder, src / folder, ignore=skip)
+    for name in ("pyproject.toml", "README.md"):
+        shutil.copy(ROOT / name, src / name)
+    proc = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "--no-index",
+                           "-q", "-w", str(tmp_path / "dist"), str(src)], capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    (wheel,) = (tmp_path / "dist").glob("gcmh-*.whl")
+    names = set(zipfile.ZipFile(wheel).namelist())
+    tops = {name.split("/")[0] for name in names}
+    dist_info = {t for t in tops if t.endswith(".dist-info")}
+    assert tops - dist_info == {"gcmh_core", "gcmh_studio"}  # no top-level "app"
+    # every module and data file of both folders, so a package missing from pyproject's list fails here
+    for package, folder in (("gcmh_core", "gcmh_core"), ("gcmh_studio", "app")):
+        for pattern in ("*.py", "*.toml", "*.png", "py.typed"):
+            for rel in _source_files(folder, pattern):
+                assert f"{package}/{rel}" in names, f"{folder}/{rel} is not in the wheel as {package}/{rel}"
+    assert "gcmh_core/py.typed" in names and "gcmh_studio/py.typed" in names
+    assert len([n for n in names if n.startswith("gcmh_studio/resources/gallery/") and n.endswith(".png")]) >= 10
+    assert len([n for n in names if n.startswith("gcmh_core/examples/") and n.endswith(".toml")]) >= 16
+    (info,) = dist_info
+    scripts = (zipfile.ZipFile(wheel).read(f"{info}/entry_points.txt")).decode()
+    assert "gcmh = gcmh_core.cli:main" in scripts and "gcmh-app = gcmh_studio.__main__:main" in scripts
+
+
+def test_every_package_folder_is_in_the_package_list():
+    # the list in pyproject.toml is explicit (a folder app/ cannot be found by name): a new
+    # package folder must be added to it, or it is silently left out of the installed package
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
+    folders = {package: folder for package, folder in config["package-dir"].items()}
+    found = set()
+    for package, folder in folders.items():
+        for init in (ROOT / folder).rglob("__init__.py"):
+            rel = init.parent.relative_to(ROOT / folder).parts
+            found.add(".".join([package, *rel]))
+    assert sorted(config["packages"]) == sorted(found)
