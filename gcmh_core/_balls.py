@@ -3,7 +3,7 @@
 GCMH makes one 2-cell per piece of the cube's vertex-edge graph G_H (paper 3.1.2).  Where M_A
 is a thin tube through the cube, G_H has one loop at each end, and GCMH makes two discs where
 M_A has one annulus: the complex's topology is wrong (the kernel finds these places with
-`_kernels._joined_pieces` and reports them).  For surfaces (n - k = 2, where the (k+2)-face is
+`kernels.cells._joined_pieces` and reports them).  For surfaces (n - k = 2, where the (k+2)-face is
 the cube itself and nothing else in the grid sees the cell) this module replaces those discs
 by cells with M_A's topology, keeping every vertex and edge the cube shares with its
 neighbours:
@@ -25,7 +25,7 @@ A piece that is not orientable or has a handle inside one cube (not seen in prac
 as the kernel made it and stays counted in meta["non_ball_cells"] minus meta["non_ball_split"].
 
 Keys: a disc takes the key of one of the cells it replaces (the discs are as many as those
-cells), so keys stay in `_kernels`' scheme; a cut edge has the negative key
+cells), so keys stay in the kernels' scheme; a cut edge has the negative key
 -(1 + K * room + j), K the smallest replaced cell key, j < room its index, which no kernel
 key can meet (`identify` maps K for mirrored frames).
 """
@@ -36,14 +36,18 @@ from functools import lru_cache
 
 import numpy as np
 
-from . import _kernels
+from .kernels.cell_check import cube_euler_chunk, records_cube_euler
+from .kernels.cells import _face_key as _face_key_jit
+from .kernels.cms import simplices_chunk
+from .kernels.gcmh import cubes_chunk
+from .kernels.tables import cube_tables
 
 __all__ = ["REFINED_BELOW", "cut_key", "cut_key_parts", "cut_key_room", "refine_cube", "refined_key",
            "refined_key_simplex", "replace_refined_cells", "split_joined_pieces"]
 
 # a cube face's key from its anchor's global vertex, C(n, dim) and the rank of its free axes: the kernels' own
 # formula, called in Python (n - k = 2 splits are rare: no compiled signature for them)
-_face_key = _kernels._face_key.py_func
+_face_key = _face_key_jit.py_func
 
 
 def cut_key_room(n_codes_top: int) -> int:
@@ -74,8 +78,8 @@ def split_joined_pieces(tab, values, cube_row, origin, cube_key, axes_arr, value
     if n - k != 2 or tab.kuhn.corners.shape[0] == 0:
         return None
     args = (values, cube_row, origin, cube_key, axes_arr, value_off, corner_off)
-    (g_vk, g_vp, g_edges, g_cells, g_inc), _, _, _ = _kernels.cubes_chunk(0, 1, *args, tab)
-    (c_vk, _, c_edges, _, c_inc), _, degenerate, _ = _kernels.simplices_chunk(0, 1, *args, tab.kuhn)
+    (g_vk, g_vp, g_edges, g_cells, g_inc), _, _, _ = cubes_chunk(0, 1, *args, tab)
+    (c_vk, _, c_edges, _, c_inc), _, degenerate, _ = simplices_chunk(0, 1, *args, tab.kuhn)
     if degenerate:
         return None
     g_vertex = int(cube_key[0])
@@ -338,9 +342,9 @@ def _arc(loop, i, j):
 # ----------------------------------------------------------------------------- refinement by CMS
 # A piece of M_A hidden inside a face (a loop inside a (k+1)-face reaches no k-face: no GCMH vertex,
 # chi 0) is emitted by a refined cube; the check flags every cube on that face alike
-# (`_kernels.cube_euler_chunk`'s hidden count), so every cube that has the face emits it too.
+# (`kernels.cell_check.cube_euler_chunk`'s hidden count), so every cube that has the face emits it too.
 # A refined cell's key: below every cut key (cut keys are at least -2^62), from the key of its Kuhn
-# simplex (`_tables.SimplexTables`), which is below 2^62 wherever a refinement is made.
+# simplex (`kernels.tables.SimplexTables`), which is below 2^62 wherever a refinement is made.
 REFINED_BELOW = -(2**62)
 # An incidence row (-r, K, S) is no incidence: it says that the r-cell K is replaced by its
 # refinement, of which the r-cell S is one (`replace_refined_cells` applies it at the assembly).
@@ -396,8 +400,8 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
     if kuhn.corners.shape[0] == 0:
         return None
     args = (values, cube_row, origin, cube_key, axes_arr, value_off, corner_off)
-    (_, _, g_edges, g_cells, g_inc), _, _, _ = _kernels.cubes_chunk(0, 1, *args, tab)
-    (c_vk, c_vp, c_edges, c_cells, c_inc), _, degenerate, _ = _kernels.simplices_chunk(0, 1, *args, kuhn)
+    (_, _, g_edges, g_cells, g_inc), _, _, _ = cubes_chunk(0, 1, *args, tab)
+    (c_vk, c_vp, c_edges, c_cells, c_inc), _, degenerate, _ = simplices_chunk(0, 1, *args, kuhn)
     if degenerate:
         return None
     g_vertex = int(cube_key[0])
@@ -547,29 +551,27 @@ def replace_refined_cells(e, c, inc):
 def cube_euler(tab, records, origin, strides, dims):
     """The Euler characteristic of GCMH's cells in each open face (a `CubeTables` row) of each
     cube of a kernel run (origin (m, n) grid indices), from the run's records
-    (`_kernels.records_cube_euler`): (m, faces)."""
+    (`kernels.cell_check.records_cube_euler`): (m, faces)."""
     n, k = tab.n, tab.k
     vk, _, e, c, _ = records
     by_dim = [vk, e[:, 0]] + [c[c[:, 0] == r, 1] for r in range(2, n - k + 1)]
     offsets = np.cumsum([0] + [len(x) for x in by_dim]).astype(np.int64)
     free_of_rank, face_row, _ = _face_maps(n, k)
-    return _kernels.records_cube_euler(np.concatenate(by_dim), offsets, origin @ strides, strides, dims, tab.n_codes,
+    return records_cube_euler(np.concatenate(by_dim), offsets, origin @ strides, strides, dims, tab.n_codes,
                                        tab.n_subsets, free_of_rank, face_row, k)
 
 
 def cms_cube_euler(tab, values, cube_row, corner_row, lo, hi):
     """CMS's count in each open face of each cube lo..hi-1 and the pieces of M_A hidden inside
-    each open face (`_kernels.cube_euler_chunk`): (euler, hidden), each (hi - lo, faces)."""
+    each open face (`kernels.cell_check.cube_euler_chunk`): (euler, hidden), each (hi - lo, faces)."""
     _, _, carrier = _face_maps(tab.n, tab.k)
-    return _kernels.cube_euler_chunk(lo, hi, values, cube_row, corner_row, tab.kuhn, carrier, len(tab.face_free),
-                                     _face_dims(tab.n, tab.k), *_cofaces(tab.n, tab.k))
+    return cube_euler_chunk(lo, hi, values, cube_row, corner_row, tab.kuhn, carrier, len(tab.face_free),
+                            _face_dims(tab.n, tab.k), *_cofaces(tab.n, tab.k))
 
 
 @lru_cache(maxsize=16)
 def _cofaces(n, k):
     """The Kuhn simplices that have each simplex as a facet, as CSR (start per simplex row, list)."""
-    from ._tables import cube_tables
-
     kuhn = cube_tables(n, k).kuhn
     rows = np.arange(kuhn.start[k + 1], kuhn.start[n + 1])
     facets = kuhn.facets[rows]
@@ -584,8 +586,6 @@ def _cofaces(n, k):
 @lru_cache(maxsize=16)
 def _face_dims(n, k):
     """The dimension of each `CubeTables` face row."""
-    from ._tables import cube_tables
-
     tab = cube_tables(n, k)
     return np.array([bin(int(x)).count("1") for x in tab.face_free], np.int64)
 
@@ -595,8 +595,6 @@ def _face_maps(n, k):
     """[dim, rank] -> free axes (bits) of the faces of that dimension and rank; [free, fixed] -> the
     `CubeTables` row of that face (-1: none); Kuhn simplex row -> the row of the face whose relative
     interior holds it (its chain's first and last corners give it)."""
-    from ._tables import cube_tables
-
     tab = cube_tables(n, k)
     free_of_rank = np.zeros((n + 1, int(tab.n_subsets.max())), np.int64)
     for dim in range(k, n + 1):

@@ -23,7 +23,7 @@ PARALLEL_JIT = dict(JIT, parallel=True)
 # as large as the chunk kernels (LLVM's refprune gives up past 1,000 basic blocks):
 # they cost more than a cube's work.  (simplex_crosses takes arrays: it is called
 # only for the few simplices that pass the sign prune.)  The loop over cubes runs
-# inside one kernel function per chunk (`_kernels.cubes_chunk`), with scratch
+# inside one kernel function per chunk (`kernels.gcmh.cubes_chunk`), with scratch
 # buffers it owns.
 INLINE_JIT = dict(JIT, inline="always")
 # A kernel that calls another compiles the callee for the argument types type inference

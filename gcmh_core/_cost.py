@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from math import comb, factorial
 
-from ._tables import lazy_tables
+from .kernels.tables import lazy_tables
 
 __all__ = ["CHECK_SIMPLICES", "check_seconds", "checks_cells", "kernel_batch_cubes", "kernel_entries",
            "kuhn_simplices"]

@@ -47,8 +47,8 @@ from ._cost import (
     kernel_entries,
 )
 from ._memory import available_memory, format_bytes, format_seconds
-from ._tables import lazy_tables
 from .errors import InputError, TooLargeError
+from .kernels.tables import lazy_tables
 
 __all__ = [
     "TooLargeError",

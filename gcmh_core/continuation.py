@@ -10,11 +10,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _kernels
 from ._hashtable import IntTable
 from .complex import CellComplex, _frozen
 from .errors import Cancelled, InputError
 from .grid import candidate_corner_sets, candidate_origins
+from .kernels.candidates import facet_neighbours
 from .newton import CONVERGED, LEFT_DOMAIN, MOVING, NOT_FINITE, gauss_newton
 from .runner import Grid, unique_first
 from .sweep import enclosure_of, surviving_blocks
@@ -235,7 +235,7 @@ def run_continuation(
         if wrapped is not None:  # periodic axes: across a seam to the identified cube
             cubes, keys = wrapped(wave, masks, cube_strides)
         else:
-            cubes, keys = _kernels.facet_neighbours(wave, masks, div, cube_strides)
+            cubes, keys = facet_neighbours(wave, masks, div, cube_strides)
         wave = cubes[visited.insert(keys)[1]]  # (in any order: the output does not depend on it)
     if isinstance(starts, list) and not any(len(v) for v in grid.parts["vk"]):
         # (with "auto" an empty result is an answer: M does not cross the domain)

@@ -87,7 +87,7 @@ def candidate_scan(values: np.ndarray, first_layer=None) -> tuple[np.ndarray, np
     values[0] is that block's last layer (its codes are not computed again: with thin
     slabs that was half the work).
     """
-    from . import _kernels  # noqa: PLC0415  (numba compiles on first use, not on import)
+    from .kernels import candidates  # noqa: PLC0415  (numba compiles on first use, not on import)
 
     values = np.ascontiguousarray(values, np.float64)
     dims = values.shape[:-1]
@@ -104,15 +104,15 @@ def candidate_scan(values: np.ndarray, first_layer=None) -> tuple[np.ndarray, np
         code[:first] = np.reshape(first_layer, (first, -1))
         carried_bad = bool(np.any(first_layer & code_type(1 << (2 * k))))
     inner = np.array(dims[2:], np.int64)
-    nonfinite = _kernels.plane_codes(planes, code, first, inner)
+    nonfinite = candidates.plane_codes(planes, code, first, inner)
     counts = np.zeros(max((dims[0] - 1) * (dims[1] - 1), 0), np.int64)
     none = np.zeros((0, n), np.int64)
-    _kernels.scan_candidates(code, dims[0], dims[1], inner, k, counts, counts, none)
+    candidates.scan_candidates(code, dims[0], dims[1], inner, k, counts, counts, none)
     offsets = np.zeros(len(counts), np.int64)
     np.cumsum(counts[:-1], out=offsets[1:])
     origins = np.empty((int(counts.sum()), n), np.int64)
     if len(origins):
-        _kernels.scan_candidates(code, dims[0], dims[1], inner, k, counts, offsets, origins)
+        candidates.scan_candidates(code, dims[0], dims[1], inner, k, counts, offsets, origins)
     return origins, code[-dims[1]:].reshape(dims[1:]).copy(), bool(nonfinite) or carried_bad
 
 
@@ -148,9 +148,9 @@ def candidate_corner_sets(corner_values: np.ndarray, n_corners: int) -> np.ndarr
     corner_values (m * n_corners, k): each cube's corner values, one cube after the
     other (continuation gathers them so for a wave of scattered cubes).
     """
-    from . import _kernels  # noqa: PLC0415
+    from .kernels import candidates  # noqa: PLC0415
 
     values = np.ascontiguousarray(corner_values, np.float64)
     out = np.empty(len(values) // n_corners, np.bool_)
-    _kernels.corner_sets_to_candidates(values, n_corners, out)
+    candidates.corner_sets_to_candidates(values, n_corners, out)
     return out

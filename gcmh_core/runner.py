@@ -23,15 +23,18 @@ from concurrent.futures import ThreadPoolExecutor
 import numba
 import numpy as np
 
-from . import _balls, _kernels
+from . import _balls
 from ._cost import checks_cells, kernel_batch_cubes
 from ._hashtable import IntTable
 from ._methods import CONTINUATION_METHODS, METHODS, SIMPLICIAL_METHODS
 from ._regular import collapse_lenses, subdivide_double_edges
-from ._tables import cube_tables, simplex_tables
 from .complex import CellComplex
 from .errors import Cancelled, InputError
 from .grid import candidate_corner_sets, candidate_scan
+from .kernels.cms import simplices_chunk
+from .kernels.gcmh import cubes_chunk
+from .kernels.records import CELL_COLS, EDGE_COLS, INC_COLS
+from .kernels.tables import cube_tables, simplex_tables
 
 __all__ = ["METHODS", "CONTINUATION_METHODS", "SIMPLICIAL_METHODS", "Grid", "assemble_records", "block_values",
            "complex_of"]
@@ -128,7 +131,7 @@ class Grid:
         t = time.perf_counter()
         cube_key = origin @ self.strides
         common = (values, cube_lin, origin, cube_key, self.axes_arr, value_off, self.corner_off, self.kernel_tables)
-        chunk = _kernels.simplices_chunk if self.simplicial else _kernels.cubes_chunk
+        chunk = simplices_chunk if self.simplicial else cubes_chunk
 
         def run(lo, hi):
             result = chunk(lo, hi, *common)
@@ -245,7 +248,7 @@ class Grid:
     def assemble(self) -> CellComplex:
         t = time.perf_counter()
         n, k = self.n, self.k
-        widths = dict(vk=None, vp=n, e=_kernels.EDGE_COLS, c=_kernels.CELL_COLS, i=_kernels.INC_COLS)
+        widths = dict(vk=None, vp=n, e=EDGE_COLS, c=CELL_COLS, i=INC_COLS)
         cat = {
             key: np.concatenate(arrs) if arrs
             else np.zeros((0,) if w is None else (0, w), np.float64 if key == "vp" else np.int64)

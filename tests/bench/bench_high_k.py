@@ -70,7 +70,7 @@ def child(spec: dict) -> dict:
     import numpy as np  # noqa: PLC0415
 
     import gcmh_core  # noqa: PLC0415
-    from gcmh_core import _tables  # noqa: PLC0415
+    from gcmh_core.kernels import tables as _tables  # noqa: PLC0415
 
     out = dict(n=n, k=k, what=what)
     if what == "extract":  # load the compiled kernels first: their time is not the case's

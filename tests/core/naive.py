@@ -671,7 +671,7 @@ def structure_problems(cx, bounds=None, div=None) -> list[str]:
 
 
 # --------------------------------------------------------------------------
-# n = 3, k = 1: the 256 sign cases of a cube (twin of _marching3.cube_cases)
+# n = 3, k = 1: the 256 sign cases of a cube (twin of kernels.marching3.cube_cases)
 # --------------------------------------------------------------------------
 
 def naive_marching_cases():

@@ -145,9 +145,9 @@ def test_a_piece_that_cannot_be_split_is_still_reported(monkeypatch):
 
 def test_cut_keys_follow_a_mirrored_frame():
     """A cut's key -(1 + K room + j) names the cube's cell key K: `identify` maps K like any key."""
-    from gcmh_core import _tables
     from gcmh_core._balls import cut_key_room
     from gcmh_core.identify import IdentifiedGrid, identified_axes
+    from gcmh_core.kernels import tables as _tables
 
     bounds = np.array([(-1.0, 1.0), (-1.0, 1.0), (0.0, 2 * np.pi)])
     spec = ((2, (0,)),)

@@ -22,9 +22,9 @@ import numpy as np
 import pytest
 
 from gcmh_core import budget
-from gcmh_core._tables import cube_tables, simplex_tables
 from gcmh_core.errors import InputError
 from gcmh_core.formula import parse_system
+from gcmh_core.kernels.tables import cube_tables, simplex_tables
 
 REPO = Path(__file__).resolve().parents[2]
 LONG = os.environ.get("GCMH_BUDGET_PROFILE") == "long"

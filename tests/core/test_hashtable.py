@@ -46,7 +46,7 @@ def test_negative_keys_refused():
 
 @pytest.mark.parametrize("n", [1, 2, 4, 6])
 def test_facet_neighbours_match_naive(n):
-    from gcmh_core._kernels import facet_neighbours
+    from gcmh_core.kernels.candidates import facet_neighbours
 
     rng = np.random.default_rng(n)
     for trial in range(20):

@@ -52,8 +52,8 @@ def test_k9_and_k10(n):
 
 def test_the_tables_build_of_a_run_reports_progress_and_cancels():
     """extract's progress hears the cube tables' build and its cancel stops it there."""
-    from gcmh_core import _tables
     from gcmh_core.errors import Cancelled
+    from gcmh_core.kernels import tables as _tables
 
     F = ["x1^2 + x2^2 - 1", "x3^2 + x4^2 - 1"] + [f"x{i}" for i in range(5, 10)]
     bounds, div = [(-1.5, 1.5)] * 4 + [(-1, 1)] * 5, [3] * 4 + [1] * 5

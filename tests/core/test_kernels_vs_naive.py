@@ -529,7 +529,7 @@ def _bits(corner, n):
 
 @pytest.mark.parametrize("k", [1, 2, 3, 4, 5])
 def test_simplex_crosses_matches_naive_solve(k):
-    from gcmh_core._kernels import _zero_side, simplex_crosses
+    from gcmh_core.kernels.solve import _zero_side, simplex_crosses
     rng = np.random.default_rng(40 + k)
     m = k + 1
     corner_off = np.arange(m, dtype=np.int64)
@@ -564,7 +564,7 @@ def test_simplex_crosses_matches_naive_solve(k):
 def test_zero_on_a_facet_is_inside_like_naive(k):
     """A component 0 on the facet opposite corner i and < 0 at i: the zero is inside
     (value 0 = +epsilon), in the kernel as in the naive solve; scaled rows answer alike."""
-    from gcmh_core._kernels import _zero_side, simplex_crosses
+    from gcmh_core.kernels.solve import _zero_side, simplex_crosses
     rng = np.random.default_rng(70 + k)
     m = k + 1
     idx = np.arange(m, dtype=np.int64)
@@ -589,7 +589,7 @@ def test_zero_on_a_facet_is_inside_like_naive(k):
 
 
 def test_simplex_crosses_singular_and_offsets():
-    from gcmh_core._kernels import simplex_crosses
+    from gcmh_core.kernels.solve import simplex_crosses
     k = 2
     mat, rhs, lam = np.empty((k, k)), np.empty(k), np.empty(k + 1)
     # identical components -> singular -> no vertex, in both
@@ -648,7 +648,7 @@ def test_candidate_cubes_match_naive(n, k):
 @pytest.mark.parametrize("n,k", [(2, 1), (3, 2), (4, 2), (5, 3), (6, 2), (6, 3), (6, 5), (7, 3)])
 def test_corner_masks_of_faces_and_simplices(n, k):
     """The kernel's bit-mask sign prune: bit c of a mask is cube corner c of the set."""
-    from gcmh_core._tables import MASKED_N, _faces, cube_tables, simplex_tables
+    from gcmh_core.kernels.tables import MASKED_N, _faces, cube_tables, simplex_tables
 
     T = cube_tables(n, k)
     if n > MASKED_N:  # 2^n corners do not fit an int64: the kernels test corner by corner
@@ -684,7 +684,7 @@ def test_corner_masks_of_faces_and_simplices(n, k):
 
 @pytest.mark.parametrize("n,k", [(2, 1), (3, 1), (3, 2), (4, 2), (5, 3), (6, 3)])
 def test_cube_tables_match_naive_kuhn(n, k):
-    from gcmh_core._tables import cube_tables
+    from gcmh_core.kernels.tables import cube_tables
     T = cube_tables(n, k)
     origin = (0,) * n
     cube = (origin, tuple(range(n)))

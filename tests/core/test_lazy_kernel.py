@@ -8,7 +8,10 @@ with several vertices) and on values with exact zeros (the sign prune's rule, `_
 import numpy as np
 import pytest
 
-from gcmh_core import _kernels, _tables, grid
+from gcmh_core import grid
+from gcmh_core.kernels import gcmh
+from gcmh_core.kernels import tables as _tables
+from gcmh_core.kernels.lazy import cubes_chunk_lazy
 
 
 def _tables_pair(n, k):
@@ -37,8 +40,8 @@ def assert_same_output(values, axes):
     n, k = len(axes), values.shape[-1]
     full, lazy = _tables_pair(n, k)
     assert lazy.ksimplex_corners.shape[0] == 0 < full.ksimplex_corners.shape[0]
-    want = _run(_kernels._cubes_chunk_tables, values, axes, full)
-    got = _run(_kernels.cubes_chunk_lazy, values, axes, lazy)
+    want = _run(gcmh._cubes_chunk_tables, values, axes, full)
+    got = _run(cubes_chunk_lazy, values, axes, lazy)
     for a, b, name in zip(got[0], want[0], ("vertex keys", "vertex points", "edges", "cells", "incidences")):
         assert a.shape == b.shape, (name, a.shape, b.shape)
         assert np.array_equal(a.view(np.int64), b.view(np.int64)), name  # bit for bit

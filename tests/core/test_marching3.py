@@ -1,4 +1,4 @@
-"""The marching pass for n = 3, k = 1 (`_marching3`) against the general path.
+"""The marching pass for n = 3, k = 1 (`kernels.marching3`) against the general path.
 
 Its tables against the naive twin (tests/core/naive.py, one cube per sign case), and
 whole runs against the general sweep (`sweep.MARCHING3 = False`): the same complex,
@@ -17,9 +17,9 @@ import numpy as np
 import pytest
 
 from gcmh_core import extract, sweep
-from gcmh_core._marching3 import cube_cases
 from gcmh_core.errors import Cancelled
 from gcmh_core.examples import load_example
+from gcmh_core.kernels.marching3 import cube_cases
 
 _HERE = os.path.dirname(os.path.abspath(__file__))
 if _HERE not in sys.path:

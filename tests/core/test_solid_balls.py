@@ -11,9 +11,10 @@ import itertools
 import numpy as np
 import pytest
 
-from gcmh_core import _balls, _kernels, extract
-from gcmh_core._tables import cube_tables
+from gcmh_core import _balls, extract
 from gcmh_core.analysis import boundary_components
+from gcmh_core.kernels.gcmh import cubes_chunk
+from gcmh_core.kernels.tables import cube_tables
 
 from naive import naive_cube_euler_cms, naive_hidden_pieces_cms, naive_records_cube_euler, structure_problems
 
@@ -112,7 +113,7 @@ def test_records_cube_euler_matches_naive(n, k):
     origins = np.array(list(itertools.product(range(2), repeat=n)), np.int64)
     keys = origins @ strides
     axes = np.tile(np.linspace(0.0, 1.0, 3), (n, 1))
-    records = _kernels.cubes_chunk(0, len(origins), values.reshape(-1, k), keys, origins, keys, axes, corner_row,
+    records = cubes_chunk(0, len(origins), values.reshape(-1, k), keys, origins, keys, axes, corner_row,
                                    corner_row, tab)[0]
     got = _balls.cube_euler(tab, records, origins, strides, dims)
     assert got.tolist() == naive_records_cube_euler(tab, records, origins, strides, dims).tolist()
@@ -132,7 +133,7 @@ def test_a_flat_piece_counts_the_same_both_ways(n, k):
     keys = origins @ strides
     axes = np.tile(np.linspace(0.0, 1.0, 3), (n, 1))
     flat = values.reshape(-1, k)
-    records = _kernels.cubes_chunk(0, len(origins), flat, keys, origins, keys, axes, corner_row, corner_row, tab)[0]
+    records = cubes_chunk(0, len(origins), flat, keys, origins, keys, axes, corner_row, corner_row, tab)[0]
     gcmh = _balls.cube_euler(tab, records, origins, strides, np.full(n, 3, np.int64))
     cms, hidden = _balls.cms_cube_euler(tab, flat, keys, corner_row, 0, len(origins))
     assert gcmh.tolist() == cms.tolist() and (cms != 0).any() and not hidden.any()

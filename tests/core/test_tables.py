@@ -1,4 +1,4 @@
-"""gcmh_core._tables: the vectorised cube tables against the loop builder they replaced.
+"""gcmh_core.kernels.tables: the vectorised cube tables against the loop builder they replaced.
 
 `loop_cube_tables` is the builder of the tables up to issue 14, kept here as the slow,
 obviously correct twin: faces, Kuhn chains and the walk built by Python loops, simplices
@@ -17,9 +17,9 @@ from math import comb, factorial
 import numpy as np
 import pytest
 
-from gcmh_core import _tables
-from gcmh_core._tables import MASKED_N, CubeTables, SimplexTables, _faces, cube_tables, simplex_tables
 from gcmh_core.errors import Cancelled, InputError
+from gcmh_core.kernels import tables as _tables
+from gcmh_core.kernels.tables import MASKED_N, CubeTables, SimplexTables, _faces, cube_tables, simplex_tables
 
 LONG = os.environ.get("GCMH_TABLES_PROFILE") == "long"
 

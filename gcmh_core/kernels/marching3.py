@@ -3,11 +3,11 @@ Cubes case of the paper (Section 3 with n = 3, k = 1), written like a marching-c
 
 For k = 1 a k-simplex is a grid edge and it is crossed exactly when F changes sign
 along it (a value 0 counts as positive), so everything the general kernel
-(`_kernels.cubes_chunk`) finds in a cube but the vertices' positions is fixed by its
+(`gcmh.cubes_chunk`) finds in a cube but the vertices' positions is fixed by its
 8 corner signs: the vertex of M_A on each crossed edge, the edges of M_A on each
 square (the walk of Section 3.1.1 pairs four crossings), the 2-cells (pieces of G_H
 in the cube, Section 3.1.2) and the pieces M_A joins through the cube (`non_ball_cells`).
-`cube_cases` derives these tables once from the general kernel's own `_tables.CubeTables`,
+`cube_cases` derives these tables once from the general kernel's own `tables.CubeTables`,
 by the same steps run on signs instead of values.
 
 `march_layers` then walks the grid layer by layer along axis 0 and writes the complex
@@ -24,7 +24,7 @@ squares and cubes of a row are found 64 at a time by bitwise operations; rows wh
 neighbourhood has one sign throughout are skipped whole (flying edges' trick).
 
 The result is the general path's complex bit for bit (tests/core/test_marching3.py):
-the positions are computed by the same arithmetic as `_kernels.simplex_crosses` for k = 1.
+the positions are computed by the same arithmetic as `solve.simplex_crosses` for k = 1.
 Where that arithmetic could differ from a pure sign test (a value that is not finite,
 or a difference F(b) - F(a) that overflows) the pass stops and says so; the caller
 then runs the general path.
@@ -38,8 +38,8 @@ import numba as nb
 import numpy as np
 from numba.cpython.unsafe.numbers import trailing_zeros
 
-from ._config import INLINE_JIT, JIT
-from ._tables import cube_tables
+from .._config import INLINE_JIT, JIT
+from .tables import cube_tables
 
 __all__ = ["cube_cases", "march_layers", "room_per_layer", "OK", "NOT_FINITE", "OVERFLOW"]
 
@@ -49,7 +49,7 @@ OK, NOT_FINITE, OVERFLOW = 0, 1, 2
 
 # ----------------------------------------------------------------------------- the tables
 def _local_code(f_free: int, g_free: int, g_fixed: int) -> int:
-    """`_kernels._local_code` for k = 1 (perm 0, kfact 1)."""
+    """`cells._local_code` for k = 1 (perm 0, kfact 1)."""
     pos = rank = bits = j = 0
     for a in range(3):
         if f_free >> a & 1:
@@ -117,7 +117,7 @@ def _square_edges(tab, kf1: int, positive) -> list[tuple[int, int]]:
 
 
 def _joined(tab, positive, pieces_vertices) -> int:
-    """`_kernels._joined_pieces` for the whole cube, on signs: the pieces of G_H minus the
+    """`cells._joined_pieces` for the whole cube, on signs: the pieces of G_H minus the
     pieces of M_A (marched over the cube's CFK triangulation) that hold them."""
     kuhn = tab.kuhn
     corners, facets, start = kuhn.corners, kuhn.facets, kuhn.start
@@ -149,7 +149,7 @@ class Cases:
     """The 256 sign cases of a cube and the 16 of each square, as arrays for `march_layers`.
 
     A corner c is a bit mask (bit a: +1 along axis a); a square's rank q is that of its
-    free axes (0: axes 0 and 1, 1: axes 0 and 2, 2: axes 1 and 2), as in `_tables`.
+    free axes (0: axes 0 and 1, 1: axes 0 and 2, 2: axes 1 and 2), as in `tables`.
 
     square_edges[q, case, slot, 0 or 1]: the grid edges (corner << 2 | axis, the corner
       relative to the square's anchor) joined by the edge `slot` of M_A in that square,

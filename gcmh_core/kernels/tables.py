@@ -16,10 +16,10 @@ Conventions
   the same way.
 
 For n >= 8 and large k (`lazy_tables`) the tables are the faces only: k! Kuhn simplices per
-k-face would be 0.9 GB at n = 10, k = 8, and `_kernels.cubes_chunk_lazy` finds the few it needs.
+k-face would be 0.9 GB at n = 10, k = 8, and `lazy.cubes_chunk_lazy` finds the few it needs.
 
-The fields' names follow the paper (Sections 3-4); the glossary at the top of
-`_kernels` maps the paper's terms to them.
+The fields' names follow the paper (Sections 3-4); the glossary of
+`gcmh_core.kernels` maps the paper's terms to them.
 """
 
 from __future__ import annotations
@@ -34,9 +34,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .errors import Cancelled, InputError
+from ..errors import Cancelled, InputError
 
-# Where the tables hold the faces only (`lazy_tables`): `_kernels.cubes_chunk_lazy` finds a face's
+# Where the tables hold the faces only (`lazy_tables`): `lazy.cubes_chunk_lazy` finds a face's
 # Kuhn simplices by a pruned walk over their permutations instead of reading k! rows per k-face
 # (at n = 10, k = 8 those rows and the walk template took 0.9 GB and most of a run's time).  From
 # LAZY_N on, for k >= LAZY_K or more than LAZY_SIMPLICES k-simplices in a cube: below, the tables'
@@ -54,7 +54,7 @@ def lazy_tables(n: int, k: int) -> bool:
 
 class CubeTables(NamedTuple):
     """The n-cube's faces, the CFK (Kuhn) simplices of its k-faces and the walk template
-    of its (k+1)-faces: everything `_kernels.cubes_chunk` knows about a cube, passed to
+    of its (k+1)-faces: everything `gcmh.cubes_chunk` knows about a cube, passed to
     it whole (numba takes a named tuple of arrays as one argument, and caches it)."""
 
     n: int
@@ -386,7 +386,7 @@ def _corner_masks(n: int, corner_sets) -> np.ndarray:
 # ----------------------------------------------------------------------------- simplicial baselines (CMS, CCS)
 class SimplexTables(NamedTuple):
     """The simplices of dimension k..n of the cube's CFK (Freudenthal) triangulation,
-    for the simplicial baselines (`_kernels.simplices_chunk`, passed whole).
+    for the simplicial baselines (`cms.simplices_chunk`, passed whole).
 
     A simplex is a strict chain of corners c0 < c1 < ... < cd (each a subset of the
     next).  Its key inside the grid is (global vertex of c0) * (n+1)^n + code, where

@@ -1,0 +1,452 @@
+"""GCMH on a chunk of candidate cubes (paper 3.1): the tables' kernel, and the choice of kernel."""
+
+import numba as nb
+import numpy as np
+
+from .._config import JIT
+from .cells import _face_in_face, _face_key, _find, _joined_pieces, _local_code
+from .lazy import cubes_chunk_lazy
+from .records import _grown_keys, _grown_rows, _new_records, _records_upto
+from .solve import _simplex_crosses_call, _zero_side, simplex_crosses
+
+
+@nb.njit(**JIT)
+def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex, tables):
+    """GCMH on the candidate cubes lo..hi-1, in the calling thread, with one set of scratch buffers.
+
+    values (NV, k) float64: F at grid vertices; corner c of cube i is row cube_row[i] + corner_row[c].
+    cube_origin (m, n): the global multi-index of each cube's origin; cube_vertex (m,): its global
+    linear vertex index (corner c adds corner_vertex[c]; keys come from these, never from rows).
+    grid_lines (n, max vertices per axis): the (perturbed) grid lines.  tables: `tables.CubeTables`.
+    Returns (vertex keys, vertex points, edges, cells, incidences) records in cube order,
+    each cube's crossed-facet mask, the number of degenerate events, and where M_A joins
+    pieces of G_H through a face of the cube (`_joined_pieces`: cells that are not balls;
+    n <= 7): rows (cube - lo, face, pieces joined).
+    """
+    n = tables.n
+    k = tables.k
+    face_start = tables.face_start
+    face_free = tables.face_free
+    face_fixed = tables.face_fixed
+    face_rank = tables.face_rank
+    n_subsets = tables.n_subsets
+    binom = tables.binom
+    n_codes = tables.n_codes
+    kfact = tables.simplices_per_kface
+    ksimplex_corners = tables.ksimplex_corners
+    ksimplex_face = tables.ksimplex_face
+    ksimplex_perm = tables.ksimplex_perm
+    walk_simplex_corners = tables.walk_simplex_corners
+    walk_simplex_nodes = tables.walk_simplex_nodes
+    walk_interior_corners = tables.walk_interior_corners
+    n_boundary = tables.walk_boundary_nodes
+    walk_corner_map = tables.walk_corner_map
+    walk_boundary_simplex = tables.walk_boundary_simplex
+    ksimplex_corner_mask = tables.ksimplex_corner_mask
+    kface_corner_mask = tables.kface_corner_mask
+    k1face_corner_mask = tables.k1face_corner_mask
+    n_ksimplices = ksimplex_corners.shape[0]
+    n_nodes = n_boundary + walk_interior_corners.shape[0]
+    vertex_of_ksimplex = np.empty(n_ksimplices, np.int64)
+    corner_signs = np.empty(1 << n, np.int64)
+    masked = ksimplex_corner_mask.shape[0] > 0  # corner sets as bit masks (n <= 6)
+    positive_corners = np.zeros(k, np.int64)  # bit c: F_j >= 0 at corner c
+    mat = np.empty((k, k), np.float64)
+    rhs = np.empty(k, np.float64)
+    lam = np.empty(k + 1, np.float64)
+    interior_simplex = np.empty((1, k + 1), np.int64)  # one interior node's corners, as a table
+    walk_next0 = np.empty(n_nodes, np.int64)
+    walk_next1 = np.empty(n_nodes, np.int64)
+    interior_crossed = np.empty(max(walk_interior_corners.shape[0], 1), np.int8)
+    boundary_found = np.empty(n_boundary, np.int64)
+    walked = np.empty(n_boundary, np.int8)
+    vertex_ksimplex = np.empty(n_ksimplices, np.int64)
+    vertex_face = np.empty(n_ksimplices, np.int64)
+    vertex_key = np.empty(n_ksimplices, np.int64)
+    max_edges = (face_start[k + 2] - face_start[k + 1]) * (n_boundary // 2)
+    edge_a = np.empty(max_edges, np.int64)
+    edge_b = np.empty(max_edges, np.int64)
+    edge_face = np.empty(max_edges, np.int64)
+    parent = np.empty(n_ksimplices, np.int64)
+    cell_of_root = np.empty(n_ksimplices, np.int64)
+    cells_buf_a = np.empty((4 * n_ksimplices, 3), np.int64)
+    cells_buf_b = np.empty((4 * n_ksimplices, 3), np.int64)
+    vk_out, vp_out, e_out, c_out, i_out = _new_records(8 * (hi - lo) + 16, n)
+    used_v = used_e = used_c = used_i = np.int64(0)  # rows written (int64 from the start: see _config)
+    crossed_facets = np.zeros(hi - lo, np.int64)
+    n_corners = 1 << n
+    all_signs = (np.int64(1) << k) - 1
+    degenerate = 0
+    kuhn = tables.kuhn
+    ksimplex_kuhn = tables.ksimplex_kuhn
+    check_balls = ksimplex_kuhn.shape[0] > 0
+    kuhn_parent = np.empty(kuhn.corners.shape[0], np.int64)
+    non_ball = np.empty((4, 3), np.int64)  # rows (cube - lo, face, pieces joined)
+    n_non_ball = np.int64(0)  # (int64 from the start: see _config)
+    for ci in range(lo, hi):
+        o = cube_row[ci]
+        g_vertex = cube_vertex[ci]
+        for j in range(k):
+            positive_corners[j] = 0
+        for c in range(n_corners):
+            p = np.int64(0)
+            r0 = o + corner_row[c]
+            for j in range(k):
+                if values[r0, j] >= 0.0:
+                    p |= np.int64(1) << j
+                    positive_corners[j] |= np.int64(1) << c
+            corner_signs[c] = p
+
+        # 1. Vertices on the CFK k-simplices of the k-faces (paper 3.1.1)
+        kface0 = face_start[k]
+        nv = 0
+        for s in range(n_ksimplices):
+            vertex_of_ksimplex[s] = -1
+        for kf in range(n_ksimplices // kfact):  # a k-face's k! simplices lie one after the other
+            # the sign prune, written out: most faces and simplices stop here.  (Shared
+            # with simplices_chunk as a helper it cost 1 us more per cube inlined, and
+            # doubled the kernel time as a plain call: see _face_key.)  With bit masks
+            # a whole face is tested at once, and a simplex in 2k operations.
+            if masked:
+                m = kface_corner_mask[kf]
+                out = False
+                for j in range(k):
+                    on = positive_corners[j] & m
+                    if on == 0 or on == m:  # F_j has one sign on every corner
+                        out = True
+                if out:
+                    continue
+            else:  # the same test over the face's 2^k corners: at k = 8 one test instead of 8! (n = 10: 2x faster)
+                free = face_free[kface0 + kf]
+                fixed = face_fixed[kface0 + kf]
+                any_pos = 0
+                all_pos = all_signs
+                sub = free
+                while True:  # every subset of the free axes
+                    p = corner_signs[fixed | sub]
+                    any_pos |= p
+                    all_pos &= p
+                    if sub == 0:
+                        break
+                    sub = (sub - 1) & free
+                if any_pos != all_signs or all_pos != 0:
+                    continue
+            for s in range(kf * kfact, (kf + 1) * kfact):
+                if masked:
+                    m = ksimplex_corner_mask[s]
+                    out = False
+                    for j in range(k):
+                        on = positive_corners[j] & m
+                        if on == 0 or on == m:
+                            out = True
+                    if out:
+                        continue
+                else:
+                    any_pos = 0
+                    all_pos = all_signs
+                    for i in range(k + 1):
+                        p = corner_signs[ksimplex_corners[s, i]]
+                        any_pos |= p
+                        all_pos &= p
+                    if any_pos != all_signs or all_pos != 0:
+                        continue
+                hit = simplex_crosses(
+                    values, o, corner_row, ksimplex_corners, s, k, corner_signs, all_signs, mat, rhs, lam
+                )
+                if hit == 2:
+                    hit = _zero_side(values, o, corner_row, ksimplex_corners, s, k, lam)
+                if hit:
+                    vertex_of_ksimplex[s] = nv
+                    vertex_ksimplex[nv] = s
+                    row = used_v + nv
+                    if row >= vk_out.shape[0]:
+                        vk_out = _grown_keys(vk_out, row)
+                        vp_out = _grown_rows(vp_out, row)
+                    f = kface0 + ksimplex_face[s]
+                    vertex_face[nv] = f
+                    vertex_key[nv] = (
+                        _face_key(g_vertex + corner_vertex[face_fixed[f]], n_subsets[k], face_rank[f]) * kfact
+                        + ksimplex_perm[s]
+                    )
+                    vk_out[row] = vertex_key[nv]
+                    for a in range(n):
+                        x = 0.0
+                        for i in range(k + 1):
+                            x += lam[i] * grid_lines[a, cube_origin[ci, a] + ((ksimplex_corners[s, i] >> a) & 1)]
+                        vp_out[row, a] = x
+                    nv += 1
+        # facets of the cube that M_A crosses (bit 2a + side): where continuation goes next
+        facets = np.int64(0)
+        for v in range(nv):
+            f = vertex_face[v]
+            for a in range(n):
+                if not (face_free[f] >> a) & 1:
+                    facets |= np.int64(1) << (2 * a + ((face_fixed[f] >> a) & 1))
+        crossed_facets[ci - lo] = facets
+        if nv == 0:
+            continue
+
+        # 2. Edges on the (k+1)-faces: two vertices are joined, more by the walk (paper 3.1.1)
+        k1 = k + 1
+        k1face0 = face_start[k1]
+        n_k1faces = face_start[k1 + 1] - k1face0
+        ne = 0
+        n_interior = walk_interior_corners.shape[0]
+        for kf1 in range(n_k1faces):
+            if masked:  # no vertex on a face where some F_j has one sign
+                m = k1face_corner_mask[kf1]
+                out = False
+                for j in range(k):
+                    on = positive_corners[j] & m
+                    if on == 0 or on == m:
+                        out = True
+                if out:
+                    continue
+            n_found = 0
+            for b in range(n_boundary):
+                if vertex_of_ksimplex[walk_boundary_simplex[kf1, b]] >= 0:
+                    boundary_found[n_found] = b
+                    n_found += 1
+            if n_found == 0:
+                continue
+            if n_found == 2:
+                edge_a[ne] = vertex_of_ksimplex[walk_boundary_simplex[kf1, boundary_found[0]]]
+                edge_b[ne] = vertex_of_ksimplex[walk_boundary_simplex[kf1, boundary_found[1]]]
+                edge_face[ne] = k1face0 + kf1
+                ne += 1
+                continue
+            # The walk (Fig. 3): in each crossed (k+1)-simplex of the face, link its two crossed
+            # k-facets (nodes); then follow the links from each boundary node to the next.
+            for i in range(n_boundary + n_interior):
+                walk_next0[i] = -1
+                walk_next1[i] = -1
+            for i in range(n_interior):
+                interior_crossed[i] = -1
+            for t in range(walk_simplex_corners.shape[0]):
+                any_pos = 0
+                all_pos = all_signs
+                for j in range(k1 + 1):
+                    p = corner_signs[walk_corner_map[kf1, walk_simplex_corners[t, j]]]
+                    any_pos |= p
+                    all_pos &= p
+                if any_pos != all_signs or all_pos != 0:
+                    continue
+                n_crossed = 0
+                node_a = -1
+                node_b = -1
+                for j in range(k1 + 1):
+                    node = walk_simplex_nodes[t, j]
+                    if node < n_boundary:
+                        crossed = vertex_of_ksimplex[walk_boundary_simplex[kf1, node]] >= 0
+                    else:
+                        ii = node - n_boundary
+                        if interior_crossed[ii] < 0:
+                            for q in range(k + 1):
+                                interior_simplex[0, q] = walk_corner_map[kf1, walk_interior_corners[ii, q]]
+                            hit = _simplex_crosses_call(
+                                values, o, corner_row, interior_simplex, np.int64(0), k, corner_signs, all_signs, mat,
+                                rhs, lam,
+                            )
+                            if hit == 2:
+                                hit = _zero_side(values, o, corner_row, interior_simplex, np.int64(0), k, lam)
+                            interior_crossed[ii] = hit
+                        crossed = interior_crossed[ii] == 1
+                    if crossed:
+                        if n_crossed == 0:
+                            node_a = node
+                        elif n_crossed == 1:
+                            node_b = node
+                        n_crossed += 1
+                if n_crossed == 2:
+                    for pair in range(2):
+                        u = node_a if pair == 0 else node_b
+                        w = node_b if pair == 0 else node_a
+                        if walk_next0[u] < 0:
+                            walk_next0[u] = w
+                        elif walk_next1[u] < 0:
+                            walk_next1[u] = w
+                        else:
+                            degenerate += 1
+                elif n_crossed != 0:
+                    degenerate += 1
+            for q in range(n_found):
+                walked[q] = 0
+            for q in range(n_found):
+                if walked[q]:
+                    continue
+                start = boundary_found[q]
+                before = -1
+                at = start
+                end = -1
+                for _step in range(n_boundary + n_interior + 1):
+                    nxt = walk_next0[at] if walk_next0[at] != before else walk_next1[at]
+                    if nxt < 0:
+                        break
+                    before = at
+                    at = nxt
+                    if at < n_boundary:
+                        end = at
+                        break
+                if end < 0 or end == start:
+                    degenerate += 1
+                    walked[q] = 1
+                    continue
+                for q2 in range(n_found):
+                    if boundary_found[q2] == end:
+                        walked[q2] = 1
+                walked[q] = 1
+                edge_a[ne] = vertex_of_ksimplex[walk_boundary_simplex[kf1, start]]
+                edge_b[ne] = vertex_of_ksimplex[walk_boundary_simplex[kf1, end]]
+                edge_face[ne] = k1face0 + kf1
+                ne += 1
+
+        # 3. Cells (paper 3.1.2): for r = 1..n-k, the r-cells are the connected pieces of the
+        # vertex-edge graph inside each (r+k)-face; for r = 1 they are the edges themselves.
+        # Rows of lower/cells: (face, a vertex of the piece, key); the buffers swap per level.
+        lower = cells_buf_a
+        cells = cells_buf_b
+        if lower.shape[0] < ne:
+            lower = np.empty((ne, 3), np.int64)
+        for e in range(ne):
+            f = edge_face[e]
+            ca = _local_code(
+                face_free[f], face_free[vertex_face[edge_a[e]]], face_fixed[vertex_face[edge_a[e]]],
+                ksimplex_perm[vertex_ksimplex[edge_a[e]]], k, kfact, binom,
+            )
+            cb = _local_code(
+                face_free[f], face_free[vertex_face[edge_b[e]]], face_fixed[vertex_face[edge_b[e]]],
+                ksimplex_perm[vertex_ksimplex[edge_b[e]]], k, kfact, binom,
+            )
+            lower[e, 0] = f
+            lower[e, 1] = edge_a[e]
+            lower[e, 2] = (
+                _face_key(g_vertex + corner_vertex[face_fixed[f]], n_subsets[k1], face_rank[f]) * n_codes[k1]
+                + min(ca, cb)
+            )
+            row = used_e + e
+            if row >= e_out.shape[0]:
+                e_out = _grown_rows(e_out, row)
+            e_out[row, 0] = lower[e, 2]
+            e_out[row, 1] = vertex_key[edge_a[e]]
+            e_out[row, 2] = vertex_key[edge_b[e]]
+        n_lower = ne
+        n_cells = 0
+        n_incidences = 0
+        for r in range(2, n - k + 1):
+            dim = r + k
+            face0 = face_start[dim]
+            n_faces = face_start[dim + 1] - face0
+            n_here = np.int64(0)
+            for fi in range(n_faces):
+                f = face0 + fi
+                n_in = 0
+                for v in range(nv):
+                    if _face_in_face(
+                        face_free[vertex_face[v]], face_fixed[vertex_face[v]], face_free[f], face_fixed[f]
+                    ):
+                        parent[v] = v
+                        n_in += 1
+                    else:
+                        parent[v] = -1
+                if n_in == 0:
+                    continue
+                has_edge = False
+                for e in range(ne):
+                    if _face_in_face(face_free[edge_face[e]], face_fixed[edge_face[e]], face_free[f], face_fixed[f]):
+                        has_edge = True
+                        ra = _find(parent, edge_a[e])
+                        rb = _find(parent, edge_b[e])
+                        if ra != rb:
+                            parent[max(ra, rb)] = min(ra, rb)
+                if not has_edge:
+                    continue
+                # a piece needs an edge: a vertex left alone in f (degenerate data) is no r-cell
+                for v in range(nv):
+                    cell_of_root[v] = -1
+                for e in range(ne):
+                    if _face_in_face(face_free[edge_face[e]], face_fixed[edge_face[e]], face_free[f], face_fixed[f]):
+                        cell_of_root[_find(parent, edge_a[e])] = -2
+                if cells.shape[0] < n_here + n_in:  # rare: grow the buffer (n_in <= its first size)
+                    cells = _grown_rows(cells, n_here)
+                first = n_here
+                ff = face_free[f]
+                for v in range(nv):  # a root is its piece's smallest vertex index: it comes first
+                    if parent[v] >= 0:
+                        root = _find(parent, v)
+                        code = _local_code(
+                            ff, face_free[vertex_face[v]], face_fixed[vertex_face[v]],
+                            ksimplex_perm[vertex_ksimplex[v]], k, kfact, binom,
+                        )
+                        if root == v:
+                            if cell_of_root[v] != -2:
+                                continue
+                            cell_of_root[v] = n_here
+                            cells[n_here, 0] = f
+                            cells[n_here, 1] = v
+                            cells[n_here, 2] = code
+                            n_here += 1
+                        else:
+                            c = cell_of_root[root]
+                            if c >= 0 and code < cells[c, 2]:
+                                cells[c, 2] = code
+                fkey = _face_key(g_vertex + corner_vertex[face_fixed[f]], n_subsets[dim], face_rank[f]) * n_codes[dim]
+                for c in range(first, n_here):
+                    cells[c, 2] += fkey
+                    row = used_c + n_cells + c
+                    if row >= c_out.shape[0]:
+                        c_out = _grown_rows(c_out, row)
+                    c_out[row, 0] = r
+                    c_out[row, 1] = cells[c, 2]
+                if n_here - first >= 2 and check_balls:  # several pieces: does M_A join them in f?
+                    joined = _joined_pieces(
+                        values, o, corner_row, corner_signs, all_signs, kuhn, ksimplex_kuhn, vertex_ksimplex,
+                        face_free[f], face_fixed[f], cells, first, n_here, kuhn_parent, mat, rhs, lam,
+                    )
+                    if joined:
+                        if n_non_ball >= non_ball.shape[0]:
+                            non_ball = _grown_rows(non_ball, n_non_ball)
+                        non_ball[n_non_ball, 0] = ci - lo
+                        non_ball[n_non_ball, 1] = f
+                        non_ball[n_non_ball, 2] = joined
+                        n_non_ball += 1
+                # its (r-1)-faces: each lower-level piece in a face g of f lies in one piece of f
+                for y in range(n_lower):
+                    if not _face_in_face(face_free[lower[y, 0]], face_fixed[lower[y, 0]], face_free[f], face_fixed[f]):
+                        continue
+                    rep = lower[y, 1]
+                    if parent[rep] < 0:
+                        degenerate += 1
+                        continue
+                    row = used_i + n_incidences
+                    if row >= i_out.shape[0]:
+                        i_out = _grown_rows(i_out, row)
+                    i_out[row, 0] = r
+                    i_out[row, 1] = cells[cell_of_root[_find(parent, rep)], 2]
+                    i_out[row, 2] = lower[y, 2]
+                    n_incidences += 1
+            n_cells += n_here
+            swap = lower
+            lower = cells
+            cells = swap
+            n_lower = n_here
+        used_v += nv
+        used_e += ne
+        used_c += n_cells
+        used_i += n_incidences
+    return (
+        _records_upto(vk_out, vp_out, e_out, c_out, i_out, used_v, used_e, used_c, used_i), crossed_facets, degenerate,
+        non_ball[:n_non_ball].copy(),
+    )
+
+
+_cubes_chunk_tables = cubes_chunk
+
+
+# The runner calls `cubes_chunk`; the numba kernel above keeps that name (compile notices and
+# tests/core/test_first_run.py know it by it), and this picks the kernel by the tables it gets.
+def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex,  # noqa: F811
+                tables):
+    """GCMH on candidate cubes lo..hi-1: the tables' kernel (`_cubes_chunk_tables`), or
+    `cubes_chunk_lazy` where the tables hold no Kuhn simplices (`_tables.lazy_tables`)."""
+    kernel = cubes_chunk_lazy if tables.ksimplex_corners.shape[0] == 0 else _cubes_chunk_tables
+    return kernel(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex, tables)
