@@ -58,8 +58,8 @@ class Options:
 def parse_size(text: str) -> tuple[int, int]:
     """``WxH`` (e.g. 1600x1200) as an argparse type."""
     try:
-        w, h = text.lower().replace("*", "x").split("x")
-        w, h = int(w), int(h)
+        ws, hs = text.lower().replace("*", "x").split("x")
+        w, h = int(ws), int(hs)
     except ValueError:
         raise argparse.ArgumentTypeError(f"size must look like 1600x1200, got {text!r}") from None
     if not (16 <= w <= 16384 and 16 <= h <= 16384):
@@ -108,7 +108,7 @@ def write_frames(scene, projection, frames, window, paths, fps: float, progress=
     :func:`gcmh_studio.animation.write_animation`);
     several: rendered once, then written to each.
     """
-    from .scene import animation_images
+    from .offscreen import animation_images
 
     return write_images(animation_images(scene, projection, frames, window), paths, fps, progress, cancel)
 
@@ -246,14 +246,14 @@ def _prepare(opts: Options):
     if cx.count(0) == 0:
         return fail("the result is empty (no sign change of F on this grid): nothing to draw", 1)
     model.set_vertices(cx.vertices)
+    slice_range = (0.0, 1.0)    # (the range a slice animation sweeps)
     if slice_var is not None:
         window = SliceWindow(slice_var)
-        lo, hi = window_range(cx.vertices, window.direction(model.frame()))
+        slice_range = lo, hi = window_range(cx.vertices, window.direction(model.frame()))
         window.w = opts.slice_width if opts.slice_width is not None else max(0.04 * (hi - lo), 1e-9)
         window.c = slice_c if slice_c is not None else 0.5 * (lo + hi)
-        window.range = (lo, hi)
     return dict(ex=ex, names=names, model=model, mapping=mapping, color=color, cx=cx, spec=spec, window=window,
-                job=job)
+                slice_range=slice_range, job=job)
 
 
 def render(opts: Options) -> int:
@@ -261,7 +261,10 @@ def render(opts: Options) -> int:
     (``opts.animate`` to ``opts.gif`` / ``opts.mp4``); prints one line per file. Returns an exit code."""
     import numpy as np
 
-    from .scene import Style, default_camera, draw_overlays, example_labels, view_subtitle
+    from .camera import default_camera
+    from .labels import example_labels, view_subtitle
+    from .overlays import draw_overlays
+    from .scene import Style
 
     problem = check_outputs([opts.screenshot, opts.gif, opts.mp4])
     if problem is not None:
@@ -287,7 +290,7 @@ def render(opts: Options) -> int:
         if opts.transparent:
             pl.renderer.GradientBackgroundOff()
         if spec is not None:
-            return _animation(opts, scene, model, window, spec)
+            return _animation(opts, scene, model, window, spec, prep["slice_range"])
         pl.render()
         img = pl.screenshot(None, transparent_background=opts.transparent, return_img=True)
         from PIL import Image
@@ -299,12 +302,11 @@ def render(opts: Options) -> int:
     return 0 if np.asarray(img).size else 1
 
 
-def _animation(opts: Options, scene, model, window, spec) -> int:
+def _animation(opts: Options, scene, model, window, spec, slice_range) -> int:
     import numpy as np
 
     from .animation import frames_for
 
-    rng = getattr(window, "range", (0.0, 1.0))
     if spec.kind == "rotate" and model.mapping == "orthographic":
         P = model.matrix()
         i, j = spec.plane
@@ -313,7 +315,7 @@ def _animation(opts: Options, scene, model, window, spec) -> int:
             print(f"gcmh-app: note: {names[i]} and {names[j]} are both hidden in this view, so turning their plane "
                   f"moves nothing on screen (try rotate:{names[int(np.abs(P).sum(0).argmax())]}-{names[i]}, "
                   "or --mapping perspective)", file=sys.stderr)
-    frames = frames_for(spec, model.angles.copy(), opts.frames, slice_range=rng)
+    frames = frames_for(spec, model.angles.copy(), opts.frames, slice_range=slice_range)
     outs = [p for p in (opts.gif, opts.mp4) if p]
     n = write_frames(scene, model, frames, window, outs, opts.fps)
     for p in outs:
@@ -329,7 +331,7 @@ def sweep_values(spec, frames: int) -> list[float]:
     """The parameter's value in each frame of a ``param`` spec (:func:`gcmh_studio.animation.param_frames`)."""
     from .animation import param_frames
 
-    return [f.param_value for f in param_frames(spec.lo, spec.hi, frames)]
+    return [v for v in (f.param_value for f in param_frames(spec.lo, spec.hi, frames)) if v is not None]
 
 
 def _at(job, name: str, value: float):
@@ -428,9 +430,12 @@ def sweep_images(scene, names, view, complexes, spec, style, mapping: str = "ort
     import pyvista as pv
 
     from .animation import CRITICAL_COLOUR, critical_note, param_caption
+    from .camera import copy_camera, default_camera, refit_camera
     from .geometry import Geometry
+    from .labels import font_size, view_subtitle
+    from .overlays import draw_overlays
     from .projection import Projector, bbox_center
-    from .scene import colour_range, copy_camera, default_camera, draw_overlays, refit_camera, view_subtitle
+    from .scene import colour_range
 
     pl = scene.plotter
     sample = _vertex_sample(complexes)
@@ -458,7 +463,7 @@ def sweep_images(scene, names, view, complexes, spec, style, mapping: str = "ort
     w = int(pl.window_size[0])
     far = -max(abs(spec.lo), abs(spec.hi))
     longest = max(param_caption(spec.param, far, step, -10, 10), param_caption(spec.param, far, step, 0, 0), key=len)
-    font = max(6, min(scene._font(18), int(0.6 * w / (0.95 * len(longest)))))
+    font = max(6, min(font_size(pl, 18), int(0.6 * w / (0.95 * len(longest)))))
     for k, cx in enumerate(complexes):
         empty = not cx.count(0)
         st = copy.copy(style)
@@ -534,7 +539,8 @@ def _param_animation(opts: Options, prep) -> int:
     """``--animate param:NAME=FROM:TO``: :func:`export_param_sweep`, then one line per file."""
     from gcmh_core.errors import InputError
 
-    from .scene import Style, example_labels
+    from .labels import example_labels
+    from .scene import Style
 
     ex, names, spec = prep["ex"], prep["names"], prep["spec"]
     style = Style(color_by=prep["color"], title=ex.title, two_sided=opts.two_sided, labels=example_labels(ex))

@@ -40,7 +40,7 @@ CAPTION_ACTOR = "gcmh-caption"       # what is happening (loading the next examp
 TEXT_ACTORS = ("gcmh-title", "gcmh-subtitle", "gcmh-legend")   # the scene's texts, enlarged while presenting
 FONT_SCALE = 1.5                     # larger type for a room
 AXES_FONT = 13                       # the bounds axes' labels (points; times FONT_SCALE while presenting)
-# where the axes' box may lie (-1..1 across the picture, as gcmh_studio.scene.screen_coordinates): clear of the
+# where the axes' box may lie (-1..1 across the picture, as gcmh_studio.camera.screen_coordinates): clear of the
 # colour bar (right), the title (top) and the card (bottom right), with room for the tick labels outside it
 AXES_X, AXES_TOP, AXES_BOTTOM = 0.70, 0.66, 0.56
 FORMULA_LINES_PER_HEIGHT = 27        # the formula's font: the view's height / this, in pixels
@@ -614,7 +614,7 @@ class QtPresentation(QObject):
         result, base, size, or the axes just turned on); ``"out"`` only zooms out when the box has left
         it (a turn of the projection), so the camera does not breathe while a projection turns. Nothing
         with the View tab's "keep camera", and never on the user's own zoom or turn of the camera."""
-        from .scene import screen_coordinates
+        from .camera import screen_coordinates
 
         pl = self.window.plotter
         actor = getattr(pl.renderer, "cube_axes_actor", None)

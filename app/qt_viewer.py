@@ -35,30 +35,24 @@ from qtpy.QtCore import QEvent, QObject, Qt, QTimer
 from qtpy.QtGui import QImage, QPixmap
 from qtpy.QtWidgets import QLabel
 
-from .inputs import format_value
-from .model import StudioModel, slice_params
-from .projection import ProjectionModel, turned_angles
-from .scene import (
+from .background import wait_background
+from .camera import (
     MARGIN_X,
     MARGIN_Y,
-    PICK_COLOR,
     TITLE_BOTTOM,
-    Scene,
-    StillJob,
-    Style,
     camera_values,
     copy_camera,
     default_camera,
-    draw_overlays,
-    labels_for,
     refit_camera,
-    render_image,
     screen_coordinates,
-    view_subtitle,
-    wait_background,
-    warm_background,
-    warm_labels,
 )
+from .inputs import format_value
+from .labels import labels_for, view_subtitle, warm_labels
+from .model import StudioModel, slice_params
+from .offscreen import StillJob, render_image, warm_background
+from .overlays import PICK_COLOR, draw_overlays
+from .projection import ProjectionModel, turned_angles
+from .scene import Scene, Style
 from .studio_io import apply_camera, camera_state, valid_camera
 
 SETTLE_MS = 250          # a view at rest this long is drawn in full again

@@ -103,9 +103,10 @@ def test_budget_of_all_frames_is_checked_first(monkeypatch):
 def test_one_camera_for_all_frames_and_every_frame_inside_it():
     """The framing is fitted once to all frames together: the camera never moves, every frame is in the
     picture (below the title), and the colour scale is the same for all."""
+    from gcmh_studio.camera import inside_share
     from gcmh_studio.headless import offscreen_scene, param_sweep, sweep_images
     from gcmh_studio.projection import ProjectionModel
-    from gcmh_studio.scene import Style, inside_share
+    from gcmh_studio.scene import Style
 
     spec = parse_spec("param:a=-1:1", NAMES, params=["a"])
     cxs = param_sweep(_hyperboloid_job(), spec, 4)

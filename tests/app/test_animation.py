@@ -137,6 +137,27 @@ def test_headless_animate_slice_sweep(tmp_path):
     assert np.abs(g[0].astype(int) - g[2].astype(int)).mean() > 0.2
 
 
+def test_headless_slice_sweep_spans_the_variable_over_the_result(tmp_path, monkeypatch):
+    """``--animate slice:VAR`` sweeps VAR's range over the result, not 0..1 (the range went through an
+    attribute set on the window, and a clean-up that saw no reader of it dropped it)."""
+    from gcmh_studio import headless
+
+    seen = {}
+
+    def frames_only(scene, projection, frames, window, paths, fps, progress=None, cancel=None):
+        seen["centres"] = [f.slice_center for f in frames]
+        seen["x"] = np.asarray(scene.complex.vertices)[:, scene.names.index("x")]
+        return len(frames)
+
+    monkeypatch.setattr(headless, "write_frames", frames_only)
+    code = headless.render(headless.Options(example="complex-cosine", div=8, animate="slice:x", frames=4,
+                                            gif=str(tmp_path / "s.gif"), size=(160, 120)))
+    assert code == 0
+    x = seen["x"][np.isfinite(seen["x"])]
+    assert min(seen["centres"]) == pytest.approx(x.min()) and max(seen["centres"]) == pytest.approx(x.max())
+    assert x.max() - x.min() > 1.5                # (a range unlike 0..1)
+
+
 @pytest.mark.parametrize("args", [["--animate", "spin:s-t", "--gif", "x.gif"],
                                   ["--animate", "rotate:s-q", "--gif", "x.gif"],
                                   ["--animate", "tour"],

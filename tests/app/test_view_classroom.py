@@ -13,9 +13,9 @@ import pytest
 
 pytest.importorskip("pytestqt")
 
-from gcmh_core.examples import list_examples, load_example  # noqa: E402
+from gcmh_core.examples import list_examples, load_example
 
-from app_helpers import small_div, torus_complex  # noqa: E402
+from app_helpers import small_div, torus_complex
 
 EXAMPLES = [ex.name for ex in list_examples()]
 SHOTS = os.environ.get("GCMH_TEST_SHOTS")   # a folder: the tests leave their pictures there to look at
@@ -39,7 +39,7 @@ def _run_example(qtbot, window, name, div=None):
 
 
 def _inside(window):
-    from gcmh_studio.scene import inside_share
+    from gcmh_studio.camera import inside_share
 
     return inside_share(window.plotter)
 
@@ -130,10 +130,11 @@ def test_screenshots_of_any_size_frame_the_object(qtbot, window, tmp_path, size)
 def test_every_example_opens_framed(name):
     """First open, as the headless screenshot and the gallery draw it: every vertex inside the picture,
     below the title."""
+    from gcmh_studio.camera import default_camera, inside_share
     from gcmh_studio.headless import offscreen_scene
     from gcmh_studio.jobs import Job, run_job
     from gcmh_studio.projection import ProjectionModel
-    from gcmh_studio.scene import Style, default_camera, inside_share
+    from gcmh_studio.scene import Style
 
     ex = load_example(name)
     cx = run_job(Job(list(ex.formulas), list(ex.variables), [tuple(b) for b in ex.bounds], small_div(ex),
@@ -389,14 +390,14 @@ def test_ply_and_obj_exports_carry_the_colours(qtbot, window, tmp_path):
 def test_colour_bar_and_axes_say_what_the_variables_mean(qtbot, window):
     """The complex cosine's file says y is Im z: the colour bar, the subtitle and the axes say so too;
     a system typed in (no example) keeps the bare names."""
-    from gcmh_studio.scene import example_labels
+    from gcmh_studio.labels import example_labels
 
     ex = _run_example(qtbot, window, "complex-cosine", div=12)
     assert example_labels(ex)["y"] == "Im z"
     sc = window.scene
-    assert sc._bar_title == "y = Im z"
+    assert sc.texts.bar_title == "y = Im z"
     assert "colour: y = Im z" in sc.style.subtitle
-    a = sc._axes_actor
+    a = sc.texts.axes_actor
     assert a is not None and a.GetZAxisLabelText() == "x = Re z"
     assert example_labels(load_example("sphere")) == {}
 

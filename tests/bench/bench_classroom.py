@@ -8,7 +8,7 @@
 1. Live after a result: a GUI QTimer ticks every 10 ms from Run until 3 s after the result arrives;
    the share of the ticks it could have made that it kept, and its longest gap, during the run and
    after the result (complex cosine div 80, three-torus at its default div). Renders counted too, and
-   when a see-through result's still picture, drawn in a thread (gcmh_studio.scene.StillJob), is on screen; the
+   when a see-through result's still picture, drawn in a thread (gcmh_studio.offscreen.StillJob), is on screen; the
    three-torus once more with that picture drawn on the GUI thread, as before, for comparison.
 2. One slider step end to end: from moving a rotation slider to the end of the render that shows it
    (a VTK EndEvent on the render window), median of 10 steps; "at rest" is the still look's render a
@@ -17,7 +17,7 @@
    to back, so a busy machine's figures still compare.
    Complex cosine div 80, three-torus, and a 1M-vertex torus in R^4.
 3. First open of every example at its default div and view: the share of its vertices inside the
-   picture and below the title (gcmh_studio.scene.inside_share).
+   picture and below the title (gcmh_studio.camera.inside_share).
 """
 
 from __future__ import annotations
@@ -207,7 +207,7 @@ def step_million(app, side: int = 1000) -> dict:
 
 def first_open(app) -> list:
     from gcmh_core.examples import example_names, load_example
-    from gcmh_studio.scene import inside_share
+    from gcmh_studio.camera import inside_share
 
     out = []
     w = _window(app)

@@ -1,0 +1,157 @@
+"""What a :class:`gcmh_studio.scene.Scene` draws beside the complex: line overlays in R^n (boundary facets, grid
+cubes, a picked cell) and, behind a slice, the whole result as a faint ghost.  Each is projected with the
+scene's view and clipped by its slice.  No Qt here."""
+
+from __future__ import annotations
+
+import numpy as np
+import pyvista as pv
+
+from .geometry import Geometry, boundary_lines, grid_cube_lines
+from .projection import Projector
+from .slicing import clip_segments
+
+BOUNDARY_COLOR = "#ff4d6d"
+GRID_COLOR = "#9fb3d9"
+PICK_COLOR = "#40ff90"
+GHOST_COLOR = "#c8d2e6"
+
+
+class SceneOverlays:
+    """The overlays and the slice's ghost of ``scene`` (a Scene: this module is below scene.py).
+
+    ``items``: name -> [Geometry of the lines, mesh, actor, color, (width, opacity)] as drawn (sliced);
+    ``ghost``: (mesh, actor) of the whole result while slicing, else None."""
+
+    def __init__(self, scene):
+        self.scene = scene
+        self.items: dict = {}
+        self._src: dict = {}          # name -> (vertices (m, n), edges (E, 2), color, width, opacity) before slicing
+        self.ghost: tuple | None = None
+
+    def clear(self) -> None:
+        self.set_ghost(False)
+        for name in list(self.items):
+            self.remove(name)
+        self._src.clear()
+
+    def set(self, name: str, vertices, edges, color: str, width: float = 2.0, opacity: float = 1.0) -> None:
+        """Line segments in R^n (vertices (m, n), edges (E, 2)) drawn with the view and clipped by the slice."""
+        self._src[name] = (np.asarray(vertices, dtype=np.float64), np.asarray(edges, dtype=np.int64),
+                           color, float(width), float(opacity))
+        self._build(name)
+
+    def remove(self, name: str) -> None:
+        self._src.pop(name, None)
+        ov = self.items.pop(name, None)
+        if ov is not None and ov[2] is not None:
+            self.scene.plotter.remove_actor(ov[2], render=False)
+
+    def rebuild(self) -> None:
+        """Clip every overlay again (the slice changed)."""
+        for name in list(self._src):
+            self._build(name)
+
+    def project(self) -> None:
+        """Write the ghost's and the overlays' points for the scene's view, in place."""
+        sc = self.scene
+        if self.ghost is not None:
+            sc.geometry.projector.project_view(sc.view, out=self.ghost[0].points)
+            self.ghost[0].GetPoints().Modified()
+            self.ghost[0].Modified()
+        for geo, mesh, *_ in self.items.values():
+            if mesh is not None:
+                geo.projector.project_view(sc.view, out=mesh.points)
+                mesh.GetPoints().Modified()
+                mesh.Modified()
+
+    def _build(self, name: str) -> None:
+        sc = self.scene
+        X, E, color, width, opacity = self._src[name]
+        old = self.items.pop(name, None)
+        if old is not None and old[2] is not None:
+            sc.plotter.remove_actor(old[2], render=False)
+        if sc.geometry is None or len(E) == 0:
+            return
+        if sc.slice is not None:
+            u, c, w = sc.slice
+            sl = clip_segments(X, E, u, c, w)
+            X, E = sl.vertices, sl.edges
+            if E is None or len(E) == 0:
+                return
+        pr = Projector(X, center=sc.geometry.projector.center)
+        pr.set_radii(sc.geometry.projector.radii())
+        lines = np.empty((len(E), 3), dtype=np.int64)
+        lines[:, 0] = 2
+        lines[:, 1:] = E
+        mesh = pv.PolyData(pr.project_view(sc.view), lines=lines.ravel())
+        geo = Geometry(1, X.shape[1], "lines", lines.ravel(), pr)
+        self.items[name] = [geo, mesh, None, color, (width, opacity)]
+        self.items[name][2] = self._add_actor(name, mesh, color, (width, opacity))
+
+    def _add_actor(self, name, mesh, color, look):
+        width, opacity = look
+        return self.scene.plotter.add_mesh(mesh, color=color, line_width=width, opacity=opacity, render=False,
+                                           reset_camera=False, name=f"gcmh-overlay-{name}", pickable=False,
+                                           render_lines_as_tubes=opacity >= 1.0, lighting=False)
+
+    def set_ghost(self, on: bool) -> None:
+        """The whole result, faint and unlit, behind a slice: where the slice sits in the whole."""
+        sc = self.scene
+        if not on:
+            if self.ghost is not None:
+                sc.plotter.remove_actor(self.ghost[1], render=False)
+                self.ghost = None
+            return
+        if self.ghost is not None:
+            return
+        geo = sc.geometry
+        mesh = pv.PolyData(geo.projector.project_view(sc.view), faces=geo.cells)
+        self.ghost = (mesh, self._add_ghost_actor(mesh))
+
+    def _add_ghost_actor(self, mesh):
+        return self.scene.plotter.add_mesh(mesh, color=GHOST_COLOR, opacity=0.07, lighting=False, pickable=False,
+                                           render=False, reset_camera=False, name="gcmh-slice-ghost")
+
+    def detached(self, scene) -> SceneOverlays:
+        """A copy for ``scene`` (a detached scene): deep copies of the meshes, no actors."""
+        other = SceneOverlays(scene)
+        other.ghost = None if self.ghost is None else (self.ghost[0].copy(deep=True), None)
+        other.items = {name: [geo, None if mesh is None else mesh.copy(deep=True), None, color, look]
+                       for name, (geo, mesh, _actor, color, look) in self.items.items()}
+        other._src = dict(self._src)
+        return other
+
+    def adopt(self, other: SceneOverlays) -> None:
+        """Draw ``other``'s ghost and overlays (their meshes shared, not copied) on this scene's plotter."""
+        if other.ghost is not None:
+            self.ghost = (other.ghost[0], self._add_ghost_actor(other.ghost[0]))
+        for name, (geo, mesh, _actor, color, look) in other.items.items():
+            self.items[name] = [geo, mesh, self._add_actor(name, mesh, color, look), color, look]
+
+
+def draw_overlays(scene, cx, boundary: bool = False, grid: bool = False, picked: dict | None = None) -> str | None:
+    """Boundary facets (red), grid cubes (faint) and a picked cell (green) as line overlays on ``scene``.
+
+    Returns a message when the grid cubes cannot be drawn (sampled data has no grid), else None.
+    """
+    problem = None
+    if boundary:
+        X, E = boundary_lines(cx)
+        scene.set_overlay("boundary", X, E, BOUNDARY_COLOR, width=4.0, render=False)
+    else:
+        scene.remove_overlay("boundary", render=False)
+    if grid:
+        try:
+            X, E = grid_cube_lines(cx)
+        except ValueError as e:
+            problem = f"Grid cubes: {e}"
+            scene.remove_overlay("grid", render=False)
+        else:
+            scene.set_overlay("grid", X, E, GRID_COLOR, width=1.0, opacity=0.18, render=False)
+    else:
+        scene.remove_overlay("grid", render=False)
+    if picked is not None:
+        X, E = picked["lines"]
+        scene.set_overlay("pick", X, E, PICK_COLOR, width=5.0, render=False)
+    return problem
