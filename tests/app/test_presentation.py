@@ -5,7 +5,7 @@ import pytest
 
 pytest.importorskip("pytestqt")
 
-from app_helpers import small_div  # noqa: E402
+from app_helpers import small_div
 
 
 @pytest.fixture
@@ -157,7 +157,7 @@ def test_page_down_and_up_walk_the_gallery(qtbot, presenting):
     from qtpy.QtCore import Qt
 
     from gcmh_core.examples import load_example
-    from gcmh_studio.qt_presentation import example_names
+    from gcmh_studio.qt_gallery_walk import example_names
 
     window, p = presenting
     names = example_names()
@@ -254,14 +254,14 @@ def test_screenshots_of_the_view_carry_the_card(qtbot, presenting, tmp_path):
 
 
 def test_a_card_that_cannot_be_drawn_is_plain_text(qtbot, presenting, monkeypatch):
-    import gcmh_studio.qt_presentation as qp
+    import gcmh_studio.formula_card as card
 
     window, p = presenting
 
     def broken(*a, **kw):
         raise ImportError("no matplotlib here")
 
-    monkeypatch.setattr(qp, "typeset_system", broken)
+    monkeypatch.setattr(card, "typeset_system", broken)
     p.enter()
     actor = p.formula_actor()
     assert actor is not None and actor.GetInput() == "x^2 + y^2 - z^2 - a = 0\na = 0.5"
@@ -270,7 +270,7 @@ def test_a_card_that_cannot_be_drawn_is_plain_text(qtbot, presenting, monkeypatc
 
 
 def test_a_step_during_a_run_cancels_it_and_opens_the_example_when_it_has_stopped(qtbot, presenting, monkeypatch):
-    from gcmh_studio.qt_presentation import example_names
+    from gcmh_studio.qt_gallery_walk import example_names
 
     window, p = presenting
     names = example_names()
