@@ -64,6 +64,7 @@ class Spec:
         if self.kind == "param":
             return f"param:{self.param}={self.lo:g}:{self.hi:g}"
         if self.kind == "rotate":
+            assert self.plane is not None   # (a rotation has its plane)
             i, j = self.plane
             a, b = (names[i], names[j]) if self.sign > 0 else (names[j], names[i])
             return f"rotate:{a}-{b}"
@@ -134,7 +135,7 @@ def _parse_param(arg: str, text: str, params: list) -> Spec:
 def plane_index(n: int, plane: tuple[int, int]) -> int:
     from .projection import planes
 
-    return planes(n).index(tuple(plane))
+    return planes(n).index((plane[0], plane[1]))
 
 
 def rotation_frames(angles0, row: int, frames: int, sign: float = 1.0, degrees: float = 360.0) -> list[Frame]:
@@ -209,6 +210,7 @@ def frames_for(spec: Spec, angles0, frames: int, slice_range=(0.0, 1.0), seed: i
     n_planes = len(angles0)
     if spec.kind == "rotate":
         n = int(round((1 + np.sqrt(1 + 8 * n_planes)) / 2))
+        assert spec.plane is not None   # (a rotation has its plane)
         return rotation_frames(angles0, plane_index(n, spec.plane), frames, spec.sign)
     if spec.kind == "tour":
         return tour_frames(angles0, frames, seed)
@@ -285,7 +287,9 @@ def gif_palette(frames: list, reserved=RESERVED_COLOURS):
         pad = np.zeros((side * side - len(mosaic), 3), np.uint8) + mosaic[:1]
         img = Image.fromarray(np.concatenate([mosaic, pad]).reshape(side, side, 3))
         q = img.quantize(colors=budget, method=Image.Quantize.FASTOCTREE, dither=Image.Dither.NONE)
-        learnt = np.asarray(q.getpalette()[: 3 * budget], dtype=np.float64).reshape(-1, 3)
+        palette = q.getpalette()
+        assert palette is not None   # (a quantized image has one)
+        learnt = np.asarray(palette[: 3 * budget], dtype=np.float64).reshape(-1, 3)
         learnt = _lloyd(colours, counts.astype(np.float64), learnt)
     pal = [int(v) for v in np.clip(np.round(learnt), 0, 255).astype(np.int64).ravel()]
     pal += [0] * (3 * budget - len(pal))
@@ -401,7 +405,7 @@ def write_gif(path, images, fps: float = 20.0, progress=None, cancel=None) -> in
 
     The palette needs a look at the frames, so they are all held (a 60-frame 800x600 animation is 86 MB).
     ``cancel()`` true: nothing is written, the frames made so far are counted."""
-    frames = []
+    frames: list[np.ndarray] = []
     for img in images:
         if cancel is not None and cancel():
             return len(frames)

@@ -21,7 +21,9 @@ per-corner signs, in one compiled (numba) pass over the corners.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -248,7 +250,7 @@ def _mesh_normals_py(pts, offsets, vids, sgn, out):
             out[v, 2] += s * nz
 
 
-_MESH_NORMALS = None
+_MESH_NORMALS: Callable[..., Any] | None = None
 
 
 def _mesh_normals_kernel():
@@ -313,6 +315,7 @@ class Geometry:
         if self.kind != "polygons" or self.normals is None:
             return None
         if self._mesh_normals is None:
+            assert self.offsets is not None and self.vids is not None   # (polygons have their loops)
             self._mesh_normals = MeshNormals(self.offsets, self.vids, self.projector.XT.shape[1], self.signs)
         return self._mesh_normals
 
@@ -681,9 +684,9 @@ def _unwrapped_seams(cx):
     # edges from the loops' consecutive vertices, each pair once
     nxt = np.arange(len(all_vids)) + 1
     nxt[new_off[1:] - 1] = new_off[:-1]
-    a, b = all_vids, all_vids[nxt]
+    v0, v1 = all_vids, all_vids[nxt]
     n_vertices = len(V) + len(extra_pts)
-    pair = np.minimum(a, b) * n_vertices + np.maximum(a, b)
+    pair = np.minimum(v0, v1) * n_vertices + np.maximum(v0, v1)
     keys, faces = np.unique(pair, return_inverse=True)
     edges = np.stack([keys // n_vertices, keys % n_vertices], axis=1)
     verts = np.concatenate([V, np.asarray(extra_pts).reshape(-1, V.shape[1])])

@@ -138,7 +138,8 @@ def coordinate_basis(n: int, axes=(0, 1, 2)) -> np.ndarray:
 
 def default_axes(n: int) -> tuple[int, int, int]:
     """``(0, 1, 2)``, with ``-1`` (an empty screen axis) where ``n < 3``."""
-    return tuple(a if a < n else -1 for a in range(3))
+    a, b, c = (i if i < n else -1 for i in range(3))
+    return a, b, c
 
 
 def generic_basis(n: int, seed: int = 0) -> np.ndarray:
@@ -330,7 +331,7 @@ class ProjectionModel:
     kind: str = "coordinates"
     axes: tuple = (0, 1, 2)
     seed: int = 0
-    angles: np.ndarray = field(default=None)
+    angles: np.ndarray = field(default=None)  # type: ignore[arg-type]  # (None: zeros, by __post_init__)
     mapping: str = "orthographic"
     distance: float = 3.0
     _principal: np.ndarray | None = field(default=None, repr=False)
@@ -422,7 +423,7 @@ class ProjectionModel:
     @classmethod
     def from_dict(cls, n: int, d: dict) -> ProjectionModel:
         return cls(n=n, kind=d.get("kind", "coordinates"), axes=tuple(d.get("axes", default_axes(n))),
-                   seed=int(d.get("seed", 0)), angles=d.get("angles"),
+                   seed=int(d.get("seed", 0)), angles=d.get("angles"),  # type: ignore[arg-type]  # (None: zeros)
                    mapping=d.get("mapping", "orthographic"), distance=float(d.get("distance", 3.0)))
 
 
@@ -442,8 +443,8 @@ class Projector:
         Xc[~np.isfinite(Xc)] = 0.0
         self.XT = np.ascontiguousarray(Xc.T, dtype=dtype)
         self.dtype = np.dtype(dtype)
-        self._radii = None
-        self._Y = None
+        self._radii: tuple[float, float] | None = None
+        self._Y: np.ndarray | None = None
 
     def radii(self) -> tuple[float, float]:
         """(largest, median) distance of a vertex from the centre (eye and sphere scales)."""
