@@ -13,9 +13,9 @@ import pytest
 
 pytest.importorskip("pytestqt")
 
-from gcmh_core.examples import load_example  # noqa: E402
+from gcmh_core.examples import load_example
 
-from app_helpers import small_div  # noqa: E402
+from app_helpers import small_div
 
 SHOTS = os.environ.get("GCMH_TEST_SHOTS")   # a folder: the tests leave their pictures there to look at
 

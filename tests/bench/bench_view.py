@@ -27,7 +27,7 @@ import numpy as np
 
 # the test surface is the window tests' own (one copy): tests/app/app_helpers.py
 sys.path.append(str(Path(__file__).resolve().parents[1] / "app"))
-from app_helpers import torus_complex  # noqa: E402
+from app_helpers import torus_complex
 
 
 def bench(V: int, n: int, steps: int = 20, render: bool = False, mapping: str = "orthographic") -> dict:
