@@ -156,24 +156,27 @@ print(json.dumps(dict(name=__name__, argv=sys.argv, file=__file__, path0=sys.pat
 """
 
 
-def _job_name(code: str, kind: str, names: dict[str, str]) -> str:
-    """One job per distinct text (a snippet or a command on two pages runs once)."""
-    return names.setdefault(code, f"{kind}-{len(names)}")
-
-
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory) -> dict:
+    """{"page:line": the run of that block or line}; a text on two pages (the same script, or the
+    same command with another comment) runs once."""
     jobs: dict[str, dict] = {"probe": dict(script=PROBE, argv=None)}
-    names: dict[str, str] = {}
+    keys: dict[str, str] = {}   # what runs -> its job's name
+    where_job = {}
     for b in SCRIPTS:
         if not _needs(b.code):
-            jobs[_job_name(b.code, "script", names)] = dict(script=b.code, argv=None)
-    for _, line in COMMANDS:
+            name = keys.setdefault(b.code, f"script-{len(keys)}")
+            jobs[name] = dict(script=b.code, argv=None)
+            where_job[f"{b.page}:{b.line}"] = name
+    for where, line in COMMANDS:
         argv = shlex.split(line, comments=True)   # as bash splits it: quotes, and the comment dropped
         assert argv[0] == "gcmh", line
         if not _needs(line):
-            jobs[_job_name(line, "command", names)] = dict(script=None, argv=argv[1:])
-    return dict(names=names, results=_run_jobs(jobs, tmp_path_factory.mktemp("docs")))
+            name = keys.setdefault(json.dumps(argv), f"command-{len(keys)}")
+            jobs[name] = dict(script=None, argv=argv[1:])
+            where_job[where] = name
+    results = _run_jobs(jobs, tmp_path_factory.mktemp("docs"))
+    return dict(results, **{where: results[name] for where, name in where_job.items()})
 
 
 def test_the_docs_have_scripts_and_commands():
@@ -190,7 +193,8 @@ def test_every_fence_says_what_it_is():
     for b in BLOCKS:
         assert b.info.split(":")[0].strip() in INFOS, f"{b.page}:{b.line}: ```{b.info}"
         if b.info.startswith("python no-run"):
-            assert len(b.info.split(":", 1)[-1].strip()) > 10, f"{b.page}:{b.line}: say why the block does not run"
+            reason = b.info.partition(":")[2].strip()
+            assert len(reason) > 10, f"{b.page}:{b.line}: say why the block does not run (```python no-run: why)"
 
 
 def test_a_script_runs_as_python_runs_it(runs, tmp_path):
@@ -198,8 +202,8 @@ def test_a_script_runs_as_python_runs_it(runs, tmp_path):
     (tmp_path / "script.py").write_text(PROBE)
     real = json.loads(subprocess.run([sys.executable, "script.py"], cwd=tmp_path, capture_output=True, text=True,
                                      check=True).stdout)
-    here = json.loads(runs["results"]["probe"]["stdout"])
-    for got, folder in ((real, tmp_path), (here, runs["results"]["probe"]["folder"])):
+    here = json.loads(runs["probe"]["stdout"])
+    for got, folder in ((real, tmp_path), (here, runs["probe"]["folder"])):
         for key in ("file", "main_file", "path0", "cwd"):
             got[key] = os.path.relpath(got[key], folder)
     assert here == real
@@ -211,18 +215,18 @@ def test_python_block_runs_as_a_script(block, runs):
     missing = _needs(block.code)
     if missing:
         pytest.skip(f"needs {', '.join(missing)}")
-    run = runs["results"][runs["names"][block.code]]
+    run = runs[f"{block.page}:{block.line}"]
     assert run["status"] == 0, f"{block.page}:{block.line}\n{block.code}\n--- stderr:\n{run['stderr']}"
     if "print(" in block.code:
         assert run["stdout"].strip()
 
 
-@pytest.mark.parametrize("line", [line for _, line in COMMANDS], ids=[where for where, _ in COMMANDS])
-def test_gcmh_line_runs(line, runs):
+@pytest.mark.parametrize(("where", "line"), COMMANDS, ids=[where for where, _ in COMMANDS])
+def test_gcmh_line_runs(where, line, runs):
     missing = _needs(line)
     if missing:
         pytest.skip(f"needs {', '.join(missing)}")
-    run = runs["results"][runs["names"][line]]
+    run = runs[where]
     assert run["status"] == 0, f"{line}\n--- stderr:\n{run['stderr']}"
     assert run["stdout"].strip()
     for name in re.findall(r"(?:-o|--vtu) (\S+)", line):  # the files it says it writes
