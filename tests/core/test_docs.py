@@ -106,8 +106,10 @@ for job in jobs:
         if job["script"] is not None:
             path = os.path.join(folder, "script.py")
             module = types.ModuleType("__main__")
-            module.__dict__.update(__file__=path, __cached__=None, __builtins__=builtins, __annotations__={},
+            module.__dict__.update(__file__=path, __cached__=None, __builtins__=builtins,
                                  __loader__=importlib.machinery.SourceFileLoader("__main__", path))
+            if "__annotations__" in vars(child_main):   # (as this Python gives a __main__ one, or not)
+                module.__annotations__ = {}
             sys.argv, sys.path[0], sys.modules["__main__"] = ["script.py"], folder, module
             exec(compile(open(path).read(), path, "exec"), module.__dict__)
         else:
