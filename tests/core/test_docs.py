@@ -299,6 +299,15 @@ def test_every_link_leads_to_a_file(page):
             assert anchor in _anchors(target), f"{page.relative_to(ROOT)}: {link}: no heading #{anchor}"
 
 
+def test_the_index_lists_every_page():
+    """A page no other page leads to is never read: docs/index.md names each, and the README the index."""
+    index = ROOT / "docs" / "index.md"
+    listed = {(index.parent / link.partition("#")[0]).resolve() for link in _links(index)}
+    for page in PAGES[1:]:
+        assert page == index or page in listed, f"docs/index.md does not list {page.name}"
+    assert "docs/index.md" in _links(ROOT / "README.md")
+
+
 def test_the_readme_fits_a_screen_or_two():
     text = (ROOT / "README.md").read_text(encoding="utf-8")
     assert len(text.splitlines()) <= 200
