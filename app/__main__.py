@@ -126,7 +126,7 @@ def _session_screenshot(args) -> int:
         QTimer.singleShot(0, loop.quit)
 
     win.runFinished.connect(finished)
-    if not win.open_session(args.session):
+    if not win.controller.open_session(args.session):
         print(f"gcmh-app: {win.last_status}", file=sys.stderr)
         return 2
     loop.exec_()
@@ -218,7 +218,7 @@ def _main(argv=None) -> int:
 
         win.runFinished.connect(grab)
     if args.session:
-        win.open_session(args.session)
+        win.controller.open_session(args.session)
     win.show()
     return app.exec_()
 

@@ -160,7 +160,7 @@ def check_bounds(lo_text: str, hi_text: str) -> tuple[str | None, str | None, tu
         hi = parse_number(hi_text)
     except NumberError as e:
         ehi = f"upper: {e}"
-    if elo or ehi:
+    if elo or ehi or lo is None or hi is None:
         return elo, ehi, None
     if not lo < hi:
         return None, f"empty interval: lower {lo:g} is not below upper {hi:g}", None

@@ -18,10 +18,37 @@ import threading
 import time
 import traceback
 from dataclasses import dataclass, field
+from typing import Any
 
 # what the first run on a new install waits while the kernels compile (measured on 2 cores: gcmh 23 s quiet,
 # 43 s busy; then gcch 1.4 s, cms 9.5 s, ccs 0.01 s)
 COMPILE_NOTE = "about 20 seconds"
+# phases of a run (the worker's progress) whose fraction means nothing: shown without a percentage
+COMPILING = "compiling kernels (once per install)"
+STOPPING = "stopping the cancelled run"
+ENGINE = "starting the engine"
+WAITING_PHASES = ("starting", "estimating", COMPILING, STOPPING, ENGINE, "preparing the view")
+
+
+def continuation_methods() -> tuple[str, ...]:
+    """The methods that start from points and follow M (they take a start point)."""
+    try:
+        from gcmh_core import CONTINUATION_METHODS
+        return tuple(CONTINUATION_METHODS)
+    except ImportError:
+        return ("gcch",)
+
+
+def engine_methods() -> tuple[str, ...]:
+    """The extraction methods the installed engine supports."""
+    try:
+        import gcmh_core
+        m = getattr(gcmh_core, "METHODS", None)
+        if m:
+            return tuple(str(x).lower() for x in m)
+    except ImportError:
+        pass
+    return ("gcmh",)
 
 
 @dataclass
@@ -113,7 +140,7 @@ def warm_up_kernels(methods, cancel=None, ready=None) -> None:
             return
         if method not in methods:
             continue
-        kw = {"start": "auto"} if method in CONTINUATION_METHODS else {}
+        kw: dict[str, Any] = {"start": "auto"} if method in CONTINUATION_METHODS else {}
         gcmh_core.extract(formulas, bounds=[(-1.5, 1.5)] * n, div=4, variables=[f"x{i + 1}" for i in range(n)],
                           method=method, **kw)
         if ready is not None and n == 3:

@@ -2,19 +2,19 @@
 
 What the studio knows lives here, apart from the widgets that show it: the
 system of the Manifold tab (formulas, variables, n, k, bounds, div, method,
-...), the View tab's projection, slice and style, the result on screen with
-its names, title and serial number, the picked cell, the last refinement, the
-animation clock and the status line. The window writes the panels' state here
-when they change and draws what is here; everything below is plain Python and
-numpy, so it is tested without a display (tests/app/test_model.py).
+seed, parameters, ...) and whether it can run, the View tab's projection,
+style and slice, the Animate tab's settings, the result on screen with its
+names, title and serial number, the picked cell, the last refinement and the
+status line. Panels write here what the user changes and redraw when the model
+announces a change (whoever made it: the user, Undo, an example, a session);
+the 3D view draws what is here. Everything below is plain Python and numpy, so
+it is tested without a display (tests/app/test_model.py).
 
-Changes are announced through :class:`Event` callbacks (``model.events.result``,
-``.status``, ``.system``, ``.view``, ``.picked``), which the window connects to
-its widgets.
+Changes are announced by the psygnal signals of ``model.events``
+(:class:`StudioEvents`); each has a listener in the app.
 
 :class:`History` keeps the states of the system and the view for Undo / Redo
-(``model.history``; the window applies what ``model.undo()`` / ``model.redo()``
-return to its panels).
+(``model.history``; :class:`gcmh_studio.controller.StudioController` steps through it).
 """
 
 from __future__ import annotations
@@ -22,34 +22,20 @@ from __future__ import annotations
 import copy
 import time
 from collections.abc import Callable
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
+from psygnal import Signal, SignalGroup
 
 from .animation import Clock, Spec, frames_for
+from .inputs import default_variables
+from .jobs import Job
+from .projection import MAPPINGS, ProjectionModel, default_axes, turned_angles
 from .slicing import SliceWindow, window_range
 
 EMPTY_RESULT = ("The result is empty: F has no sign change on this grid. Widen the domain, "
                 "raise div, or check the formulas.")
-
-
-class Event:
-    """A callback list: ``connect(fn)``, ``disconnect(fn)``, ``emit(*args)`` calls them in order."""
-
-    def __init__(self) -> None:
-        self._callbacks: list[Callable[..., Any]] = []
-
-    def connect(self, callback: Callable[..., Any]) -> Callable[..., Any]:
-        self._callbacks.append(callback)
-        return callback
-
-    def disconnect(self, callback: Callable[..., Any]) -> None:
-        """Remove ``callback`` (ValueError if it is not connected)."""
-        self._callbacks.remove(callback)
-
-    def emit(self, *args: Any) -> None:
-        for callback in list(self._callbacks):   # (a callback may disconnect itself)
-            callback(*args)
 
 
 def changed_paths(a: Any, b: Any, prefix: str = "") -> frozenset[str]:
@@ -150,16 +136,83 @@ class History:
         self._states, self._i, self._last = [], -1, None
 
 
-class StudioEvents:
-    """The model's events and what they carry."""
+class StudioEvents(SignalGroup):
+    """The model's signals, what they carry and who listens."""
 
-    def __init__(self) -> None:
-        self.status = Event()    # (text, error)
-        self.system = Event()    # (the system dict)
-        self.view = Event()      # (the view dict)
-        self.result = Event()    # (the CellComplex now on screen)
-        self.picked = Event()    # (the picked cell's facts, or None)
-        self.history = Event()   # (can_undo, can_redo)
+    status = Signal(str, bool)      # (text, error): the window's status line
+    system = Signal(dict)           # the Manifold tab's state: the formula panel (shows it), the Animate tab (its
+    #                                 parameters)
+    checks = Signal()               # whether the system can run changed: the window's Run button, the controller
+    check_now = Signal()            # Run waits for the formula checks: the formula panel sends them at once
+    notice = Signal(str)            # what a result says of a critical value of its parameters (for each result):
+    #                                 the parameter sliders, the Topology tab
+    projection = Signal()           # angles, base or mapping: the 3D view, the View tab's sliders
+    base = Signal()                 # a new base (kind, axes, seed, or a new projection): the 3D view refits, the
+    #                                 View tab orders its rows
+    style = Signal()                # colour, opacity, edges, overlays, two sides, keep camera: the 3D view, the View
+    #                                 and Topology tabs' switches
+    slice = Signal()                # the slice window: the 3D view, the View tab's slice box
+    slice_readout = Signal(str)     # what the 3D view says of the slice: the View tab's slice box
+    result = Signal(object)         # the CellComplex now on screen: the window's summary
+    picked = Signal(object)         # the picked cell's facts, or None: the window's pick line
+    history = Signal(bool, bool)    # (can_undo, can_redo): the Edit menu
+
+
+@dataclass
+class ViewStyle:
+    """How the result is drawn (the View tab's Style box; the overlays are also in the Topology tab)."""
+
+    color_by: str | None = None   # a variable's name, or None: one colour
+    opacity: float = 1.0
+    show_edges: bool = False
+    two_sided: bool = False       # front and back of an oriented surface in two colours
+    boundary: bool = False        # the boundary facets highlighted
+    grid: bool = False            # the grid cubes M passes through
+    keep_camera: bool = False     # no refitting when results, mappings and slices change the extent
+
+
+@dataclass
+class SliceState:
+    """The slice window: coordinate ``index`` (or, with ``hidden``, the view's hidden direction ``index``),
+    centre ``c`` and half-width ``w`` as fractions of the direction's range over the complex."""
+
+    on: bool = False
+    index: int = 0
+    hidden: bool = False
+    c: float = 0.5
+    w: float = 0.04
+
+    def window(self) -> SliceWindow | None:
+        return SliceWindow(int(self.index), bool(self.hidden)) if self.on else None
+
+    def label(self, names) -> str:
+        return SliceWindow(int(self.index), bool(self.hidden)).label(names)
+
+
+@dataclass
+class AnimationSettings:
+    """The Animate tab's choice: ``mode`` (rotate, tour, slice, param), the ``plane`` turned, frames and
+    frames per second of an export, the parameter sweep (name, from, to), the ``--animate`` text and the
+    formulas' parameters."""
+
+    mode: str = "rotate"
+    plane: tuple[int, int] | None = None
+    frames: int = 72
+    fps: float = 20.0
+    sweep: tuple[str, float, float] | None = None
+    spec: str = "rotate"
+    params: tuple[str, ...] = ()
+
+
+@dataclass
+class Checks:
+    """Whether the system on show can run: ``valid``, the ``errors`` of its fields, ``checking`` (a formula's
+    check still under way) and ``job``, the gcmh_studio.jobs.Job it makes (None unless valid and checked)."""
+
+    valid: bool = False
+    checking: bool = False
+    errors: dict = field(default_factory=dict)
+    job: Any = None
 
 
 class StudioModel:
@@ -168,60 +221,245 @@ class StudioModel:
     def __init__(self) -> None:
         self.events = StudioEvents()
         self.system: dict = {}          # the Manifold tab: n, k, variables, formulas, bounds, div, method, seed, ...
-        self.view: dict = {}            # the View tab: projection (kind, axes, angles, mapping), slice, style
-        self.result = None              # the CellComplex on screen
+        self.checks = Checks()
+        self.projection = ProjectionModel(n=3)
+        self.view_names: list[str] = default_variables(3)   # the names of the projection's variables
+        self.style = ViewStyle()
+        self.slice = SliceState()
+        self.slice_readout = ""
+        self.drag_hidden = 0            # the hidden direction a Shift-drag on the view turns against
+        self.animation = AnimationSettings()
+        self.clock = Clock()            # where a playing animation is
+        self.result: Any = None         # the CellComplex on screen
         self.names: list[str] = []      # its variable names
         self.title = ""                 # its title (an example's, or "" for a system typed in)
         self.labels: dict = {}          # what its variables mean, {"u": "Re w"} (a system typed in complex mode)
         self.serial = 0                 # counts the results shown: a refinement belongs to one
-        self.job = None                 # the gcmh_studio.jobs.Job of the last run started (refinement evaluates its F)
+        self.job: Job | None = None     # the Job of the last run started (refinement evaluates its F)
         self.picked: dict | None = None
         self.last_refinement: dict | None = None   # max |F| at the vertices before and after
+        self.notice = ""
         self.status = ""
         self.status_error = False
-        self.animation = Clock()
         self._expected: tuple | None = None   # (title, (formulas, variables)) of the system an example filled in
         self._pending_view: dict | None = None
         self.history = History()
         self.recording = True           # False while an undo is applied, or while an animation plays
 
-    # ------------------------------------------------------------ state written by the window
+    # ------------------------------------------------------------ the system
     def set_status(self, text: str, error: bool = False) -> None:
         self.status, self.status_error = text, bool(error)
         self.events.status.emit(text, self.status_error)
 
     def set_system(self, system: dict) -> None:
-        self.system = dict(system)
-        self._record()
-        self.events.system.emit(self.system)
+        """The Manifold tab's state (a step to undo); announced when it changed."""
+        system = copy.deepcopy(dict(system))
+        changed = system != self.system
+        self.system = system
+        self.record()
+        if changed:
+            self.events.system.emit(copy.deepcopy(self.system))
 
-    def set_view(self, view: dict) -> None:
-        self.view = dict(view)
-        self._record()
-        self.events.view.emit(self.view)
+    def set_checks(self, valid: bool, checking: bool, errors: dict, job=None) -> None:
+        """Whether the system on show can run (see :class:`Checks`); announced when it changed."""
+        new = Checks(bool(valid), bool(checking), dict(errors), job if valid else None)
+        old = self.checks
+        if (new.valid, new.checking, new.errors, repr(new.job)) != (old.valid, old.checking, old.errors,
+                                                                    repr(old.job)):
+            self.checks = new
+            self.events.checks.emit()
+
+    def set_notice(self, text: str) -> None:
+        """What the result on show says of a critical value ("" for none); said for every result."""
+        self.notice = text
+        self.events.notice.emit(text)
+
+    # ------------------------------------------------------------ the view
+    def set_view_variables(self, names, keep: bool = True, vertices=None) -> None:
+        """A projection for the variables ``names`` (of a result with ``vertices``, for the principal axes);
+        with ``keep``, the kind, seed, angles, mapping, colour and slice stay where they still make sense (a
+        new system is coloured by its last coordinate)."""
+        names = list(names)
+        n, old = len(names), self.projection
+        same = keep and old.n == n
+        p = ProjectionModel(n=n, kind=old.kind if keep else "coordinates",
+                            axes=tuple(old.axes) if same else default_axes(n), seed=old.seed,
+                            angles=old.angles if same else None)  # type: ignore[arg-type]  # (None: zeros)
+        p.mapping = old.mapping if (keep and n >= 4) else "orthographic"
+        p.distance = old.distance
+        if vertices is not None:
+            p.set_vertices(vertices)
+        color = self.style.color_by
+        if color not in names and not keep and names:
+            color = names[-1]
+        self.view_names = names
+        recording, self.recording = self.recording, False
+        try:
+            self.set_style(color_by=color if color in names else None)
+            if not same:
+                self.set_slice(on=False, index=max(0, n - 1), hidden=False)
+            self.set_projection(p)
+        finally:
+            self.recording = recording
+        self.record()
+
+    def set_style_defaults(self, dim: int) -> None:
+        """Opaque surfaces and curves; see-through 2-skeletons with edges above."""
+        self.set_style(opacity=1.0 if dim <= 2 else 0.35, show_edges=dim >= 3)
+
+    def apply_view(self, view: dict) -> None:
+        """An example's suggested view: project=[3 names], color=name, mapping=orthographic|perspective|..."""
+        p, names = self.projection, self.view_names
+        axes = view.get("project")
+        base = False
+        if axes and all(a in names for a in list(axes)[:3]):
+            p.kind, p.axes, base = "coordinates", tuple(names.index(a) for a in list(axes)[:3]), True
+        if "color" in view:
+            color = view.get("color")
+            self.set_style(color_by=color if color in names else None)
+        mapping = view.get("mapping")
+        if mapping in MAPPINGS and (mapping == "orthographic" or p.n >= 4):
+            p.mapping = mapping
+        self.projection_changed(base=base)
+
+    def set_projection(self, projection: ProjectionModel) -> None:
+        """Another projection (new variables, a restored view): a new base."""
+        self.projection = projection
+        self.record()
+        self.events.base.emit()
+        self.events.projection.emit()
+
+    def projection_changed(self, base: bool = False) -> None:
+        """The projection was edited in place (angles, mapping; with ``base``, kind, axes or seed)."""
+        self.record()
+        if base:
+            self.events.base.emit()
+        self.events.projection.emit()
+
+    def set_angles(self, degrees) -> None:
+        self.projection.angles[:] = np.asarray(degrees, dtype=float)
+        self.projection_changed()
+
+    def turn(self, right, up, hidden: int, dx: float, dy: float) -> None:
+        """Turn the screen's direction ``right`` by ``dx`` degrees and ``up`` by ``dy`` against hidden direction
+        ``hidden`` (modulo the n - 3 there are): one projection update."""
+        p = self.projection
+        if p.n < 4 or (dx == 0 and dy == 0):
+            return
+        hidden = hidden % (p.n - 3)
+        a = p.angles.copy()
+        if dx:
+            p.angles[:] = turned_angles(p, np.asarray(right, float), hidden, dx)
+        if dy:
+            p.angles[:] = turned_angles(p, np.asarray(up, float), hidden, dy)
+        new = p.angles.copy()
+        p.angles[:] = a
+        self.set_angles(new)
+
+    def set_style(self, **changes) -> None:
+        """Change the fields of :class:`ViewStyle` named; announced when one changed."""
+        self._change("style", changes)
+
+    def set_slice(self, **changes) -> None:
+        """Change the fields of :class:`SliceState` named; announced when one changed."""
+        self._change("slice", changes)
+
+    def _change(self, name: str, changes: dict) -> None:
+        new = replace(getattr(self, name), **changes)
+        if new != getattr(self, name):
+            setattr(self, name, new)
+            self.record()
+            getattr(self.events, name).emit()
+
+    def set_slice_readout(self, text: str) -> None:
+        if text != self.slice_readout:
+            self.slice_readout = text
+            self.events.slice_readout.emit(text)
+
+    def view_state(self) -> dict:
+        """The View tab as a plain dict (what sessions and Undo keep)."""
+        d = self.projection.to_dict(self.view_names)
+        st = self.style
+        d.update(color=st.color_by, opacity=st.opacity, show_edges=st.show_edges, two_sided=st.two_sided,
+                 boundary=st.boundary, grid=st.grid)
+        if self.slice.on:
+            d["slice"] = {"along": self.slice.label(self.view_names), "c": self.slice.c, "w": self.slice.w}
+        return d
+
+    def set_view_state(self, d: dict) -> None:
+        """Show a dict like :meth:`view_state` (the projection's variables must be set first)."""
+        n = self.projection.n
+        ok = len(d.get("angles", [0] * (n * (n - 1) // 2))) == n * (n - 1) // 2
+        m = ProjectionModel.from_dict(n, d) if ok else ProjectionModel(n=n)
+        m.share_principal(self.projection)
+        if n < 4:
+            m.mapping = "orthographic"
+        names = self.view_names
+        color = d.get("color")
+        opacity = d.get("opacity")
+        recording, self.recording = self.recording, False   # (one step, recorded at the end)
+        try:
+            self.set_style(color_by=color if color in names else None,
+                           opacity=self.style.opacity if opacity is None else float(opacity),
+                           show_edges=bool(d.get("show_edges", False)), two_sided=bool(d.get("two_sided", False)),
+                           boundary=bool(d.get("boundary", False)), grid=bool(d.get("grid", False)))
+            sl = d.get("slice") or {}
+            where = slice_target(sl.get("along", ""), names, n) if sl else None
+            if where is None:
+                self.set_slice(on=False)
+            else:
+                self.set_slice(on=True, index=where[0], hidden=where[1], c=float(sl.get("c", 0.5)),
+                               w=float(sl.get("w", 0.04)))
+            self.set_projection(m)
+        finally:
+            self.recording = recording
+        self.record()
 
     # ------------------------------------------------------------ undo / redo
     def snapshot(self) -> dict:
         """What Undo restores: the system and the view."""
-        return {"system": copy.deepcopy(self.system), "view": copy.deepcopy(self.view)}
+        return {"system": copy.deepcopy(self.system), "view": self.view_state()}
 
-    def _record(self) -> None:
+    def record(self) -> None:
+        """Note the state as a step to undo (unless ``recording`` is off)."""
         if self.recording and self.history.record(self.snapshot()):
             self.events.history.emit(self.history.can_undo(), self.history.can_redo())
 
     def undo(self) -> dict | None:
-        """Step back: the snapshot to show (the model's system and view are set to it), or None."""
-        return self._step(self.history.undo())
+        """Step back to the last state that changes something on show: that state, or None at the start."""
+        return self._step(self.history.undo)
 
     def redo(self) -> dict | None:
-        """Step forward again after :meth:`undo`: the snapshot to show, or None."""
-        return self._step(self.history.redo())
+        """Step forward again after :meth:`undo`: the state shown, or None when nothing was undone."""
+        return self._step(self.history.redo)
 
-    def _step(self, state: dict | None) -> dict | None:
-        if state is not None:
-            self.system, self.view = dict(state["system"]), dict(state["view"])
-        self.events.history.emit(self.history.can_undo(), self.history.can_redo())
-        return state
+    def _step(self, step) -> dict | None:
+        """Step through the history until something on show changes (a view of another result's variables
+        changes nothing here, and is passed over)."""
+        while True:
+            state = step()
+            if state is None or self.restore(state):
+                self.events.history.emit(self.history.can_undo(), self.history.can_redo())
+                return state
+
+    def restore(self, state: dict) -> bool:
+        """Show ``state`` (a History entry): its system, and its view if it belongs to the variables on
+        show; False if nothing changed. Not a step to undo; the history keeps the panels' reading of it."""
+        changed = False
+        recording, self.recording = self.recording, False
+        try:
+            if state.get("system") and state["system"] != self.system:
+                self.set_system(state["system"])
+                changed = True
+            view, current = state.get("view"), self.view_state()
+            if view and view != current and view.get("planes") == current.get("planes"):
+                self.set_view_state(view)
+                changed = True
+        finally:
+            self.recording = recording
+        if changed:
+            self.history.sync(self.snapshot())
+        return changed
 
     # ------------------------------------------------------------ what the next result is called
     def expect(self, title: str, formulas, variables, view: dict | None = None) -> None:
@@ -260,6 +498,23 @@ class StudioModel:
         self.events.result.emit(cx)
         return self.serial
 
+    def present(self, cx, names, title: str = "", labels: dict | None = None, view: dict | None = None,
+                keep_view: bool = False) -> bool:
+        """A new result on screen with the view it gets: kept as it is (``keep_view``: the same system at other
+        parameters), else set up for its variables (a new dimension gets its default style, an example its
+        suggested ``view``). Returns whether the view was kept."""
+        names = list(names)
+        keep = keep_view and self.result is not None and names == self.names
+        prev_dim, prev_names = (self.result.dim if self.result is not None else None), self.names
+        self.set_result(cx, names, title, labels)
+        if not keep:
+            self.set_view_variables(names, keep=(names == prev_names), vertices=cx.vertices)
+            if prev_dim is None or (prev_dim <= 2) != (cx.dim <= 2):
+                self.set_style_defaults(cx.dim)
+            if view:
+                self.apply_view(view)
+        return keep
+
     def set_picked(self, info: dict | None) -> None:
         self.picked = info
         self.events.picked.emit(info)
@@ -271,7 +526,19 @@ class StudioModel:
         return summarize(self.result) if self.result is not None else "no result yet"
 
     def pick_text(self) -> str:
-        return pick_text(self.picked, self.names, self.result.dim) if self.picked is not None else ""
+        if self.picked is None or self.result is None:
+            return ""
+        return pick_text(self.picked, self.names, self.result.dim)
+
+
+def slice_target(label: str, names, n: int) -> tuple[int, bool] | None:
+    """(index, hidden) of a slice's direction named ``label`` (a variable, or "hidden direction j"), or None."""
+    if label in names:
+        return list(names).index(label), False
+    for j in range(max(0, n - 3)):
+        if label == f"hidden direction {j + 1}":
+            return j, True
+    return None
 
 
 # ---------------------------------------------------------------- texts
@@ -280,6 +547,8 @@ def summarize(cx) -> str:
     names = {0: "vertices", 1: "edges", 2: "faces", 3: "3-cells"}
     counts = cx.counts()
     parts = [f"{c:,} {names.get(r, f'{r}-cells')}" for r, c in enumerate(counts)]
+    chi: int | str
+    nb: int | str
     try:
         chi = cx.euler_characteristic()
     except Exception:  # noqa: BLE001

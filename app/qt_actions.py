@@ -111,8 +111,9 @@ class StudioActions:
         self.quit = self._add(fm, "&Quit", w.close, "Ctrl+Q")
 
         em = mb.addMenu("&Edit")
-        self.undo = self._add(em, "&Undo", w.undo, "Ctrl+Z", "back to the previous system or view")
-        self.redo = self._add(em, "&Redo", w.redo, ["Ctrl+Shift+Z", "Ctrl+Y"], "forward again after an undo")
+        self.undo = self._add(em, "&Undo", w.controller.undo, "Ctrl+Z", "back to the previous system or view")
+        self.redo = self._add(em, "&Redo", w.controller.redo, ["Ctrl+Shift+Z", "Ctrl+Y"],
+                              "forward again after an undo")
         self.set_history(False, False)
 
         rm = mb.addMenu("&Run")
@@ -122,9 +123,9 @@ class StudioActions:
         vm = mb.addMenu("&View")
         self.reset_rotations = self._add(vm, "Reset &rotations", w.projection_panel.reset, None,
                                          "all rotation angles to 0")
-        self.reset_camera = self._add(vm, "Reset &camera", w.reset_camera, None, "fit the view")
+        self.reset_camera = self._add(vm, "Reset &camera", w.viewer.reset_camera, None, "fit the view")
         vm.addSeparator()
-        self.play = self._add(vm, "&Play / pause animation", w.toggle_play, "Space",
+        self.play = self._add(vm, "&Play / pause animation", w.animation_panel.toggle_play, "Space",
                               "start or pause the animation chosen in the Animate tab")
 
         self.examples_menu = mb.addMenu("&Examples")
@@ -191,7 +192,7 @@ class StudioActions:
     def open_dialog(self) -> None:
         p = self._file_dialog(False, "Open session", "GCMH session (*.json);;All files (*)")
         if p:
-            self.window.open_session(p)
+            self.window.controller.open_session(p)
 
     def save_dialog(self) -> None:
         p = self._file_dialog(True, "Save session", "GCMH session (*.json)")

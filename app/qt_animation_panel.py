@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import time
 
-from qtpy.QtCore import QTimer, Signal
+from qtpy.QtCore import QSignalBlocker, QTimer, Signal
 from qtpy.QtWidgets import (
     QComboBox,
     QDoubleSpinBox,
@@ -33,7 +33,8 @@ from qtpy.QtWidgets import (
     QWidget,
 )
 
-from .qt_widgets import error_label, group, labelled_row, panel_layout, slider_row
+from .model import AnimationSettings, StudioModel, telling_plane
+from .qt_widgets import connect_all, error_label, group, labelled_row, panel_layout, slider_row
 
 MODES = {"rotate": "Rotate in a plane", "tour": "Grand tour (smooth path through projections)",
          "slice": "Sweep the slice window"}
@@ -47,8 +48,9 @@ class QtAnimationPanel(QWidget):
     exportRequested = Signal(str)     # "gif" or "mp4"
     modeChanged = Signal(str)
 
-    def __init__(self, parent=None):
+    def __init__(self, model: StudioModel | None = None, parent=None):
         super().__init__(parent)
+        self.studio = model if model is not None else StudioModel()
         self.names: list[str] = []
         self.planes: list[tuple[int, int]] = []
         lay = panel_layout(self)
@@ -117,7 +119,26 @@ class QtAnimationPanel(QWidget):
         self.play_button.toggled.connect(self.set_playing)
         self.gif_button.clicked.connect(lambda: self.exportRequested.emit("gif"))
         self.mp4_button.clicked.connect(lambda: self.exportRequested.emit("mp4"))
+        connect_all((self.mode_combo.currentIndexChanged, self.plane_combo.currentIndexChanged,
+                     self.param_combo.currentIndexChanged, self.from_spin.valueChanged, self.to_spin.valueChanged,
+                     self.frames_spin.valueChanged, self.fps_spin.valueChanged), self._write_model)
+        self.studio.events.system.connect(lambda d: self.set_parameters(d.get("params") or {}))
+        self.studio.events.base.connect(self._on_base)
         self._on_mode()
+        self._write_model()
+
+    def _on_base(self) -> None:
+        """A projection for other variables (a new result): their planes, the one that turns a hidden axis in."""
+        names = self.studio.view_names
+        if names != self.names:
+            self.set_variables(names)
+            self.set_plane(telling_plane(self.studio.projection.matrix()))
+
+    def _write_model(self, *_) -> None:
+        """The panel's choice as the model's animation settings (the window plays and exports from them)."""
+        self.studio.animation = AnimationSettings(
+            mode=self.mode(), plane=self.plane(), frames=self.frames_spin.value(), fps=float(self.fps_spin.value()),
+            sweep=self.param_sweep(), spec=self.spec_text(), params=tuple(self.params))
 
     # ------------------------------------------------------------ state
     def set_variables(self, names) -> None:
@@ -126,13 +147,13 @@ class QtAnimationPanel(QWidget):
         self.names = list(names)
         self.planes = planes(len(self.names))
         prev = self.plane_combo.currentText()
-        self.plane_combo.blockSignals(True)
-        self.plane_combo.clear()
-        for r, p in enumerate(self.planes):   # data: the row in planes() (a tuple would not survive QVariant)
-            self.plane_combo.addItem(f"{self.names[p[0]]}\u2013{self.names[p[1]]}", r)
-        i = self.plane_combo.findText(prev) if prev else -1
-        self.plane_combo.setCurrentIndex(i if i >= 0 else max(0, len(self.planes) - 1))
-        self.plane_combo.blockSignals(False)
+        with QSignalBlocker(self.plane_combo):
+            self.plane_combo.clear()
+            for r, p in enumerate(self.planes):   # data: the row in planes() (a tuple would not survive QVariant)
+                self.plane_combo.addItem(f"{self.names[p[0]]}\u2013{self.names[p[1]]}", r)
+            i = self.plane_combo.findText(prev) if prev else -1
+            self.plane_combo.setCurrentIndex(i if i >= 0 else max(0, len(self.planes) - 1))
+        self._write_model()
 
     def set_parameters(self, params: dict) -> None:
         """The formulas' parameters, {name: {"value", "min", "max"}} (an example's ``params``, or the sliders'
@@ -141,13 +162,12 @@ class QtAnimationPanel(QWidget):
         old = dict(self.params)
         self.params = {str(k): dict(v) for k, v in (params or {}).items()}
         prev = self.param_combo.currentText()
-        self.param_combo.blockSignals(True)
-        self.param_combo.clear()
-        for name in self.params:
-            self.param_combo.addItem(name)
-        i = self.param_combo.findText(prev) if prev else -1
-        self.param_combo.setCurrentIndex(i if i >= 0 else 0)
-        self.param_combo.blockSignals(False)
+        with QSignalBlocker(self.param_combo):
+            self.param_combo.clear()
+            for name in self.params:
+                self.param_combo.addItem(name)
+            i = self.param_combo.findText(prev) if prev else -1
+            self.param_combo.setCurrentIndex(i if i >= 0 else 0)
         name = self.param_combo.currentText()
         if name and (name not in old or old[name] != self.params[name]):
             self._on_param()
@@ -159,6 +179,7 @@ class QtAnimationPanel(QWidget):
                 self.set_mode("rotate")
             self.mode_combo.removeItem(self.mode_combo.findData(PARAM_MODE[0]))
         self._on_mode()
+        self._write_model()
 
     def param_sweep(self) -> tuple[str, float, float] | None:
         """(name, from, to) of the parameter sweep, or None when no parameter is offered."""
@@ -214,6 +235,9 @@ class QtAnimationPanel(QWidget):
     def is_playing(self) -> bool:
         return self.timer.isActive()
 
+    def toggle_play(self) -> None:
+        self.set_playing(not self.is_playing())
+
     def set_playing(self, on: bool) -> None:
         on = bool(on)
         if on and self.mode() == PARAM_MODE[0]:   # (Space too): every frame is an extraction
@@ -221,9 +245,8 @@ class QtAnimationPanel(QWidget):
             self.show_message("A parameter sweep is exported, not played: use Export below "
                               "(or the parameter's slider in the Manifold tab).")
         if self.play_button.isChecked() != on:
-            self.play_button.blockSignals(True)
-            self.play_button.setChecked(on)
-            self.play_button.blockSignals(False)
+            with QSignalBlocker(self.play_button):
+                self.play_button.setChecked(on)
         self.play_button.setText("Pause" if on else "Play")
         if on and not self.timer.isActive():
             self._last = time.perf_counter()

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 
-from qtpy.QtCore import Qt, Signal
+from qtpy.QtCore import QSignalBlocker, Qt, Signal
 from qtpy.QtWidgets import QGridLayout, QLabel, QLineEdit, QSlider, QVBoxLayout, QWidget
 
 from . import inputs
@@ -101,9 +101,8 @@ class _Row:
 
     def show_state(self) -> None:
         """Put the state into the widgets (without signals)."""
-        self.slider.blockSignals(True)
-        self.slider.setValue(self.position())
-        self.slider.blockSignals(False)
+        with QSignalBlocker(self.slider):
+            self.slider.setValue(self.position())
         self.value_edit.setText(format_value(self.state["value"]))
         self.min_edit.setText(format_value(self.state["min"]))
         self.max_edit.setText(format_value(self.state["max"]))

@@ -93,6 +93,10 @@ class QtRunController(QObject):
     def is_running(self) -> bool:
         return self.worker is not None
 
+    def running_job(self) -> Job | None:
+        """The job of the run under way, or None."""
+        return self.worker.job if self.worker is not None else None
+
     def elapsed(self) -> float:
         """Seconds since the last run started."""
         return time.perf_counter() - self._t0

@@ -3,21 +3,19 @@
 The panel shows :func:`gcmh_core.analysis.topology_report` of the current
 result (cells by dimension, Euler characteristic, components, boundary,
 orientation of a surface, max |F| at a vertex, the time of each phase), a
-"Refine onto M" button and three checkboxes.  It never touches the scene: the
-window connects to its signals.
+"Refine onto M" button and three switches of the view (the boundary, the
+processed cubes, two-sided colours), which are the model's: it never touches the
+scene.
 
-    panel = QtTopologyPanel()
+    panel = QtTopologyPanel(model)
     panel.set_result(cx, system)              # or panel.set_report(report) from a worker
     panel.refineRequested.connect(...)        # run refine_vertices, then:
     panel.show_refinement(before, after)
-    panel.highlightBoundaryToggled.connect(...)   # bool
-    panel.showPathToggled.connect(...)            # bool: overlay of the processed cubes
-    panel.twoSidedToggled.connect(...)            # bool: colour the two sides apart
 """
 
 from __future__ import annotations
 
-from qtpy.QtCore import Qt, Signal
+from qtpy.QtCore import QSignalBlocker, Qt, Signal
 from qtpy.QtWidgets import (
     QCheckBox,
     QFormLayout,
@@ -27,6 +25,8 @@ from qtpy.QtWidgets import (
     QVBoxLayout,
     QWidget,
 )
+
+from .model import StudioModel
 
 DIM_NAMES = {0: "points", 1: "curve", 2: "surface"}
 CELL_LETTERS = ("V", "E", "F")
@@ -84,14 +84,13 @@ class QtTopologyPanel(QWidget):
     -------
     refineRequested()
         The user pressed "Refine onto M" (only enabled when F is known).
-    highlightBoundaryToggled(bool), showPathToggled(bool), twoSidedToggled(bool)
-        The three view checkboxes.
+
+    The three view switches are the model's (:class:`gcmh_studio.model.ViewStyle`: ``boundary``, ``grid``,
+    ``two_sided``), the same as the View tab's: they write it and show it. A result at a critical value of its
+    parameters (the model's ``notice``) is marked at its Euler characteristic.
     """
 
     refineRequested = Signal()
-    highlightBoundaryToggled = Signal(bool)
-    showPathToggled = Signal(bool)
-    twoSidedToggled = Signal(bool)
 
     ROWS = (
         ("shape", "Object"),
@@ -105,8 +104,9 @@ class QtTopologyPanel(QWidget):
         ("seconds", "Total time"),
     )
 
-    def __init__(self, parent=None):
+    def __init__(self, model: StudioModel | None = None, parent=None):
         super().__init__(parent)
+        self.studio = model if model is not None else StudioModel()
         self._report = None
         self._has_system = False
         layout = QVBoxLayout(self)
@@ -144,14 +144,28 @@ class QtTopologyPanel(QWidget):
         self.path_check = QCheckBox("Processed cubes (the algorithm's path)")
         self.two_sided_check = QCheckBox("Two sides in two colours")
         self.two_sided_check.setToolTip("Colour the front and the back of an oriented surface differently")
-        self.boundary_check.toggled.connect(self.highlightBoundaryToggled)
-        self.path_check.toggled.connect(self.showPathToggled)
-        self.two_sided_check.toggled.connect(self.twoSidedToggled)
-        for check in (self.boundary_check, self.path_check, self.two_sided_check):
+        self._switches = {"boundary": self.boundary_check, "grid": self.path_check, "two_sided": self.two_sided_check}
+        for field, check in self._switches.items():
+            check.toggled.connect(lambda on, field=field: self.studio.set_style(**{field: bool(on)}))
             vl.addWidget(check)
+        self.studio.events.style.connect(self._show_style)
+        self.studio.events.notice.connect(self._show_notice)
         layout.addWidget(view_box)
         layout.addStretch(1)
         self._update_enabled()
+
+    # ------------------------------------------------------------------ the model
+    def _show_style(self) -> None:
+        for field, check in self._switches.items():
+            with QSignalBlocker(check):
+                check.setChecked(bool(getattr(self.studio.style, field)))
+
+    def _show_notice(self, text: str) -> None:
+        """A result at a critical value: its Euler characteristic says so (the report of the result came first)."""
+        euler = self.values["euler"]
+        if text and self._report is not None and "(critical value)" not in euler.text():
+            euler.setText(f"{euler.text()}  (critical value)")
+            euler.setStyleSheet("color: #a04000; font-weight: bold;")
 
     # ------------------------------------------------------------------ content
 

@@ -1,16 +1,15 @@
 """QtViewer: the studio's 3D view (napari's QtViewer, in small).
 
 A ``pyvistaqt.QtInteractor`` drawn by an :class:`gcmh_studio.scene.Scene`, from what
-the :class:`gcmh_studio.model.StudioModel` holds (the result, the picked cell) and what
-the View tab (:class:`gcmh_studio.qt_projection_panel.QtProjectionPanel`) sets: the
-projection in place, the style, the slice and the overlays, picking a cell,
-the camera, and pictures of the view. Only the GUI thread touches it; problems
-go to the model's status line.
+the :class:`gcmh_studio.model.StudioModel` holds (the result, the picked cell, the
+projection, the style, the slice and the overlays), redrawn on the model's events:
+the projection in place, picking a cell, the camera, and pictures of the view.
+Only the GUI thread touches it; problems go to the model's status line.
 
 Never frozen: a new result is drawn with one render (pyvista would render after
 every actor it adds) in short GUI steps of their own; a see-through result's still
 picture (0.3 s of software GL for the three-torus) is drawn in a thread on an
-off-screen copy (:class:`gcmh_studio.scene.StillJob`) and shown over the view until the view
+off-screen copy (:class:`gcmh_studio.qt_still_picture.QtStillPicture`) and shown over the view until the view
 renders again. The window anti-aliases with FXAA (super-sampling only for
 screenshots), and while a slider or a drag moves the view it is drawn in a cheaper
 moving look (:meth:`gcmh_studio.scene.Scene.set_moving`: a very large result at a coarse
@@ -23,7 +22,7 @@ turn carries the object out of the picture; the View tab's "keep camera" holds i
 
 Steering: Shift-drag turns the screen's x (horizontal drag) and y (vertical drag)
 against the hidden direction the View tab names; Ctrl+Shift-drag, or Shift with
-the right button, against the next one (:func:`gcmh_studio.projection.turned_angles`).
+the right button, against the next one (:class:`gcmh_studio.qt_drag_turn.QtDragTurn`).
 """
 
 from __future__ import annotations
@@ -31,16 +30,12 @@ from __future__ import annotations
 import copy
 
 import numpy as np
-from qtpy.QtCore import QEvent, QObject, Qt, QTimer
-from qtpy.QtGui import QImage, QPixmap
-from qtpy.QtWidgets import QLabel
+from qtpy.QtCore import QTimer
 
-from .background import wait_background
 from .camera import (
     MARGIN_X,
     MARGIN_Y,
     TITLE_BOTTOM,
-    camera_values,
     copy_camera,
     default_camera,
     refit_camera,
@@ -49,61 +44,24 @@ from .camera import (
 from .inputs import format_value
 from .labels import labels_for, view_subtitle, warm_labels
 from .model import StudioModel, slice_params
-from .offscreen import StillJob, render_image, warm_background
+from .offscreen import render_image, warm_background
 from .overlays import PICK_COLOR, draw_overlays
-from .projection import ProjectionModel, turned_angles
+from .projection import ProjectionModel
+from .qt_drag_turn import QtDragTurn
+from .qt_still_picture import QtStillPicture
 from .scene import Scene, Style
 from .studio_io import apply_camera, camera_state, valid_camera
 
 SETTLE_MS = 250          # a view at rest this long is drawn in full again
-STILL_POLL_MS = 15       # how often the GUI looks whether the still picture drawn in a thread is there
-DRAG_DEGREES = 0.4       # per pixel of a Shift-drag
-
-
-class _DragFilter(QObject):
-    """Shift-drag on the 3D view turns hidden planes (the events never reach VTK's trackball)."""
-
-    def __init__(self, viewer: QtViewer):
-        super().__init__()
-        self.viewer = viewer
-        self.last = None
-        self.hidden = 0
-
-    def eventFilter(self, obj, ev) -> bool:  # noqa: N802 - Qt's name
-        t = ev.type()
-        v = self.viewer
-        if t == QEvent.Resize:     # another shape: frame again (after the resize settles)
-            v._resized.start()
-            return False
-        if t == QEvent.Hide:       # (a closing window: its picture's thread ends before the display may go)
-            v._drop_still()
-            wait_background()
-            return False
-        if t == QEvent.MouseButtonPress and ev.modifiers() & Qt.ShiftModifier and v.can_turn():
-            nxt = bool(ev.modifiers() & Qt.ControlModifier) or ev.button() == Qt.RightButton
-            self.hidden = v.panel.drag_hidden() + (1 if nxt else 0)
-            self.last = (ev.x(), ev.y())
-            return True
-        if t == QEvent.MouseMove and self.last is not None:
-            x, y = ev.x(), ev.y()
-            dx, dy = x - self.last[0], y - self.last[1]
-            self.last = (x, y)
-            v.turn_hidden(dx, -dy, self.hidden)
-            return True
-        if t == QEvent.MouseButtonRelease and self.last is not None:
-            self.last = None
-            return True
-        return False
 
 
 class QtViewer:
-    """The view of ``model`` as the View tab ``panel`` asks; ``widget`` goes into the window's layout."""
+    """The view of ``model``; ``widget`` goes into the window's layout."""
 
-    def __init__(self, model: StudioModel, panel, parent=None):
+    def __init__(self, model: StudioModel, parent=None):
         from pyvistaqt import QtInteractor
 
         self.model = model
-        self.panel = panel
         # no multi-sampling: with software GL it doubles every frame; FXAA smooths the edges instead
         self.plotter = QtInteractor(parent, auto_update=False, multi_samples=0)
         self.widget = self.plotter.interactor
@@ -123,29 +81,17 @@ class QtViewer:
         self._resized.setSingleShot(True)
         self._resized.setInterval(60)
         self._resized.timeout.connect(self._on_resized)
-        self._drag = _DragFilter(self)
+        self._drag = QtDragTurn(self)
         self.widget.installEventFilter(self._drag)
         # a see-through result's still picture is drawn in a thread and shown over the view until the
-        # view renders again (:class:`gcmh_studio.scene.StillJob`)
-        self.still_off_thread = True
-        self._still_job: StillJob | None = None
-        self.still_image: np.ndarray | None = None    # the last one shown
-        self._settling = False
-        self._fresh = False        # a new result the window has not drawn yet (its picture drawn in a thread)
-        self._still_label = QLabel(self.widget)
-        self._still_label.setAttribute(Qt.WA_TransparentForMouseEvents)   # the view under it gets the mouse
-        self._still_label.hide()
-        self._still_poll = QTimer(self.widget)
-        self._still_poll.setInterval(STILL_POLL_MS)
-        self._still_poll.timeout.connect(self._still_arrived)
-        self._still_steps: list = []
-        self._still_step = QTimer(self.widget)
-        self._still_step.setSingleShot(True)
-        self._still_step.setInterval(0)
-        self._still_step.timeout.connect(self._next_still_step)
-        self.plotter.ren_win.AddObserver("StartEvent", lambda *a: self._drop_still())
-        if self.still_off_thread:
+        # view renders again
+        self.still = QtStillPicture(self)
+        if self.still.off_thread:
             warm_background()
+        ev = model.events   # (the view's own listeners come before the presentation's relays)
+        for signal, slot in ((ev.projection, self.on_projection), (ev.base, self.on_base), (ev.style, self.on_style),
+                             (ev.slice, self.on_slice)):
+            signal.connect(slot, priority=1)
         try:   # turning the camera with the mouse draws the moving look too, the still one when let go
             style = self.plotter.iren.interactor.GetInteractorStyle()
             style.AddObserver("StartInteractionEvent", lambda *a: self._camera_moving(True))
@@ -156,131 +102,64 @@ class QtViewer:
     # ------------------------------------------------------------ drawing
     def style(self) -> Style:
         """The View tab's style for the result on screen (title and subtitle included)."""
-        pp = self.panel
-        two = pp.two_sided_check.isChecked()
-        mapping = pp.model.mapping if pp.model.n >= 4 else "orthographic"
+        st, p = self.model.style, self.model.projection
+        two = st.two_sided
+        mapping = p.mapping if p.n >= 4 else "orthographic"
         # an example's labels are found by its title; a system typed in complex mode brings its own ("u = Re w")
         labels = labels_for(self.model.title, self.model.names) or dict(self.model.labels or {})
-        sub = view_subtitle(self.model.result, self.model.names, pp.color_by(), two, mapping, labels)
+        sub = view_subtitle(self.model.result, self.model.names, st.color_by, two, mapping, labels)
         params = (self.model.result.meta.get("params") if self.model.result is not None else None) or {}
         if params:   # the picture says at which values it was made (a class watching a slider reads them)
             sub = "  ".join(f"{p} = {format_value(v)}" for p, v in params.items()) + " \u00b7 " + sub
-        return Style(color_by=pp.color_by(), opacity=pp.opacity(), show_edges=pp.show_edges(),
+        return Style(color_by=st.color_by, opacity=st.opacity, show_edges=st.show_edges,
                      title=self.model.title, subtitle=sub, two_sided=two, labels=labels)
 
     def render(self) -> None:
         """Ask for one render of the window: Qt paints it once, however many changes came before
         (``plotter.render()`` renders now and then once more in the paint it schedules)."""
         self.renders += 1
-        self._drop_still()
-        if self._fresh:
-            self._settle_window()
+        self.still.drop()
+        if self.still.fresh:
+            self.still.settle()
         self.widget.update()
 
-    # ------------------------------------------------------------ the still picture off the GUI thread
-    def _still_in_thread(self) -> bool:
-        """Draw the still picture in a thread: a see-through result (0.3 s of software GL for the three-torus)
-        in a view on screen with nothing of the window's own drawn over it (the presentation's card)."""
-        aa = self.scene.anti_aliasing   # (FXAA as asked: an EGL build falls back to super-sampling)
-        return (self.still_off_thread and self.scene.see_through() and self.widget.isVisible()
-                and min(self.size()) > 0 and (aa != "fxaa" or bool(self.plotter.renderer.GetUseFXAA())))
-
-    def _render_still(self) -> None:
-        """The still look of the scene as it is, drawn in a thread, shown when it arrives (else the window
-        renders it); the render was counted when it was asked for."""
-        self._drop_still()
-        if not self._still_in_thread():
-            self.widget.update()
-            return
-        try:
-            job = StillJob(self.scene, self.plotter.ren_win.GetSize(), camera_values(self.plotter.camera),
-                           anti_aliasing=self.scene.anti_aliasing, decorate=self._decorate)
-        except Exception:  # noqa: BLE001 - the window draws it itself
-            job = None
-        if job is None or job.declined:   # (the presentation draws over the view: the window's own render)
-            self.widget.update()
-            return
-        self._still_job = job
-        self._still_poll.start()
-
-    def _next_still_step(self) -> None:
-        if self._still_steps:
-            self._still_steps.pop(0)()
-        if self._still_steps:     # (started after the step: a timer due meanwhile, the GUI's, goes first)
-            self._still_step.start()
-
-    def _drop_still(self) -> None:
-        """The view renders itself (or changed): a still picture on its way or on screen is no longer it."""
-        if self._settling:
-            return
-        self._still_steps = []
-        self._still_step.stop()
-        if self._still_job is not None:
-            self._still_job.stale = True
-            self._still_job = None
-        if self._still_label.isVisible():
-            self._still_label.hide()
-            self._still_label.clear()
-
-    def _still_arrived(self) -> None:
-        job = self._still_job
-        if job is None:
-            self._still_poll.stop()
-            return
-        if not job.done():
-            return
-        self._still_poll.stop()
-        self._still_job = None
-        w, h = self.plotter.ren_win.GetSize()
-        img = job.image
-        if job.stale or img is None or img.shape[:2] != (h, w):   # failed, or the view changed size
-            if not job.stale:
-                self.render()
-            return
-        self.still_image = img
-        qimg = QImage(img.data, w, h, 3 * w, QImage.Format_RGB888)
-        pix = QPixmap.fromImage(qimg)    # (a copy: the array may go)
-        pix.setDevicePixelRatio(w / max(self.widget.width(), 1))
-        self._still_label.setGeometry(self.widget.rect())
-        self._still_label.setPixmap(pix)
-        self._still_label.show()
-        self._still_label.raise_()
-
-    def _settle_window(self) -> None:
-        """One cheap render of a new result, not shown, with the complex shrunk to a point: the colour bar lays
-        its labels out from the frame before, and the window's first frame of a new result put them over the
-        bar (the picture a result opened with, until the next render)."""
-        self._fresh = False
-        actor = self.scene.actor
-        if actor is None or not self.widget.isVisible():
-            return
-        rw = self.plotter.ren_win
-        ren = self.plotter.renderer
-        fxaa = bool(ren.GetUseFXAA())
-        self._settling = True
-        try:
-            actor.SetScale(1e-6, 1e-6, 1e-6)
-            ren.SetUseFXAA(False)   # (nothing of it is seen)
-            rw.SwapBuffersOff()     # (a frame not to be shown: the widget schedules no paint for it)
-            rw.Render()
-        except Exception:  # noqa: BLE001 - only the labels' first frame is at stake
-            pass
-        finally:
-            rw.SwapBuffersOn()
-            ren.SetUseFXAA(fxaa)
-            actor.SetScale(1.0, 1.0, 1.0)
-            self._settling = False
-
+    # the still picture, as the tests and the benchmark ask
     def still_shown(self) -> bool:
-        """The view shows a still picture drawn in a thread (tests and the benchmark ask)."""
-        return self._still_label.isVisible()
+        return self.still.shown()
 
     def still_pending(self) -> bool:
-        """A new result's picture is on its way (its steps, or its thread)."""
-        return bool(self._still_steps) or self._still_job is not None
+        return self.still.pending()
+
+    def _drop_still(self) -> None:
+        self.still.drop()
+
+    @property
+    def still_image(self) -> np.ndarray | None:
+        return self.still.image
+
+    @property
+    def still_off_thread(self) -> bool:
+        return self.still.off_thread
+
+    @still_off_thread.setter
+    def still_off_thread(self, on: bool) -> None:
+        self.still.off_thread = bool(on)
+
+    @property
+    def _still_job(self):
+        return self.still.job
+
+    @property
+    def _still_poll(self):
+        return self.still.poll
 
     def keep_camera(self) -> bool:
-        return bool(self.panel.keep_camera_check.isChecked())
+        return bool(self.model.style.keep_camera)
+
+    def drawn(self) -> bool:
+        """The model's result is the one drawn (a new one is drawn by :meth:`show`, not by the events that
+        set up its view)."""
+        return self.scene.complex is not None and self.scene.complex is self.model.result
 
     def show(self, geometry=None, moving: bool = False) -> None:
         """Draw the model's result (its drawing arrays ``geometry`` if made beforehand), frame it, render once.
@@ -291,7 +170,7 @@ class QtViewer:
         first = self.scene.mesh is None and self._mapping is None
         held = None if first or not self.keep_camera() else camera_state(self.plotter.camera)
         with self.scene.held_render(render=False):
-            self.scene.set_complex(self.model.result, self.model.names, self.panel.model.view(), self.style(),
+            self.scene.set_complex(self.model.result, self.model.names, self.model.projection.view(), self.style(),
                                    geometry=geometry)
             if held is not None:    # (set_complex resets the camera to the new bounds)
                 apply_camera(self.plotter.camera, held)
@@ -304,28 +183,24 @@ class QtViewer:
                 refit_camera(self.plotter)
             self.plotter.renderer.ResetCameraClippingRange()
             self.scene.set_moving(moving)
-        self._mapping = self.panel.model.view().mapping
+        self._mapping = self.model.projection.view().mapping
         if moving:
             self.render()
             self._settle.start()
         else:   # in short steps of their own (one render asked): the picture drawn in a thread, or the
             # window's unshown render and then its own
-            self._drop_still()
             self.renders += 1
-            self._fresh = self._still_in_thread()   # (the unshown render comes before the window's first)
-            self._still_steps = [self._render_still] if self._fresh else [self._settle_window, self._render_still]
-            self._still_step.start()
+            self.still.start()
 
     def on_projection(self) -> None:
         """The angles, base or mapping changed: move the points in place (and re-slice a turning direction)."""
-        if self.scene.complex is None:
+        if not self.drawn():
             return
-        pp = self.panel
-        view = pp.model.view()
+        view = self.model.projection.view()
         moving = self.scene.moving_look_available()
         with self.scene.held_render(render=False):
             self.scene.set_projection(view, render=False, moving=moving)
-            sw = pp.slice_window()
+            sw = self.model.slice.window()
             if sw is not None and sw.hidden:    # the hidden directions turn with the view
                 self.apply_slice(render=False)
             if self.scene.style.subtitle != self.style().subtitle:
@@ -345,8 +220,8 @@ class QtViewer:
             return
         if on:
             self._settle.stop()
-            if self._fresh:
-                self._settle_window()
+            if self.still.fresh:
+                self.still.settle()
             self.scene.set_moving(True)
         else:
             self._settle.start()
@@ -366,7 +241,7 @@ class QtViewer:
             self.render()
 
     def on_base(self) -> None:
-        if self.scene.complex is None:
+        if not self.drawn():
             return
         self.on_projection()
         self.refit(render=True)
@@ -396,32 +271,8 @@ class QtViewer:
         if out or small:
             refit_camera(self.plotter)
 
-    # ------------------------------------------------------------ steering hidden planes
-    def can_turn(self) -> bool:
-        return self.scene.complex is not None and self.panel.model.n >= 4
-
-    def turn_hidden(self, dx: float, dy: float, hidden: int = 0) -> None:
-        """Turn the screen's x by ``dx`` and y by ``dy`` (pixels of a drag) against hidden direction ``hidden``."""
-        pm = self.panel.model
-        if pm.n < 4 or (dx == 0 and dy == 0):
-            return
-        cam = self.plotter.camera
-        right = np.cross(np.asarray(cam.direction, float), np.asarray(cam.up, float))
-        right /= max(np.linalg.norm(right), 1e-12)
-        up = np.asarray(cam.up, float) - np.dot(cam.up, right) * right
-        up /= max(np.linalg.norm(up), 1e-12)
-        hidden = hidden % (pm.n - 3)
-        a = pm.angles.copy()
-        if dx:
-            pm.angles[:] = turned_angles(pm, right, hidden, DRAG_DEGREES * dx)
-        if dy:
-            pm.angles[:] = turned_angles(pm, up, hidden, DRAG_DEGREES * dy)
-        new = pm.angles.copy()
-        pm.angles[:] = a
-        self.panel.set_angles(new)   # the sliders follow; projectionChanged redraws
-
     def on_style(self) -> None:
-        if self.scene.complex is None:
+        if not self.drawn():
             return
         st = self.style()
         old = self.scene.style
@@ -437,7 +288,7 @@ class QtViewer:
         self.render()
 
     def on_slice(self) -> None:
-        if self.scene.complex is not None:
+        if self.drawn():
             with self.scene.held_render(render=False):
                 self.apply_slice(render=False)
                 self.keep_in_view()
@@ -445,33 +296,31 @@ class QtViewer:
 
     def apply_overlays(self, scene: Scene) -> None:
         """Boundary facets, grid cubes and the picked cell on ``scene`` (this view's, or an off-screen copy)."""
-        pp = self.panel
+        st = self.model.style
         if self.model.result is None or scene.complex is None:
             return
-        problem = draw_overlays(scene, self.model.result, pp.boundary_check.isChecked(), pp.grid_check.isChecked(),
-                                self.model.picked)
+        problem = draw_overlays(scene, self.model.result, st.boundary, st.grid, self.model.picked)
         if problem:
             self.model.set_status(problem, error=True)
 
     # ------------------------------------------------------------ slicing
     def slice_params(self, projection: ProjectionModel | None = None):
         """(window, u, lo, hi, c, w) of the View tab's slice for the result on screen, or None."""
-        pp = self.panel
-        return slice_params(pp.slice_window(), None if self.model.result is None else self.model.result.vertices,
-                            projection or pp.model, pp.slice_fractions())
+        m = self.model
+        return slice_params(m.slice.window(), None if m.result is None else m.result.vertices,
+                            projection or m.projection, (m.slice.c, m.slice.w))
 
     def apply_slice(self, render: bool = True) -> None:
-        pp = self.panel
         prm = self.slice_params()
         if prm is None:
             if self.scene.slice is not None:
                 self.scene.set_slice(None, render=False)
-            pp.set_slice_readout("")
+            self.model.set_slice_readout("")
         else:
             sw, u, lo, hi, c, w = prm
             k = self.scene.set_slice(u, c, w, render=False)
             what = sw.label(self.model.names)
-            pp.set_slice_readout(f"{what} in [{c - w:.3g}, {c + w:.3g}] of [{lo:.3g}, {hi:.3g}] \u00b7 "
+            self.model.set_slice_readout(f"{what} in [{c - w:.3g}, {c + w:.3g}] of [{lo:.3g}, {hi:.3g}] \u00b7 "
                                  f"{k:,} cells" + ("" if k else " (nothing here)"))
         if render:
             self.render()
@@ -505,14 +354,10 @@ class QtViewer:
         return self.pick_cell(cid)
 
     # ------------------------------------------------------------ camera and pictures
-    def camera_session(self) -> dict:
-        """The camera and the "keep camera" toggle, for a session file (:func:`gcmh_studio.studio_io.session_dict`)."""
-        return {"camera": camera_state(self.plotter.camera), "keep_camera": self.keep_camera()}
-
     def restore_camera(self, camera: dict | None, keep: bool) -> None:
         """A session's camera (:func:`gcmh_studio.studio_io.session_camera`) as it was saved, and the "keep camera"
         toggle as the user left it (held, later results and changes of mapping leave the camera alone)."""
-        self.panel.keep_camera_check.setChecked(bool(keep))
+        self.model.set_style(keep_camera=bool(keep))
         camera = valid_camera(camera)
         if camera is not None and self.scene.complex is not None:
             apply_camera(self.plotter.camera, camera)
@@ -529,8 +374,8 @@ class QtViewer:
 
     def screenshot_array(self) -> np.ndarray:
         """The current view as an (h, w, 3) uint8 array."""
-        if self._still_steps or self._fresh:   # a new result not drawn yet: its unshown render first
-            self._settle_window()
+        if self.still.steps or self.still.fresh:   # a new result not drawn yet: its unshown render first
+            self.still.settle()
         self._at_rest()
         self.plotter.render()
         return self.plotter.screenshot(return_img=True)

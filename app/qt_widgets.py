@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
-from qtpy.QtCore import QObject, Qt, Signal
-from qtpy.QtWidgets import QGroupBox, QLabel, QSlider, QVBoxLayout
+from contextlib import ExitStack, contextmanager
+
+from qtpy.QtCore import QObject, QSignalBlocker, Qt, Signal
+from qtpy.QtWidgets import QGroupBox, QLabel, QScrollArea, QSlider, QVBoxLayout
 
 from .latest import LatestCall
 
 ERROR_LABEL_STYLE = "color: #c22; font-size: 11px;"
+ERROR_STYLE = "QLineEdit { border: 2px solid #d33; background: #fff0f0; }"
 
 
 def panel_layout(widget) -> QVBoxLayout:
@@ -34,6 +37,14 @@ def error_label() -> QLabel:
     return lab
 
 
+def mark(edit, label: QLabel, message: str | None) -> None:
+    """A field in red with ``message`` under it (and as its tip), or back to normal with None."""
+    edit.setStyleSheet(ERROR_STYLE if message else "")
+    edit.setToolTip(message or "")
+    label.setText(message or "")
+    label.setVisible(bool(message))
+
+
 def slider(lo: int, hi: int, value: int, tip: str = "") -> QSlider:
     s = QSlider(Qt.Horizontal)
     s.setRange(lo, hi)
@@ -53,6 +64,25 @@ def slider_row(form, text: str, lo: int, hi: int, value: int, tip: str = ""):
     """A labelled horizontal slider row in a QFormLayout: (slider, label)."""
     s = slider(lo, hi, value, tip)
     return s, labelled_row(form, text, s)
+
+
+@contextmanager
+def blocked(*objects):
+    """No signals from ``objects`` inside the block (one QSignalBlocker each: showing the model's state in
+    widgets must not write it back)."""
+    with ExitStack() as stack:
+        for obj in objects:
+            stack.enter_context(QSignalBlocker(obj))
+        yield
+
+
+def scrolled(widget) -> QScrollArea:
+    """``widget`` in a vertical scroll area (a side panel's tab)."""
+    sc = QScrollArea()
+    sc.setWidgetResizable(True)
+    sc.setHorizontalScrollBarPolicy(Qt.ScrollBarAlwaysOff)
+    sc.setWidget(widget)
+    return sc
 
 
 def connect_all(signals, slot) -> None:
@@ -79,5 +109,10 @@ class QtLatestCall(QObject):
 
     def __init__(self, parent=None, name: str = "gcmh-latest-call"):
         super().__init__(parent)
-        self.calls = LatestCall(self.answered.emit, name)   # (emit raises RuntimeError once this is deleted)
+        self.calls = LatestCall(self._relay, name)
         self.ask, self.submit, self.busy = self.calls.ask, self.calls.submit, self.calls.busy
+
+    def _relay(self, key, value, error) -> None:
+        # (the signal is looked up at each answer: once this object is deleted that raises RuntimeError, which
+        # ends the thread; a bound signal kept from before would emit on freed memory)
+        self.answered.emit(key, value, error)

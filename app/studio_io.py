@@ -67,11 +67,11 @@ def valid_camera(state) -> dict | None:
     return out
 
 
-def session_dict(model, camera: dict, keep_camera: bool = False) -> dict:
-    """The session of an :class:`gcmh_studio.model.StudioModel` with a :func:`camera_state` and the "keep camera"
+def session_dict(model, camera: dict) -> dict:
+    """The session of an :class:`gcmh_studio.model.StudioModel` with a :func:`camera_state` and its "keep camera"
     toggle (the camera is saved either way; opening puts it back exactly when it was held)."""
-    return {"format": SESSION_FORMAT, "title": model.title, "system": dict(model.system), "view": dict(model.view),
-            "camera": camera, "keep_camera": bool(keep_camera)}
+    return {"format": SESSION_FORMAT, "title": model.title, "system": dict(model.system), "view": model.view_state(),
+            "camera": camera, "keep_camera": bool(model.style.keep_camera)}
 
 
 def session_camera(session: dict) -> tuple[dict | None, bool]:

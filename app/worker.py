@@ -31,7 +31,10 @@ import traceback
 
 from qtpy.QtCore import QThread, Signal
 
-from .jobs import (  # noqa: F401 - run_job and estimate_job are looked up here (tests replace them)
+from .jobs import (  # (run_job and estimate_job are looked up here: tests replace them)
+    COMPILING,
+    ENGINE,
+    STOPPING,
     Job,
     current_warm_up,
     estimate_job,
@@ -39,10 +42,6 @@ from .jobs import (  # noqa: F401 - run_job and estimate_job are looked up here 
     system_of,
     view_data,
 )
-
-COMPILING = "compiling kernels (once per install)"
-STOPPING = "stopping the cancelled run"
-ENGINE = "starting the engine"
 
 _helpers: list[threading.Thread] = []   # engine calls made for runs, until they end
 _helpers_lock = threading.Lock()

@@ -96,7 +96,7 @@ def test_the_session_keeps_the_complex_text(qtbot, window, tmp_path):
     p.complex_check.setChecked(False)   # off: the real system of the split, to read and edit
     settle(qtbot, p)
     assert not p.is_complex() and p.k == 2 and p.formula_edits[0].text() == "u**3 - 3*u*v**2 + x**3 - 3*x*y**2 - 1"
-    assert window.open_session(path)
+    assert window.controller.open_session(path)
     with qtbot.waitSignal(window.runFinished, timeout=60_000):
         pass
     assert p.is_complex() and p.complex_equations() == ["w^3 + z^3 = 1"]

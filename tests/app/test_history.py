@@ -35,7 +35,6 @@ def test_undo_restores_the_previous_system_and_redo_reapplies_it():
     m = StudioModel()
     first, second = system(), system(formulas=("x1^2 + x2^2 - 1", "x3"), div="12", method="gcch")
     m.set_system(first)
-    m.set_view(view())
     m.set_system(second)
     assert m.history.can_undo() and not m.history.can_redo()
     state = m.undo()
@@ -50,12 +49,25 @@ def test_undo_restores_the_previous_system_and_redo_reapplies_it():
 def test_view_settings_are_undone_too():
     m = StudioModel()
     m.set_system(system())
-    m.set_view(view())
-    m.set_view(view(mapping="stereographic"))
-    m.set_view(view(mapping="stereographic", slice_={"along": "x1", "c": 0.5, "w": 0.04}))
-    assert m.undo()["view"] == view(mapping="stereographic")
-    assert m.undo()["view"] == view()
-    assert m.redo()["view"] == view(mapping="stereographic")
+    m.set_view_variables(["x1", "x2", "x3", "x4"])
+    m.projection.mapping = "stereographic"
+    m.projection_changed()
+    m.set_slice(on=True, index=0, c=0.5, w=0.04)
+    assert m.view_state()["slice"] == {"along": "x1", "c": 0.5, "w": 0.04}
+    state = m.undo()
+    assert state["view"]["mapping"] == "stereographic" and "slice" not in state["view"] and not m.slice.on
+    assert m.undo()["view"]["mapping"] == "orthographic" and m.projection.mapping == "orthographic"
+    assert m.redo()["view"]["mapping"] == "stereographic" and m.projection.mapping == "stereographic"
+
+
+def test_a_view_of_other_variables_is_passed_over():
+    m = StudioModel()
+    m.set_system(system())                               # (a view of x1, x2, x3)
+    m.set_view_variables(["u", "v", "w", "t"])           # another result's view
+    m.set_system(system(div="9"))
+    assert m.undo()["system"]["div"] == "8"
+    assert m.view_names == ["u", "v", "w", "t"]          # the 3-variable view was not put on the 4 variables'
+    assert m.undo() is None
 
 
 def test_typing_and_dragging_are_one_step_each():
@@ -63,17 +75,16 @@ def test_typing_and_dragging_are_one_step_each():
     m = StudioModel()
     m.history = History(clock=clock)
     m.set_system(system(formulas=("",)))
-    m.set_view(view())
     for text in ["x", "x1", "x1^", "x1^2", "x1^2 - 1"]:   # keystrokes in F1
         clock.t += 0.2
         m.set_system(system(formulas=(text,)))
     for a in range(0, 90, 10):   # a slider dragged
         clock.t += 0.05
-        m.set_view(view(angles=(0, a, 0)))
+        m.set_angles([0, a, 0])
     state = m.undo()   # the whole drag at once
-    assert state["view"] == view(angles=(0, 0, 0)) and state["system"]["formulas"] == ["x1^2 - 1"]
+    assert state["view"]["angles"] == [0, 0, 0] and state["system"]["formulas"] == ["x1^2 - 1"]
+    assert list(m.projection.angles) == [0, 0, 0]
     assert m.undo()["system"]["formulas"] == [""]      # the whole word at once
-    assert m.undo()["view"] == {}
     assert m.undo() is None
 
 
@@ -122,8 +133,8 @@ def test_model_stops_recording_while_told():
     m = StudioModel()
     m.set_system(system())
     m.recording = False
-    m.set_view(view(angles=(0, 10, 0)))   # e.g. an animation frame
-    m.set_view(view(angles=(0, 20, 0)))
+    m.set_angles([0, 10, 0])   # e.g. an animation frame
+    m.set_angles([0, 20, 0])
     m.recording = True
     assert not m.history.can_undo()
 

@@ -12,7 +12,6 @@ from gcmh_studio import studio_io
 from gcmh_studio.animation import ROTATE_PERIOD, SLICE_PERIOD, Clock, tour_angles
 from gcmh_studio.model import (
     EMPTY_RESULT,
-    Event,
     StudioModel,
     animation_frames,
     pick_text,
@@ -34,29 +33,18 @@ def sphere():
                              variables=["x1", "x2", "x3"])
 
 
-def test_event_calls_in_order_and_disconnects():
-    seen = []
-    ev = Event()
-    first = ev.connect(lambda x: seen.append(("a", x)))
-    ev.connect(lambda x: seen.append(("b", x)))
-    ev.emit(1)
-    ev.disconnect(first)
-    ev.emit(2)
-    assert seen == [("a", 1), ("b", 1), ("b", 2)]
-    with pytest.raises(ValueError):
-        ev.disconnect(first)
-
-
 def test_status_system_and_view_are_announced():
     m = StudioModel()
     said = []
     m.events.status.connect(lambda text, error: said.append((text, error)))
     m.events.system.connect(lambda d: said.append(("system", d["n"])))
-    m.events.view.connect(lambda d: said.append(("view", d["color"])))
+    m.events.style.connect(lambda: said.append(("style", m.style.color_by)))
     m.set_status("Cannot run: n", error=True)
     m.set_system({"n": 3, "k": 1})
-    m.set_view({"color": "x3"})
-    assert said == [("Cannot run: n", True), ("system", 3), ("view", "x3")]
+    m.set_system({"n": 3, "k": 1})        # nothing new: nothing said
+    m.set_style(color_by="x3")
+    m.set_style(color_by="x3")
+    assert said == [("Cannot run: n", True), ("system", 3), ("style", "x3")]
     assert m.status == "Cannot run: n" and m.status_error
     assert m.summary() == "no result yet"
 
@@ -137,7 +125,9 @@ def test_animation_clock():
 def test_session_round_trip(tmp_path, sphere):
     m = StudioModel()
     m.set_system({"n": 3, "k": 1, "formulas": ["x1^2 + x2^2 + x3^2 - 1"]})
-    m.set_view({"kind": "generic", "color": "x2"})
+    m.projection.kind = "generic"
+    m.projection_changed(base=True)
+    m.set_style(color_by="x2")
     m.set_result(sphere, ["x1", "x2", "x3"], "Sphere")
 
     class Camera:

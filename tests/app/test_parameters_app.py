@@ -123,11 +123,11 @@ def test_parameters_and_ranges_are_saved_in_sessions_and_undone(qtbot, window, t
     import json
 
     assert json.loads(path.read_text())["system"]["params"] == {"a": {"value": -1.5, "min": -2.0, "max": 1.0}}
-    assert window.undo()   # the value comes back, and the manifold at it
+    assert window.controller.undo()   # the value comes back, and the manifold at it
     assert params.state()["a"] == {"value": 0.5, "min": -2.0, "max": 1.0}
     _until_result(qtbot, window, lambda cx: cx.meta["params"] == {"a": 0.5})
     params.set_value("a", 0.7, commit=False)
-    assert window.open_session(path)
+    assert window.controller.open_session(path)
     assert wait_run(qtbot, window) == "done"
     assert params.state() == {"a": {"value": -1.5, "min": -2.0, "max": 1.0}}
     assert window.result.meta["params"] == {"a": -1.5}

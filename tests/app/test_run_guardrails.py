@@ -15,7 +15,7 @@ import pytest
 
 pytest.importorskip("pytestqt")
 
-from app_helpers import run_and_wait, settle  # noqa: E402
+from app_helpers import run_and_wait, settle
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SPHERE = "x1^2 + x2^2 + x3^2 + x4^2 - 1"
@@ -105,9 +105,9 @@ def test_undo_restores_the_view(qtbot, window):
     pp.sliders[0].setValue(40)
     turned = pp.state()
     assert turned["angles"] != first["angles"]
-    assert window.undo()
+    assert window.controller.undo()
     assert pp.state()["angles"] == first["angles"]
-    assert window.redo()
+    assert window.controller.redo()
     assert pp.state()["angles"] == turned["angles"]
 
 
@@ -134,7 +134,7 @@ def test_the_estimate_is_shown_before_the_run(qtbot, window):
     seen = []
     window.runs.estimated.connect(lambda est: seen.append(window.last_status))
     assert run_and_wait(qtbot, window) == "done"
-    assert window.last_estimate is not None and window.last_estimate.fits
+    assert window.controller.last_estimate is not None and window.controller.last_estimate.fits
     assert seen and "of memory" in seen[0] and "available" in seen[0]
 
 
@@ -193,9 +193,9 @@ def test_a_slow_formula_check_never_blocks_the_window(qtbot, window, monkeypatch
     and the answer of a stale text is dropped."""
     from qtpy.QtCore import QTimer
 
-    import gcmh_studio.qt_formula_panel
+    import gcmh_studio.qt_formula_checks
 
-    real = gcmh_studio.qt_formula_panel.check_key
+    real = gcmh_studio.qt_formula_checks.check_key
     spans = []
 
     def slow(key):   # pure Python work, as a slow parse would be (holds the GIL by turns)
@@ -206,7 +206,7 @@ def test_a_slow_formula_check_never_blocks_the_window(qtbot, window, monkeypatch
         spans.append((t0, time.perf_counter(), key[1]))
         return real(key)
 
-    monkeypatch.setattr(gcmh_studio.qt_formula_panel, "check_key", slow)
+    monkeypatch.setattr(gcmh_studio.qt_formula_checks, "check_key", slow)
     p = window.formula_panel
     ticks = []
     timer = QTimer()
@@ -319,14 +319,14 @@ def test_cancel_does_not_wait_for_an_engine_phase_that_never_polls(qtbot, window
 def test_the_panel_shows_the_runs_estimate_before_run(qtbot, window, monkeypatch):
     import dataclasses
 
-    import gcmh_studio.qt_formula_panel
+    import gcmh_studio.qt_method_box
 
     p = window.formula_panel
     fill(qtbot, p, 4, 2, [SPHERE, "x1 - x2"], div="6")
     qtbot.waitUntil(lambda: p.run_estimate is not None, timeout=20_000)
     assert p.run_estimate.fits and "of memory" in p.estimate_label.text()
-    real = gcmh_studio.qt_formula_panel.estimate_job
-    monkeypatch.setattr(gcmh_studio.qt_formula_panel, "estimate_job",
+    real = gcmh_studio.qt_method_box.estimate_job
+    monkeypatch.setattr(gcmh_studio.qt_method_box, "estimate_job",
                         lambda job: dataclasses.replace(real(job), peak_bytes=10**15))
     p.div_edit.setText("7")
     qtbot.waitUntil(lambda: p.run_estimate is not None and not p.run_estimate.fits, timeout=20_000)
@@ -347,9 +347,9 @@ def test_every_undo_changes_what_the_panels_show(qtbot, window):
     pp.sliders[0].setValue(20)
     while p.state() != first:
         before = (p.state(), pp.state())
-        assert window.undo(), "the history ended before the first system came back"
+        assert window.controller.undo(), "the history ended before the first system came back"
         assert (p.state(), pp.state()) != before
-    assert window.redo()
+    assert window.controller.redo()
     assert p.state() != first
 
 

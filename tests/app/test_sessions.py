@@ -15,16 +15,19 @@ CAMERA = {"position": [4.0, -6.0, 3.0], "focal_point": [0.0, 0.0, 0.5], "up": [0
           "parallel_scale": 1.5, "view_angle": 24.0}
 
 
-def _model():
+def _model(keep=False):
     m = StudioModel()
     m.set_system({"n": 3, "k": 1, "formulas": ["x1^2 + x2^2 + x3^2 - 1"]})
-    m.set_view({"kind": "generic", "color": "x2"})
+    m.projection.kind = "generic"
+    m.projection_changed(base=True)
+    m.set_style(color_by="x2", keep_camera=keep)
     return m
 
 
 @pytest.mark.parametrize("keep", [True, False])
 def test_the_toggle_and_the_camera_round_trip(tmp_path, keep):
-    d = studio_io.session_dict(_model(), dict(CAMERA), keep_camera=keep)
+    d = studio_io.session_dict(_model(keep), dict(CAMERA))
+    assert d["view"]["kind"] == "generic" and d["view"]["color"] == "x2"
     back = studio_io.read_session(studio_io.write_session(tmp_path / "s.json", d))
     assert back["keep_camera"] is keep
     assert studio_io.session_camera(back) == (CAMERA, keep)
@@ -66,12 +69,11 @@ def test_a_held_camera_comes_back_held_in_a_new_window(qtbot, window, tmp_path):
 
     with qtbot.waitSignal(window.runFinished, timeout=60_000):
         window.load_example("sphere", div=10)
-    v = window.viewer
-    v.panel.keep_camera_check.setChecked(True)
+    window.projection_panel.keep_camera_check.setChecked(True)
+    assert window.model.style.keep_camera
     cam = window.plotter.camera
     cam.position = tuple(np.asarray(cam.position) * 1.7)   # farther away than any fit would put it
-    window.model.set_system(window.formula_panel.state())
-    d = studio_io.session_dict(window.model, **v.camera_session())
+    d = window.controller.session()
     assert d["keep_camera"] is True
     path = studio_io.write_session(tmp_path / "s.json", d)
 
@@ -81,7 +83,7 @@ def test_a_held_camera_comes_back_held_in_a_new_window(qtbot, window, tmp_path):
     w2.show()
     try:
         with qtbot.waitSignal(w2.runFinished, timeout=60_000):
-            assert w2.open_session(path)
+            assert w2.controller.open_session(path)
         back = studio_io.read_session(path)
         w2.viewer.restore_camera(*studio_io.session_camera(back))
         assert w2.viewer.keep_camera()

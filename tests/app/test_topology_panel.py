@@ -103,14 +103,17 @@ def test_refine_button_and_result(panel, qtbot):
     assert panel.report() is None and panel.refine_label.text() == "" and not panel.refine_button.isEnabled()
 
 
-@pytest.mark.parametrize("check, signal", [("boundary_check", "highlightBoundaryToggled"),
-                                           ("path_check", "showPathToggled"),
-                                           ("two_sided_check", "twoSidedToggled")])
-def test_toggles_emit(panel, qtbot, check, signal):
+@pytest.mark.parametrize("check, field", [("boundary_check", "boundary"), ("path_check", "grid"),
+                                          ("two_sided_check", "two_sided")])
+def test_toggles_write_and_show_the_model(panel, check, field):
     cx, system = _example("complex-cosine")
     panel.set_result(cx, system)
     box = getattr(panel, check)
+    seen = []
+    panel.studio.events.style.connect(lambda: seen.append(getattr(panel.studio.style, field)))
     for state in (True, False):
-        with qtbot.waitSignal(getattr(panel, signal), timeout=1000) as blocker:
-            box.setChecked(state)
-        assert blocker.args == [state]
+        box.setChecked(state)
+        assert getattr(panel.studio.style, field) is state
+    assert seen == [True, False]
+    panel.studio.set_style(**{field: True})   # the View tab's switch, say: this one follows
+    assert box.isChecked()

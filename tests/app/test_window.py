@@ -10,9 +10,9 @@ import pytest
 
 pytest.importorskip("pytestqt")
 
-from gcmh_core.examples import list_examples  # noqa: E402
+from gcmh_core.examples import list_examples
 
-from app_helpers import app_in_process, picture_stats, run_and_wait, settle, small_div, wait_run  # noqa: E402
+from app_helpers import app_in_process, picture_stats, run_and_wait, settle, small_div, wait_run
 
 EXAMPLES = [ex.name for ex in list_examples()]
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -399,7 +399,7 @@ def test_session_save_and_open_restores_state(qtbot, window, tmp_path):
     pp.set_mapping("perspective")       # issue 5: mapping, slice and two-sided colours are part of the view
     pp.set_slice("u", 0.4, 0.05)
     pp.two_sided_check.setChecked(True)
-    state = window.session()
+    state = window.controller.session()
     assert state["view"]["mapping"] == "perspective" and state["view"]["slice"]["along"] == "u"
     path = tmp_path / "s.json"
     window.save_session(path)
@@ -414,8 +414,8 @@ def test_session_save_and_open_restores_state(qtbot, window, tmp_path):
     w2.show()
     try:
         with qtbot.waitSignal(w2.runFinished, timeout=60_000):
-            assert w2.open_session(path)
-        s2 = w2.session()
+            assert w2.controller.open_session(path)
+        s2 = w2.controller.session()
         assert s2["system"] == state["system"]
         assert s2["view"] == state["view"]
         assert w2.scene.slice is not None and w2.scene.view.mapping == "perspective" and w2.scene.style.two_sided
@@ -429,7 +429,7 @@ def test_session_save_and_open_restores_state(qtbot, window, tmp_path):
 def test_open_bad_session_reports(window, tmp_path):
     p = tmp_path / "bad.json"
     p.write_text("{not json")
-    assert not window.open_session(p)
+    assert not window.controller.open_session(p)
     assert "Cannot open" in window.last_status
 
 
@@ -748,7 +748,7 @@ def test_animation_play_tour_rotate_and_sweep(qtbot, window):
     row = pp.model.planes.index((3, 4))
     window._on_anim_playing(True)
     assert "hidden" in ap.message.text()   # s-t: both hidden, said so (the angle still turns)
-    window._on_anim_tick(1.5)           # 1.5 s at speed 1: 45 degrees
+    window.controller.tick(1.5)           # 1.5 s at speed 1: 45 degrees
     assert pp.model.angles[row] == pytest.approx(45.0)
     assert pp.sliders[row].value() == 45
     ap.set_mode("tour")
@@ -767,7 +767,7 @@ def test_animation_play_tour_rotate_and_sweep(qtbot, window):
     ap.set_playing(True)
     assert ap.is_playing()
     c0 = pp.slice_c.value()
-    window._on_anim_tick(1.0)
+    window.controller.tick(1.0)
     assert pp.slice_c.value() != c0
     ap.set_playing(False)
 
@@ -823,7 +823,7 @@ def test_pick_a_cell_shows_its_coordinates_and_cube(qtbot, window):
     set_system(qtbot, window, 3, 1, ["x1^2 + x2^2 + x3^2 - 1"], bounds=("-1.5", "1.5"), div="8")
     assert run_and_wait(qtbot, window) == "done"
     cx = window.result
-    info = window.pick_cell(5)
+    info = window.viewer.pick_cell(5)
     off, vids = cx.polygons()
     assert list(info["vertices"]) == list(vids[off[5]:off[5 + 1]])
     assert np.allclose(info["coords"], cx.vertices[info["vertices"]])
@@ -837,8 +837,8 @@ def test_pick_a_cell_shows_its_coordinates_and_cube(qtbot, window):
     cent = np.array([X[vids[off[i]:off[i + 1]]].mean(0) for i in range(len(off) - 1)])
     near = int(np.argmin(np.linalg.norm(cent - cam, axis=1)))
     xy = window.scene.display_position(near)
-    assert window.pick_at(xy)["cell"] == near
-    assert window.pick_at((2, 2)) is None and window.pick_label.isHidden()
+    assert window.viewer.pick_at(xy)["cell"] == near
+    assert window.viewer.pick_at((2, 2)) is None and window.pick_label.isHidden()
 
 
 def test_topology_tab_refine_and_shared_switches(qtbot, window):
@@ -861,10 +861,10 @@ def test_topology_tab_refine_and_shared_switches(qtbot, window):
     # refinement moves the vertices onto M
     r0 = np.abs(np.linalg.norm(window.result.vertices, axis=1) - 1).max()
     with qtbot.waitSignal(window.refineFinished, timeout=60_000) as sig:
-        assert window.refine_result()  # in a worker thread: the button waits meanwhile
-        assert not tp.refine_button.isEnabled() and not window.refine_result()
+        assert window.controller.refine()  # in a worker thread: the button waits meanwhile
+        assert not tp.refine_button.isEnabled() and not window.controller.refine()
     assert sig.args == ["done"] and tp.refine_button.isEnabled()
-    out = window.last_refinement
+    out = window.model.last_refinement
     assert out is not None and out["after"] < out["before"]
     r1 = np.abs(np.linalg.norm(window.result.vertices, axis=1) - 1).max()
     assert r1 < 0.1 * r0
@@ -872,7 +872,7 @@ def test_topology_tab_refine_and_shared_switches(qtbot, window):
     # a refinement that ends after the result changed is dropped, not shown over the new one
     base = window.result
     with qtbot.waitSignal(window.refineFinished, timeout=60_000) as sig:
-        assert window.refine_result()
+        assert window.controller.refine()
         window.show_result(base, window.result_names)  # (the same complex, shown anew: a new result)
         shown = window.result
     assert sig.args == ["dropped"] and window.result is shown

@@ -21,7 +21,7 @@ def test_a_session_saved_by_the_window_brings_the_held_camera_back(qtbot, window
 
     with qtbot.waitSignal(window.runFinished, timeout=60_000):
         window.load_example("sphere", div=10)
-    window.viewer.panel.keep_camera_check.setChecked(True)
+    window.projection_panel.keep_camera_check.setChecked(True)
     cam = window.plotter.camera
     cam.position = tuple(np.asarray(cam.position) * 1.7)
     saved = np.array(cam.position)
@@ -34,7 +34,7 @@ def test_a_session_saved_by_the_window_brings_the_held_camera_back(qtbot, window
     w2.show()
     qtbot.waitExposed(w2)
     with qtbot.waitSignal(w2.runFinished, timeout=60_000):
-        assert w2.open_session(path)
+        assert w2.controller.open_session(path)
     qtbot.wait(50)
     assert w2.viewer.keep_camera()
     assert np.allclose(w2.plotter.camera.position, saved, rtol=1e-6)

@@ -1,0 +1,154 @@
+"""QtStillPicture: a see-through result's still picture, drawn in a thread and shown over the 3D view.
+
+A see-through result's still picture (0.3 s of software GL for the three-torus) is drawn in a thread on an
+off-screen copy (:class:`gcmh_studio.offscreen.StillJob`) and shown over the view (a label) until the view
+renders again. A new result is drawn in short GUI steps of their own: the picture in a thread, or the
+window's unshown render (:meth:`QtStillPicture.settle`) and then its own.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from qtpy.QtCore import Qt, QTimer
+from qtpy.QtGui import QImage, QPixmap
+from qtpy.QtWidgets import QLabel
+
+from .camera import camera_values
+from .offscreen import StillJob
+
+STILL_POLL_MS = 15       # how often the GUI looks whether the still picture drawn in a thread is there
+
+
+class QtStillPicture:
+    """The still picture of ``viewer`` (:class:`gcmh_studio.qt_viewer.QtViewer`)."""
+
+    def __init__(self, viewer):
+        self.viewer = viewer
+        self.off_thread = True
+        self.job: StillJob | None = None
+        self.image: np.ndarray | None = None    # the last one shown
+        self.settling = False
+        self.fresh = False        # a new result the window has not drawn yet (its picture drawn in a thread)
+        self.label = QLabel(viewer.widget)
+        self.label.setAttribute(Qt.WA_TransparentForMouseEvents)   # the view under it gets the mouse
+        self.label.hide()
+        self.poll = QTimer(viewer.widget)
+        self.poll.setInterval(STILL_POLL_MS)
+        self.poll.timeout.connect(self._arrived)
+        self.steps: list = []
+        self.step = QTimer(viewer.widget)
+        self.step.setSingleShot(True)
+        self.step.setInterval(0)
+        self.step.timeout.connect(self._next_step)
+        viewer.plotter.ren_win.AddObserver("StartEvent", lambda *a: self.drop())
+
+    def start(self) -> None:
+        """A new result: its picture in steps of their own (one render asked)."""
+        self.drop()
+        self.fresh = self.in_thread()   # (the unshown render comes before the window's first)
+        self.steps = [self.render] if self.fresh else [self.settle, self.render]
+        self.step.start()
+
+    def in_thread(self) -> bool:
+        """Draw the still picture in a thread: a see-through result (0.3 s of software GL for the three-torus)
+        in a view on screen with nothing of the window's own drawn over it (the presentation's card)."""
+        v = self.viewer
+        aa = v.scene.anti_aliasing   # (FXAA as asked: an EGL build falls back to super-sampling)
+        return (self.off_thread and v.scene.see_through() and v.widget.isVisible()
+                and min(v.size()) > 0 and (aa != "fxaa" or bool(v.plotter.renderer.GetUseFXAA())))
+
+    def render(self) -> None:
+        """The still look of the scene as it is, drawn in a thread, shown when it arrives (else the window
+        renders it); the render was counted when it was asked for."""
+        self.drop()
+        if not self.in_thread():
+            self.viewer.widget.update()
+            return
+        v = self.viewer
+        try:
+            job = StillJob(v.scene, v.plotter.ren_win.GetSize(), camera_values(v.plotter.camera),
+                           anti_aliasing=v.scene.anti_aliasing, decorate=v._decorate)
+        except Exception:  # noqa: BLE001 - the window draws it itself
+            job = None
+        if job is None or job.declined:   # (the presentation draws over the view: the window's own render)
+            self.viewer.widget.update()
+            return
+        self.job = job
+        self.poll.start()
+
+    def _next_step(self) -> None:
+        if self.steps:
+            self.steps.pop(0)()
+        if self.steps:     # (started after the step: a timer due meanwhile, the GUI's, goes first)
+            self.step.start()
+
+    def drop(self) -> None:
+        """The view renders itself (or changed): a still picture on its way or on screen is no longer it."""
+        if self.settling:
+            return
+        self.steps = []
+        self.step.stop()
+        if self.job is not None:
+            self.job.stale = True
+            self.job = None
+        if self.label.isVisible():
+            self.label.hide()
+            self.label.clear()
+
+    def _arrived(self) -> None:
+        job = self.job
+        if job is None:
+            self.poll.stop()
+            return
+        if not job.done():
+            return
+        self.poll.stop()
+        self.job = None
+        w, h = self.viewer.plotter.ren_win.GetSize()
+        img = job.image
+        if job.stale or img is None or img.shape[:2] != (h, w):   # failed, or the view changed size
+            if not job.stale:
+                self.viewer.render()
+            return
+        self.image = img
+        qimg = QImage(img.data, w, h, 3 * w, QImage.Format_RGB888)
+        pix = QPixmap.fromImage(qimg)    # (a copy: the array may go)
+        pix.setDevicePixelRatio(w / max(self.viewer.widget.width(), 1))
+        self.label.setGeometry(self.viewer.widget.rect())
+        self.label.setPixmap(pix)
+        self.label.show()
+        self.label.raise_()
+
+    def settle(self) -> None:
+        """One cheap render of a new result, not shown, with the complex shrunk to a point: the colour bar lays
+        its labels out from the frame before, and the window's first frame of a new result put them over the
+        bar (the picture a result opened with, until the next render)."""
+        self.fresh = False
+        actor = self.viewer.scene.actor
+        if actor is None or not self.viewer.widget.isVisible():
+            return
+        rw = self.viewer.plotter.ren_win
+        ren = self.viewer.plotter.renderer
+        fxaa = bool(ren.GetUseFXAA())
+        self.settling = True
+        try:
+            actor.SetScale(1e-6, 1e-6, 1e-6)
+            ren.SetUseFXAA(False)   # (nothing of it is seen)
+            rw.SwapBuffersOff()     # (a frame not to be shown: the widget schedules no paint for it)
+            rw.Render()
+        except Exception:  # noqa: BLE001 - only the labels' first frame is at stake
+            pass
+        finally:
+            rw.SwapBuffersOn()
+            ren.SetUseFXAA(fxaa)
+            actor.SetScale(1.0, 1.0, 1.0)
+            self.settling = False
+
+    def shown(self) -> bool:
+        """The view shows a still picture drawn in a thread (tests and the benchmark ask)."""
+        return self.label.isVisible()
+
+    def pending(self) -> bool:
+        """A new result's picture is on its way (its steps, or its thread)."""
+        return bool(self.steps) or self.job is not None
+

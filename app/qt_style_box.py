@@ -1,0 +1,66 @@
+"""QtStyleBox: the View tab's drawing style (colour by a coordinate, opacity, edges, two-sided colours, the
+boundary and grid overlays). It writes the model's :class:`gcmh_studio.model.ViewStyle` and shows it
+(:meth:`show_style`, on the model's ``style`` event: the Topology tab's switches change it too)."""
+
+from __future__ import annotations
+
+from qtpy.QtWidgets import QCheckBox, QComboBox, QFormLayout, QGroupBox
+
+from .model import StudioModel
+from .qt_widgets import blocked, connect_all, slider
+
+SOLID = "(solid colour)"
+
+
+class QtStyleBox(QGroupBox):
+    def __init__(self, model: StudioModel, parent=None):
+        super().__init__("Style", parent)
+        self.studio = model
+        sf = QFormLayout(self)
+        self.color_combo = QComboBox()
+        self.color_combo.setToolTip("colour the vertices by one of the n coordinates")
+        sf.addRow("colour by", self.color_combo)
+        self.opacity_slider = slider(5, 100, 100)
+        sf.addRow("opacity", self.opacity_slider)
+        self.edges_check = QCheckBox("show cell edges")
+        sf.addRow(self.edges_check)
+        self.two_sided_check = QCheckBox("two-sided colours (front gold, back blue)")
+        self.two_sided_check.setToolTip("colour the two sides of the coherently oriented surface apart; "
+                                        "a non-orientable surface shows where they swap")
+        sf.addRow(self.two_sided_check)
+        self.boundary_check = QCheckBox("highlight the boundary")
+        sf.addRow(self.boundary_check)
+        self.grid_check = QCheckBox("show the grid cubes it passes through")
+        sf.addRow(self.grid_check)
+        connect_all((self.color_combo.currentIndexChanged, self.opacity_slider.valueChanged,
+                     self.edges_check.toggled, self.two_sided_check.toggled, self.boundary_check.toggled,
+                     self.grid_check.toggled), self._on_edit)
+
+    def _widgets(self):
+        return (self.color_combo, self.opacity_slider, self.edges_check, self.two_sided_check,
+                self.boundary_check, self.grid_check)
+
+    def set_names(self, names) -> None:
+        """The coordinates to colour by."""
+        with blocked(self.color_combo):
+            self.color_combo.clear()
+            self.color_combo.addItem(SOLID, None)
+            for nm in names:
+                self.color_combo.addItem(nm, nm)
+        self.show_style()
+
+    def show_style(self) -> None:
+        st = self.studio.style
+        with blocked(*self._widgets()):
+            i = self.color_combo.findData(st.color_by) if st.color_by else 0
+            self.color_combo.setCurrentIndex(max(i, 0))
+            self.opacity_slider.setValue(int(round(100 * st.opacity)))
+            self.edges_check.setChecked(st.show_edges)
+            self.two_sided_check.setChecked(st.two_sided)
+            self.boundary_check.setChecked(st.boundary)
+            self.grid_check.setChecked(st.grid)
+
+    def _on_edit(self, *_) -> None:
+        self.studio.set_style(color_by=self.color_combo.currentData(), opacity=self.opacity_slider.value() / 100.0,
+                              show_edges=self.edges_check.isChecked(), two_sided=self.two_sided_check.isChecked(),
+                              boundary=self.boundary_check.isChecked(), grid=self.grid_check.isChecked())
