@@ -27,7 +27,6 @@ from .qt_rotation_sliders import QtRotationSliders
 from .qt_slice_box import QtSliceBox
 from .qt_style_box import SOLID, QtStyleBox
 from .qt_widgets import blocked, error_label, group, panel_layout, slider_row
-from .slicing import SliceWindow
 
 __all__ = ["SOLID", "QtProjectionPanel"]
 
@@ -269,26 +268,11 @@ class QtProjectionPanel(QWidget):
         self.studio.set_slice(on=True, index=where[0], hidden=where[1], c=float(c_frac), w=max(0.001, float(w_frac)))
         return True
 
-    def set_slice_center(self, fraction: float) -> None:
-        self.studio.set_slice(c=min(max(float(fraction), 0.0), 1.0))
-
-    def slice_window(self) -> SliceWindow | None:
-        return self.studio.slice.window()
-
-    def slice_fractions(self) -> tuple[float, float]:
-        return self.studio.slice.c, self.studio.slice.w
-
     def color_by(self) -> str | None:
         return self.studio.style.color_by
 
     def set_color_by(self, name: str | None) -> None:
         self.studio.set_style(color_by=name if name in self.names else None)
-
-    def opacity(self) -> float:
-        return self.studio.style.opacity
-
-    def show_edges(self) -> bool:
-        return self.studio.style.show_edges
 
     def matrix(self) -> np.ndarray:
         return self.model.matrix()

@@ -16,6 +16,24 @@ def test_the_window_has_the_presentation_mode(window):
     assert window.presentation.decorate in window.viewer.picture_decorators
 
 
+def test_every_event_of_the_model_and_the_controller_has_a_listener(window):
+    """napari's way: the model announces, the panels and the view listen; an event nobody hears is dead code."""
+    for group in (window.model.events, window.controller.events):
+        deaf = [name for name, signal in group.signals.items() if len(signal) == 0]
+        assert deaf == [], f"no listener for {deaf}"
+
+
+def test_the_view_and_topology_switches_are_one_model_field(window):
+    pp, tp = window.projection_panel, window.topology_panel
+    tp.two_sided_check.setEnabled(True)
+    tp.two_sided_check.setChecked(True)
+    assert window.model.style.two_sided and pp.two_sided_check.isChecked()
+    pp.boundary_check.setChecked(True)
+    assert window.model.style.boundary and tp.boundary_check.isChecked()
+    window.model.set_style(grid=True)                      # (Undo, a session: the model changes)
+    assert pp.grid_check.isChecked() and tp.path_check.isChecked()
+
+
 def test_a_session_saved_by_the_window_brings_the_held_camera_back(qtbot, window, tmp_path):
     from gcmh_studio.qt_main_window import QtMainWindow
 
