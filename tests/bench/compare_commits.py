@@ -225,7 +225,8 @@ def measure(spec: dict) -> dict:
                 values.append(seconds)
     _check_tree(spec["tree"])
     return dict(case=spec["case"], side=spec["side"], round=spec["round"], value=min(values), values=values,
-                fresh=import_s + first_s, hash=digest(cx), pruned_cubes=cx.meta.get("pruned_cubes"))
+                fresh=import_s + first_s, hash=digest(cx), pruned_cubes=cx.meta.get("pruned_cubes"),
+                timings={key: round(v, 4) for key, v in cx.meta.get("timings", {}).items()})
 
 
 # ----------------------------------------------------------------------------- the comparison (parent)
@@ -267,7 +268,8 @@ def format_table(rows: list[dict], fresh: bool = False) -> str:
     lines = ["| case | unit | A median | B median | B/A | pairs' B/A (min-max) | B slower in | output | note |",
              "|---|---|---|---|---|---|---|---|---|"]
     for row in rows:
-        keys = ("value", "fresh") if fresh else ("value",)
+        measured = row["fresh"]["a"] is not None or row["fresh"]["b"] is not None
+        keys = ("value", "fresh") if fresh and measured else ("value",)
         for key in keys:
             s, unit = row[key], row["unit"] if key == "value" else "s, fresh"
             name = row["case"] if key == "value" else f"{row['case']} (process)"
@@ -378,8 +380,9 @@ def main(argv=None) -> int:
     sys.path.insert(0, HERE)
     from bench import machine
 
-    subject = {lab: "the working tree" if rev == WORKTREE else _git("log", "-1", "--format=%h %cs %s", rev, cwd=repo)
-               for lab, rev in ((label_a, args.rev_a), (label_b, args.rev_b))}
+    # (by the commits compared: a branch name may have moved on meanwhile)
+    subject = {lab: "the working tree" if lab == WORKTREE else _git("log", "-1", "--format=%h %cs %s", lab, cwd=repo)
+               for lab in (label_a, label_b)}
     load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
     print(f"# {datetime.now(timezone.utc):%Y-%m-%d %H:%M} UTC, {machine()}, load {load} (at the end), "
           f"{time.perf_counter() - t0:.0f} s")
