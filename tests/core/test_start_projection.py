@@ -1,6 +1,6 @@
 """A start point on M is projected in one evaluation, also when exact zeros are shifted:
 the grid's copy of F (`_zeros`) reads F = 0 as noise of 1e-9 that no Newton step reduces,
-and projecting with it took all 50 steps (a fifth of GCCH's time on the complex cosine)."""
+and projecting with it took all 50 steps (18 ms of GCCH's 250 on the complex cosine at div 80)."""
 
 import numpy as np
 
