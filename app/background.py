@@ -1,10 +1,11 @@
-"""One off-screen picture drawn in a thread at a time, and every other render waits for it.
+"""Pictures drawn off the GUI thread: one at a time, the newest wins, and every other render waits for it.
 
 VTK's text rendering is one unguarded singleton, so a picture drawn in a thread
 (:class:`gcmh_studio.offscreen.StillJob`, the warm-up) must not overlap any other
-render: each runs after the one before it, and every :class:`gcmh_studio.scene.Scene`
-waits for the one under way before it renders (a ``StartEvent`` observer calling
-:func:`wait_background`). No Qt, no VTK here.
+render: they are drawn one after another by one :class:`gcmh_studio.latest.LatestCall`
+(a picture still waiting when a newer one is asked for is dropped, never drawn: the view
+has moved on), and every :class:`gcmh_studio.scene.Scene` waits for the newest before it
+renders (a ``StartEvent`` observer calling :func:`wait_background`). No Qt, no VTK here.
 """
 
 from __future__ import annotations
@@ -13,36 +14,65 @@ import atexit
 import threading
 from collections.abc import Callable
 
+from .latest import LatestCall
+
 _tls = threading.local()
-_current: threading.Thread | None = None     # the last picture thread started
+_lock = threading.Lock()
+_waiting: list[Picture] = []      # asked for and not begun, oldest first: all but the newest will be dropped
+_newest: Picture | None = None
+_latest: LatestCall | None = None
+
+
+class Picture:
+    """A picture asked of the background: ``draw()`` runs in its thread, or ``drop()`` there when a newer
+    picture was asked for before this one began; ``finished`` is set after either."""
+
+    def __init__(self, draw: Callable[[], None], drop: Callable[[], None] | None = None):
+        self._draw, self._drop = draw, drop
+        self.finished = threading.Event()
+
+    def done(self) -> bool:
+        return self.finished.is_set()
+
+    def _run(self) -> None:
+        _tls.worker = True
+        with _lock:   # the pictures asked for before this one that never began were dropped
+            i = _waiting.index(self)
+            dropped, _waiting[: i + 1] = _waiting[:i], []
+        for p in dropped:
+            p._end(p._drop)
+        self._end(self._draw)
+
+    def _end(self, what: Callable[[], None] | None) -> None:
+        try:
+            if what is not None:
+                what()
+        finally:
+            self.finished.set()
 
 
 def wait_background() -> None:
-    """Block until the picture drawing in the background (if any) is done (a no-op on such a thread)."""
-    thread = _current
-    if thread is not None and not getattr(_tls, "worker", False):
-        thread.join()
+    """Block until the newest picture asked of the background is drawn (a no-op on its thread)."""
+    picture = _newest
+    if picture is not None and not getattr(_tls, "worker", False):
+        picture.finished.wait()
 
 
 def started() -> bool:
-    """A picture has been drawn (or is drawing) in the background in this process."""
-    return _current is not None
+    """A picture has been asked of the background in this process."""
+    return _newest is not None
 
 
-def draw_in_background(target: Callable[[], None], name: str) -> threading.Thread:
-    """Run ``target()`` in a daemon thread once the picture before it (if any) is done; returns the thread."""
-    global _current
-    previous = _current
-
-    def run() -> None:
-        _tls.worker = True
-        if previous is not None:
-            previous.join()
-        target()
-
-    if previous is None:   # a picture still drawing when Python exits would draw into a finalised VTK
+def draw_in_background(draw: Callable[[], None], drop: Callable[[], None] | None = None) -> Picture:
+    """Draw a picture in the background thread (``draw()``) once the one under way is done, unless a newer
+    one is asked for first (then ``drop()`` runs there instead). Call it from one thread (the GUI's)."""
+    global _newest, _latest
+    if _latest is None:   # a picture still drawing when Python exits would draw into a finalised VTK
+        _latest = LatestCall(lambda key, value, error: None, name="gcmh-background-picture")
         atexit.register(wait_background)
-    thread = threading.Thread(target=run, name=name, daemon=True)
-    _current = thread
-    thread.start()
-    return thread
+    picture = Picture(draw, drop)
+    with _lock:
+        _waiting.append(picture)
+    _newest = picture
+    _latest.ask(id(picture), picture._run)
+    return picture

@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 import pyvista as pv
 
-from .background import draw_in_background, started
+from .background import Picture, draw_in_background, started
 from .camera import copy_camera, default_camera, keep_framing, refit_camera
 from .scene import Scene
 
@@ -79,8 +79,9 @@ def render_image(scene: Scene, path=None, size=(1600, 1200), transparent: bool =
 # A see-through result's still render takes about 0.3 s in software GL (every layer of every pixel shaded
 # under five lights), and the GUI cannot tick while VTK draws on its thread. A StillJob draws that picture
 # on an off-screen plotter of its own in a thread (VTK lets go of the GIL while it renders) from deep copies
-# of the scene's meshes; the window shows the image until it renders again. One such picture at a time, and
-# every other render waits for it (:mod:`gcmh_studio.background`).
+# of the scene's meshes; the window shows the image until it renders again. One such picture at a time, the
+# newest wins (one still waiting when the view asks for another is never drawn), and every other render
+# waits for it (:mod:`gcmh_studio.background`).
 SETTLE_RENDERS = 1          # cheap renders before the picture (see StillJob._run)
 
 
@@ -91,7 +92,8 @@ class StillJob:
     Made on the GUI thread: the copies are taken and the off-screen scene is built there (no GL yet), with
     ``decorate(plotter)`` (what the window draws over its view); when that adds anything the job is
     ``declined`` (the window draws its own picture). Then ``done()``, and ``image`` ((h, w, 3) uint8) or
-    ``error``. ``stale`` is the caller's: set it when the picture is no longer wanted."""
+    ``error``; or no image at all, when a newer picture was asked for before this one began.
+    ``stale`` is the caller's: set it when the picture is no longer wanted."""
 
     def __init__(self, scene: Scene, size, camera: dict, anti_aliasing: str | None = "fxaa", decorate=None):
         self.size = (int(size[0]), int(size[1]))
@@ -102,6 +104,7 @@ class StillJob:
         self.seconds = 0.0
         self._plotter: Any = None          # the off-screen plotter and scene, while the thread has them
         self._scene: Any = None
+        self.picture: Picture | None = None
         # (made here, not in the thread: ``decorate`` is the window's; a plotter kept for the next job would
         # outlive the X server in a test run, and Xlib ends a process whose display went away)
         pl = pv.Plotter(off_screen=True, window_size=list(self.size))
@@ -128,13 +131,13 @@ class StillJob:
             raise
         if self.declined:
             pl.close()
-            self.thread = None
             return
         self._plotter, self._scene = pl, sc
-        self.thread = draw_in_background(self._run, "gcmh-still-picture")
+        self.picture = draw_in_background(self._run, self._close)
 
     def done(self) -> bool:
-        return self.thread is None or not self.thread.is_alive()
+        """Drawn, failed, declined, or dropped for a newer picture (then ``image`` is None)."""
+        return self.picture is None or self.picture.done()
 
     def _run(self) -> None:
         import time
@@ -155,12 +158,15 @@ class StillJob:
         except BaseException as e:  # noqa: BLE001 - told to the GUI thread, which draws the picture itself
             self.error = e
         finally:
-            try:
-                pl.close()
-            except Exception:  # noqa: BLE001
-                pass
-            self._plotter = self._scene = None
+            self._close()
             self.seconds = time.perf_counter() - t0
+
+    def _close(self) -> None:
+        try:
+            self._plotter.close()
+        except Exception:  # noqa: BLE001
+            pass
+        self._plotter = self._scene = None
 
 
 def window_pixels(ren_win) -> np.ndarray:
@@ -200,4 +206,4 @@ def warm_background() -> None:
             pass
 
     if not started():
-        draw_in_background(run, "gcmh-still-warm-up")
+        draw_in_background(run)

@@ -111,3 +111,29 @@ def test_without_the_thread_the_window_renders_the_result_itself(qtbot, window):
     _run_three_torus(qtbot, window)
     qtbot.waitUntil(lambda: len(frames) >= 1, timeout=30_000)
     assert not v.still_pending() and v._still_job is None and not v.still_shown()
+
+
+def test_a_picture_still_waiting_when_a_newer_is_asked_for_is_dropped_not_drawn():
+    """The background draws one picture at a time and the newest wins: B, asked for while A draws and
+    overtaken by C before it began, is dropped (its plotter closed by ``drop``); C is drawn after A, and
+    a render elsewhere waits for C."""
+    import threading
+
+    from gcmh_studio import background
+
+    began, gate, log = threading.Event(), threading.Event(), []
+
+    def draw_a():
+        began.set()
+        gate.wait()
+        log.append("a")
+
+    a = background.draw_in_background(draw_a)
+    assert began.wait(60)                       # A is drawing
+    b = background.draw_in_background(lambda: log.append("b"), lambda: log.append("b dropped"))
+    c = background.draw_in_background(lambda: log.append("c"), lambda: log.append("c dropped"))
+    assert not (a.done() or b.done() or c.done())
+    gate.set()
+    background.wait_background()
+    assert c.done() and b.done() and a.done()
+    assert log == ["a", "b dropped", "c"]
