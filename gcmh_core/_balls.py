@@ -126,6 +126,16 @@ def split_joined_pieces(tab, values, cube_row, origin, cube_key, axes_arr, value
 class _Surface:
     """P: the CMS polygons of one cube, their pieces, orientation and boundary."""
 
+    gcmh: dict[int, int]  # CMS vertex key -> GCMH vertex key
+    ends: dict[int, tuple[int, int]]  # CMS edge key -> its vertices' keys
+    facet: dict[int, int]  # CMS edge key -> the cube facets (bits) it lies on
+    piece_of_polygon: dict[int, int]
+    piece_of_vertex: dict[int, int]
+    orientable: dict[int, bool]
+    euler: dict[int, int]
+    next: dict[int, tuple[int, int]]  # boundary: vertex -> (next vertex, facet on the way)
+    cms_of: dict[int, int]  # GCMH vertex key -> CMS vertex key
+
     @classmethod
     def of(cls, tab, g_vertex, corner_off, c_vk, c_edges, c_inc):
         self = cls()
@@ -166,7 +176,7 @@ class _Surface:
                 continue
             piece = len(self.orientable)
             sign[p0] = 1
-            stack, members, ok = [p0], [], True
+            stack, members, ok = [p0], list[int](), True
             while stack:
                 p = stack.pop()
                 members.append(p)
@@ -182,9 +192,9 @@ class _Surface:
                         elif sign[q] != want:
                             ok = False
             verts = {v for p in members for v in cycles[p]}
-            edges = {e for p in members for e in polygons[p]}
+            piece_edges = {e for p in members for e in polygons[p]}
             self.orientable[piece] = ok
-            self.euler[piece] = len(verts) - len(edges) + len(members)
+            self.euler[piece] = len(verts) - len(piece_edges) + len(members)
         # the boundary, directed as the orientation induces: next vertex and the facet on the way
         self.next = {}
         self.piece_of_vertex = {}
@@ -438,10 +448,10 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
             vertex_of.setdefault((r, x), vertex_of.get((r - 1, y)))
     by_face: dict = {}
     for r, key in vertex_of:
-        f = face_key_of.get((r + k, key // int(tab.n_codes[r + k])))
-        if f is None or vertex_of[(r, key)] is None:
+        face = face_key_of.get((r + k, key // int(tab.n_codes[r + k])))
+        if face is None or vertex_of[(r, key)] is None:
             return None
-        by_face.setdefault(f, []).append((r, key))
+        by_face.setdefault(face, []).append((r, key))
     # each GCMH r-cell is replaced by the CMS r-cells (simplices of its face's dimension) of its piece
     top_in_face: dict = {}
     for x in entities:
@@ -457,7 +467,7 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
         new = top_in_face.get(f, [])
         free, fixed = _face_free_fixed(tab, f)
         sub = None
-        if len(cells) > 1 or any(_in_face(*h, free, fixed) for h in hidden_faces):
+        if len(cells) > 1 or any(_in_face(h_free, h_fixed, free, fixed) for h_free, h_fixed in hidden_faces):
             # each cell gets the CMS cells of its own piece of M_A in f
             inside = [x for x in entities
                       if _in_face(*_face_free_fixed(tab, carrier[row_of[x[1]]]), free, fixed)]
@@ -494,7 +504,7 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
     return vk, vp, e, c, np.array(inc, np.int64).reshape(-1, 3)
 
 
-def _face_free_fixed(tab, f):
+def _face_free_fixed(tab, f) -> tuple[int, int]:
     """The cube face row f as (free, fixed) bits."""
     return int(tab.face_free[f]), int(tab.face_fixed[f])
 

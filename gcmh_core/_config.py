@@ -10,9 +10,10 @@ from __future__ import annotations
 import contextlib
 import threading
 from collections.abc import Callable, Iterator
+from typing import Any
 
-JIT = dict(nogil=True, cache=True, fastmath=False, error_model="numpy")
-PARALLEL_JIT = dict(JIT, parallel=True)
+JIT: dict[str, Any] = dict(nogil=True, cache=True, fastmath=False, error_model="numpy")
+PARALLEL_JIT: dict[str, Any] = dict(JIT, parallel=True)
 # Small helpers called in a kernel's inner loops take scalars.  Those that take only
 # scalars (_face_key, _face_in_face, _local_code) are plain JIT calls: LLVM inlines them
 # all the same (kernel time unchanged), and numba no longer types and lowers a copy per
@@ -25,7 +26,7 @@ PARALLEL_JIT = dict(JIT, parallel=True)
 # only for the few simplices that pass the sign prune.)  The loop over cubes runs
 # inside one kernel function per chunk (`kernels.gcmh.cubes_chunk`), with scratch
 # buffers it owns.
-INLINE_JIT = dict(JIT, inline="always")
+INLINE_JIT: dict[str, Any] = dict(JIT, inline="always")
 # A kernel that calls another compiles the callee for the argument types type inference
 # sees first: a counter started as `= 0` is Literal[int](0) there and int64 later, so
 # the callee compiled twice (seconds each on a first run).  Counters and indices passed
@@ -36,7 +37,7 @@ INLINE_JIT = dict(JIT, inline="always")
 def numba_events(kind: str, on_start: Callable, on_end: Callable | None = None) -> Iterator[None]:
     """Within the block, numba's events of ``kind`` (e.g. "numba:compile", "numba:compiler_lock")
     call ``on_start(event)`` and ``on_end(event)``, on whichever thread numba runs them."""
-    from numba.core import event  # noqa: PLC0415  (numba loads with the engine)
+    from numba.core import event  # (numba loads with the engine)
 
     class _Listener(event.Listener):
         def on_start(self, ev: event.Event) -> None:

@@ -87,7 +87,7 @@ def candidate_scan(values: np.ndarray, first_layer=None) -> tuple[np.ndarray, np
     values[0] is that block's last layer (its codes are not computed again: with thin
     slabs that was half the work).
     """
-    from .kernels import candidates  # noqa: PLC0415  (numba compiles on first use, not on import)
+    from .kernels import candidates  # (numba compiles on first use, not on import)
 
     values = np.ascontiguousarray(values, np.float64)
     dims = values.shape[:-1]
@@ -148,7 +148,7 @@ def candidate_corner_sets(corner_values: np.ndarray, n_corners: int) -> np.ndarr
     corner_values (m * n_corners, k): each cube's corner values, one cube after the
     other (continuation gathers them so for a wave of scattered cubes).
     """
-    from .kernels import candidates  # noqa: PLC0415
+    from .kernels import candidates
 
     values = np.ascontiguousarray(corner_values, np.float64)
     out = np.empty(len(values) // n_corners, np.bool_)

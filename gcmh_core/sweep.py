@@ -166,7 +166,7 @@ def _march(grid, axes, system, sampled, progress, cancel) -> CellComplex | None:
     value is not finite or a difference overflows (the general path then runs: it
     counts and skips such vertices), and when M_A joins two pieces of G_H through a cube
     (the general path splits those cells: rare, and found in the first slab that has one)."""
-    from .kernels import marching3 as _marching3  # noqa: PLC0415  (compiled on first use only)
+    from .kernels import marching3 as _marching3  # (compiled on first use only)
 
     cases = _marching3.cube_cases()
     d0, d1, d2 = (int(d) for d in grid.dims)

@@ -444,7 +444,7 @@ _cubes_chunk_tables = cubes_chunk
 
 # The runner calls `cubes_chunk`; the numba kernel above keeps that name (compile notices and
 # tests/core/test_first_run.py know it by it), and this picks the kernel by the tables it gets.
-def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex,  # noqa: F811
+def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex,  # type: ignore[no-redef]
                 tables):
     """GCMH on candidate cubes lo..hi-1: the tables' kernel (`_cubes_chunk_tables`), or
     `cubes_chunk_lazy` where the tables hold no Kuhn simplices (`_tables.lazy_tables`)."""

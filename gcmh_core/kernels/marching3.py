@@ -33,13 +33,17 @@ then runs the general path.
 from __future__ import annotations
 
 from functools import lru_cache
+from typing import Any
 
 import numba as nb
 import numpy as np
-from numba.cpython.unsafe.numbers import trailing_zeros
+from numba.cpython.unsafe.numbers import trailing_zeros as _trailing_zeros
 
 from .._config import INLINE_JIT, JIT
 from .tables import cube_tables
+
+# an intrinsic, called from compiled code with one argument (its type stub also lists the typing context)
+trailing_zeros: Any = _trailing_zeros
 
 __all__ = ["cube_cases", "march_layers", "room_per_layer", "OK", "NOT_FINITE", "OVERFLOW"]
 
@@ -96,7 +100,8 @@ def _square_edges(tab, kf1: int, positive) -> list[tuple[int, int]]:
             links.setdefault(u, []).append(w)
             if len(links[u]) > 2:
                 raise AssertionError("a node of the walk is linked thrice")
-    edges, walked = [], set()
+    edges: list = []
+    walked: set = set()
     for start in found:
         if start in walked:
             continue
@@ -121,7 +126,7 @@ def _joined(tab, positive, pieces_vertices) -> int:
     pieces of M_A (marched over the cube's CFK triangulation) that hold them."""
     kuhn = tab.kuhn
     corners, facets, start = kuhn.corners, kuhn.facets, kuhn.start
-    parent = {}
+    parent: dict = {}
 
     def find(s):
         while parent[s] != s:
@@ -211,7 +216,7 @@ class Cases:
         self.cube_pieces = np.zeros(256, np.int64)
         self.cube_nonball = np.zeros(256, np.int64)
         self.piece_start = np.zeros((256, 5), np.int64)
-        faces = []
+        faces: list = []
         for case in range(256):
             positive = [bool(case >> c & 1) for c in range(8)]
             crossed = [s for s in range(12) if positive[ks[s][0]] != positive[ks[s][1]]]

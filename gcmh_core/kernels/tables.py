@@ -18,8 +18,8 @@ Conventions
 For n >= 8 and large k (`lazy_tables`) the tables are the faces only: k! Kuhn simplices per
 k-face would be 0.9 GB at n = 10, k = 8, and `lazy.cubes_chunk_lazy` finds the few it needs.
 
-The fields' names follow the paper (Sections 3-4); the glossary of
-`gcmh_core.kernels` maps the paper's terms to them.
+The fields' names follow the paper (Sections 3-4); the glossary in
+docs/architecture.md maps the paper's terms to them.
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ from collections.abc import Callable
 from functools import lru_cache
 from itertools import combinations
 from math import comb, factorial
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -151,7 +151,7 @@ def cube_tables(
     return tables
 
 
-cube_tables.cache_clear = _cache.clear  # (as lru_cache's: tests and benchmarks rebuild)
+cube_tables.cache_clear = _cache.clear  # type: ignore[attr-defined]  # (as lru_cache's: tests and benchmarks rebuild)
 
 
 # ----------------------------------------------------------------------------- the builder
@@ -368,7 +368,9 @@ def _build_cube_tables(n: int, k: int, step, lazy: bool | None = None) -> CubeTa
         ksimplex_kuhn=ksimplex_kuhn,
     )
     # C order throughout: numba compiles the kernel once per array layout
-    arrays = {f: np.ascontiguousarray(a) for f, a in tables._asdict().items() if isinstance(a, np.ndarray)}
+    arrays: dict[str, Any] = {
+        f: np.ascontiguousarray(a) for f, a in tables._asdict().items() if isinstance(a, np.ndarray)
+    }
     return tables._replace(**arrays)
 
 

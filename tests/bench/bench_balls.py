@@ -73,7 +73,7 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeat", type=int, default=5)
     args = ap.parse_args()
-    from gcmh_core import extract, runner  # noqa: PLC0415
+    from gcmh_core import extract, runner
 
     split, check = runner.split_non_ball_cells, runner.checks_cells
 

@@ -55,7 +55,7 @@ def _status(key: str) -> int:
 def _reset_peak() -> int:
     """Reset the high-water mark; returns the resident bytes now."""
     try:
-        import ctypes  # noqa: PLC0415
+        import ctypes
 
         ctypes.CDLL("libc.so.6").malloc_trim(0)
     except (OSError, AttributeError):
@@ -67,10 +67,10 @@ def _reset_peak() -> int:
 
 def child(spec: dict) -> dict:
     n, k, what = spec["n"], spec["k"], spec["what"]
-    import numpy as np  # noqa: PLC0415
+    import numpy as np
 
-    import gcmh_core  # noqa: PLC0415
-    from gcmh_core.kernels import tables as _tables  # noqa: PLC0415
+    import gcmh_core
+    from gcmh_core.kernels import tables as _tables
 
     out = dict(n=n, k=k, what=what)
     if what == "extract":  # load the compiled kernels first: their time is not the case's
@@ -84,7 +84,7 @@ def child(spec: dict) -> dict:
         _tables.simplex_tables.cache_clear()
     if what == "old":
         sys.path.insert(0, os.path.join(ROOT, "tests", "core"))
-        from test_tables import loop_cube_tables as build  # noqa: PLC0415
+        from test_tables import loop_cube_tables as build
     else:
         build = _tables.cube_tables
     base = _reset_peak()

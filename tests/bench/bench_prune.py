@@ -35,7 +35,7 @@ CASES = {  # name: (example, div or "paper", the paths to run)
 
 
 def digest(cx) -> str:
-    import numpy as np  # noqa: PLC0415
+    import numpy as np
 
     h = hashlib.sha256()
     h.update(np.ascontiguousarray(cx.vertices, np.float64).tobytes())
@@ -49,10 +49,10 @@ def digest(cx) -> str:
 def child(spec: dict) -> dict:
     """One case in this (fresh) process: warm up on a tiny grid, then the timed runs."""
     sys.path.insert(0, HERE)
-    from gcmh_core import extract, sweep  # noqa: PLC0415
-    from gcmh_core.examples import load_example  # noqa: PLC0415
+    from gcmh_core import extract, sweep
+    from gcmh_core.examples import load_example
 
-    from bench import peak_mb  # noqa: PLC0415
+    from bench import peak_mb
 
     ex = load_example(spec["example"])
     div = ex.paper_div if spec["div"] == "paper" else spec["div"]
@@ -100,7 +100,7 @@ def main(argv=None) -> int:
         print(json.dumps(child(json.loads(args.child))))
         return 0
     sys.path.insert(0, HERE)
-    from bench import machine  # noqa: PLC0415
+    from bench import machine
 
     print(f"# {datetime.now(timezone.utc):%Y-%m-%d %H:%M} UTC, {machine()}")
     print(f"# python tests/bench/bench_prune.py {' '.join(argv if argv is not None else sys.argv[1:])}".rstrip())

@@ -10,7 +10,7 @@ import pytest
 from gcmh_core._hashtable import IntTable
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from naive import naive_facet_neighbours, naive_insert  # noqa: E402
+from naive import naive_facet_neighbours, naive_insert
 
 
 @pytest.mark.parametrize("seed", range(5))
