@@ -77,16 +77,14 @@ class QtMainWindow(QMainWindow):
                         (self.animation_panel, "Animate"), (self.topology_panel, "Topology")):
             if w is not None:
                 self.tabs.addTab(scrolled(w), name)
-        self.bar = QtRunBar(m, self.runs.elapsed)
-        b = self.bar   # (its widgets, as the tests and the presentation know them)
-        self.run_button, self.cancel_button, self.progress = b.run_button, b.cancel_button, b.progress
-        self.status_label, self.result_label, self.pick_label = b.status_label, b.result_label, b.pick_label
-        self.about_box, self.about_label = b.about_box, b.about_label
         side = QWidget()
         sl = QVBoxLayout(side)
         sl.setContentsMargins(6, 6, 6, 6)
         sl.addWidget(self.tabs, 1)
-        sl.addWidget(self.bar)
+        b = self.bar = QtRunBar(m, self.runs.elapsed, sl, self)
+        self.run_button, self.cancel_button, self.progress = b.run_button, b.cancel_button, b.progress
+        self.status_label, self.result_label, self.pick_label = b.status_label, b.result_label, b.pick_label
+        self.about_box, self.about_label = b.about_box, b.about_label
         side.setMinimumWidth(430)
         self.viewer = QtViewer(m, self)
         self.plotter, self.scene = self.viewer.plotter, self.viewer.scene
@@ -224,8 +222,9 @@ class QtMainWindow(QMainWindow):
                     moving: bool = False) -> None:
         """Put a CellComplex on screen (:meth:`gcmh_studio.model.StudioModel.present`; ``keep_view``: the camera
         stays too). ``report``: its topology report if already made."""
-        camera = studio_io.camera_state(self.plotter.camera)
-        if self.model.present(cx, names, title, labels, view, keep_view):
+        # (read only when a view can be kept: pyvista's first look at the camera resets it and renders)
+        camera = studio_io.camera_state(self.plotter.camera) if keep_view and self.model.result is not None else None
+        if self.model.present(cx, names, title, labels, view, keep_view) and camera is not None:
             self.viewer.show(geometry, moving=moving)
             studio_io.apply_camera(self.plotter.camera, camera)
             self.plotter.renderer.ResetCameraClippingRange()

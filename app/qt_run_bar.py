@@ -9,8 +9,8 @@ controller (progress, the example's description, whether Run can run).
 
 from __future__ import annotations
 
-from qtpy.QtCore import Qt, QTimer
-from qtpy.QtWidgets import QGroupBox, QHBoxLayout, QLabel, QProgressBar, QPushButton, QVBoxLayout, QWidget
+from qtpy.QtCore import QObject, Qt, QTimer
+from qtpy.QtWidgets import QGroupBox, QHBoxLayout, QLabel, QProgressBar, QPushButton, QVBoxLayout
 
 from .jobs import COMPILE_NOTE
 
@@ -61,14 +61,15 @@ def _label(style: str = "") -> QLabel:
     return lab
 
 
-class QtRunBar(QWidget):
-    """Run / Cancel, progress, summary, pick and status; ``elapsed()`` gives the running run's seconds."""
+class QtRunBar(QObject):
+    """Run / Cancel, progress, summary, pick and status, added to the side panel's layout ``lay`` (in it, not
+    in a box of their own: a result's longer summary then takes its room from the tabs above, as a layout of
+    its own would move every widget in it and repaint the 3D view beside, dropping its still picture);
+    ``elapsed()`` gives the running run's seconds."""
 
-    def __init__(self, model, elapsed, parent=None):
+    def __init__(self, model, elapsed, lay, parent=None):
         super().__init__(parent)
         self.elapsed = elapsed
-        lay = QVBoxLayout(self)
-        lay.setContentsMargins(0, 0, 0, 0)
         self.about_box = QGroupBox("")
         self.about_label = _label("font-size: 11px;")
         QVBoxLayout(self.about_box).addWidget(self.about_label)
