@@ -8,17 +8,13 @@ Layout: a side panel (tabs "Manifold" = :class:`QtFormulaPanel`, "View" =
 always visible below) and the 3D view (:class:`gcmh_studio.qt_viewer.QtViewer`) in
 the centre. Double-click a cell to see its vertices' coordinates in R^n and its grid cube.
 
-The parts: the state is an :class:`gcmh_studio.model.StudioModel` (no Qt), which
-every panel and the view read, write and redraw from; what the buttons do (runs,
-parameter steps, examples, Undo / Redo, sessions, refinement, live play) is a
-:class:`gcmh_studio.controller.StudioController` (no Qt); runs and refinements go
-through an :class:`gcmh_studio.qt_run_controller.QtRunController` (worker threads:
-the previous result stays on screen and can be turned while a new one computes);
-menus and file dialogs are :class:`gcmh_studio.qt_actions.StudioActions`;
-exports are written by :mod:`gcmh_studio.studio_io` and :mod:`gcmh_studio.qt_exports`.
-The kernels compile (once per install) in the background from the start
-(:func:`gcmh_studio.jobs.start_warm_up`, said in the status bar). Only the GUI thread
-touches VTK.
+The parts: the state is a :class:`gcmh_studio.model.StudioModel` (no Qt), which every panel and the view
+read, write and redraw from; what the buttons do (runs, parameter steps, examples, Undo / Redo, sessions,
+refinement, live play) is a :class:`gcmh_studio.controller.StudioController` (no Qt), whose runner is a
+:class:`gcmh_studio.qt_run_controller.QtRunController` (worker threads: the previous result stays on screen);
+menus and file dialogs are :class:`gcmh_studio.qt_actions.StudioActions`; exports are written by
+:mod:`gcmh_studio.studio_io` and :mod:`gcmh_studio.qt_exports`. The kernels compile (once per install) in the
+background from the start (:func:`gcmh_studio.jobs.start_warm_up`). Only the GUI thread touches VTK.
 """
 
 from __future__ import annotations
