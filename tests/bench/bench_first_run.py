@@ -45,7 +45,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 
 SPHERE = dict(F=["x^2 + y^2 + z^2 - 1"], bounds=[[-1.2, 1.2]] * 3, variables=["x", "y", "z"], method="gcmh")
-# n = 3, k = 1 sweeps take a pass of their own (`_marching3`); this takes the general cube kernel
+# n = 3, k = 1 sweeps take a pass of their own (`kernels.marching3`); this takes the general cube kernel
 GENERAL = dict(F=["x1^2 + x2^2 + x3^2 + x4^2 - 1", "x1 - x2"], bounds=[[-1.2, 1.2]] * 4,
                variables=["x1", "x2", "x3", "x4"], method="gcmh")
 CLI = ["extract", "--f", "x^2+y^2+z^2-1", "--vars", "x,y,z", "--bounds=-1.2:1.2", "--div", "8", "--json"]

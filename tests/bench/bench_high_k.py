@@ -12,7 +12,7 @@ above what the process held just before (VmHWM reset through /proc/self/clear_re
 * "old": the loop builder the tables had up to issue 14 (`loop_cube_tables`, kept in
   tests/core/test_tables.py as the twin); R^10 takes minutes and about 12 GB, so it
   runs only for n <= --old-max-n (default 9);
-* "new": `_tables.cube_tables` (for n >= 8 and k >= 6, the faces only: the lazy kernel finds
+* "new": `kernels.tables.cube_tables` (for n >= 8 and k >= 6, the faces only: the lazy kernel finds
   the Kuhn simplices it needs);
 * "extract": the kernels loaded on tiny grids first (R^4, R^7 and R^8), then the tables
   (timed alone) and `extract` (its phases from meta['timings']), chi and boundary facets.
