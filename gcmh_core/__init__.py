@@ -18,11 +18,11 @@ from typing import TYPE_CHECKING, Any
 # this import); a value the user set wins.
 os.environ.setdefault("GOMP_SPINCOUNT", "10000")
 
-from ._config import compile_notice  # noqa: E402
-from .analysis import boundary_components, orient_2cells, refine_vertices, topology_report  # noqa: E402
-from .complex import CellComplex  # noqa: E402
-from .errors import Cancelled, InputError, TooLargeError  # noqa: E402
-from .extract import CONTINUATION_METHODS, METHODS, SIMPLICIAL_METHODS, estimate_work, extract  # noqa: E402
+from ._config import compile_notice
+from .analysis import boundary_components, orient_2cells, refine_vertices, topology_report
+from .complex import CellComplex
+from .errors import Cancelled, InputError, TooLargeError
+from .extract import CONTINUATION_METHODS, METHODS, SIMPLICIAL_METHODS, estimate_work, extract
 
 if TYPE_CHECKING:
     from .examples import Example, list_examples, load_example
@@ -53,7 +53,7 @@ __all__ = [
 
 def _installed_version() -> str:
     # One version, written in pyproject.toml and read from the installed metadata.
-    from importlib.metadata import PackageNotFoundError, version  # noqa: PLC0415
+    from importlib.metadata import PackageNotFoundError, version
 
     try:
         return version("gcmh")

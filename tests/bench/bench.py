@@ -79,8 +79,8 @@ _FRESH = (
 
 
 def _child(spec: dict, import_seconds: float = 0.0) -> dict:
-    from gcmh_core import extract  # noqa: PLC0415
-    from gcmh_core.examples import load_example  # noqa: PLC0415
+    from gcmh_core import extract
+    from gcmh_core.examples import load_example
 
     import_s = import_seconds
     ex = load_example(spec["example"])
@@ -131,10 +131,10 @@ def _sphere_peers(ex, div, repeat, run) -> dict:
     (sampling included).  The four take turns, round after round (a shared machine's
     load then falls on all of them alike); small grids get more rounds: repeat x 256 / div.
     Returns each one's best and median seconds."""
-    import numpy as np  # noqa: PLC0415
+    import numpy as np
 
-    from gcmh_core import sweep  # noqa: PLC0415
-    from gcmh_core.formula import parse_system  # noqa: PLC0415
+    from gcmh_core import sweep
+    from gcmh_core.formula import parse_system
 
     system = parse_system(ex.formulas, ex.variables)
     axes = [np.linspace(lo, hi, div + 1) for lo, hi in ex.bounds]
@@ -149,14 +149,14 @@ def _sphere_peers(ex, div, repeat, run) -> dict:
 
     cases = {"seconds": lambda: run(div), "general_seconds": general}
     try:
-        from skimage.measure import marching_cubes  # noqa: PLC0415
+        from skimage.measure import marching_cubes
 
         cases["skimage_seconds"] = lambda: marching_cubes(system.evaluate_grid(axes)[..., 0], 0.0)[1]
     except ImportError:
         out.update(skimage_seconds=None)
     try:
-        import pyvista as pv  # noqa: PLC0415
-        import vtk  # noqa: PLC0415
+        import pyvista as pv
+        import vtk
 
         def flying_edges():
             # F's C-order samples as they are: VTK's x is the array's last axis, so the
@@ -373,7 +373,7 @@ def print_engine(R: Runner) -> None:
 
 
 def numba_threads() -> int:
-    import numba  # noqa: PLC0415
+    import numba
 
     return numba.get_num_threads()
 

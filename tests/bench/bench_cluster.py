@@ -32,7 +32,7 @@ CASES = {
 
 
 def _digest(cx) -> str:
-    import hashlib  # noqa: PLC0415
+    import hashlib
 
     h = hashlib.sha256()
     h.update(cx.vertices.tobytes())
@@ -44,8 +44,8 @@ def _digest(cx) -> str:
 
 
 def _child(case: str, mode: str, workers: int) -> dict:
-    from gcmh_core import extract  # noqa: PLC0415
-    from gcmh_core.examples import load_example  # noqa: PLC0415
+    from gcmh_core import extract
+    from gcmh_core.examples import load_example
 
     name, div = CASES[case]
     ex = load_example(name)
@@ -60,9 +60,9 @@ def _child(case: str, mode: str, workers: int) -> dict:
         cx = run(div)
         out.update(seconds=time.perf_counter() - t)
     else:
-        import logging  # noqa: PLC0415
+        import logging
 
-        from distributed import Client, LocalCluster  # noqa: PLC0415
+        from distributed import Client, LocalCluster
 
         t = time.perf_counter()
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",

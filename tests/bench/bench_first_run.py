@@ -66,7 +66,7 @@ sys.meta_path.insert(0, _Hide())
 def child(spec: dict) -> dict:
     """Two extractions in this fresh process: the first one's wall time and the second's."""
     t = time.perf_counter()
-    import gcmh_core  # noqa: PLC0415
+    import gcmh_core
 
     out = dict(import_s=time.perf_counter() - t)
     if spec["case"] in ("sphere", "general"):
@@ -74,7 +74,7 @@ def child(spec: dict) -> dict:
         F, bounds, variables = case.pop("F"), case.pop("bounds"), case.pop("variables")
         args, kw = (F, bounds, spec["div"]), dict(variables=variables, **case)
     else:  # the Klein bottle by continuation, from its start point at its division
-        from gcmh_core.examples import load_example  # noqa: PLC0415
+        from gcmh_core.examples import load_example
 
         ex = load_example("klein-bottle")
         args, kw = (ex.formulas, ex.bounds, ex.div), dict(variables=ex.variables, method="gcch", start=ex.start)
@@ -205,7 +205,7 @@ def main(argv=None) -> int:
     if unknown:
         parser.error(f"unknown case(s) {', '.join(sorted(unknown))}; choose from {', '.join(CASES)}")
     sys.path.insert(0, HERE)
-    from bench import machine  # noqa: PLC0415
+    from bench import machine
 
     print(f"# {datetime.now(timezone.utc):%Y-%m-%d %H:%M} UTC, {machine()}")
     print(f"# python tests/bench/bench_first_run.py {' '.join(argv if argv is not None else sys.argv[1:])}".rstrip())
