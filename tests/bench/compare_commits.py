@@ -34,7 +34,7 @@ Cases (name: what is measured):
 The table: each side's median over the rounds, the ratio of the medians B/A, the least
 and largest ratio of a pair, and in how many pairs B was the slower; `output` says
 whether A and B built the same bytes (bench_prune.digest).  Expensive cases run at most
-3 rounds.  The default takes about 10 minutes on a loaded 2-core machine, --quick
+3 rounds unless --rounds is given.  The default takes about 10 minutes on a loaded 2-core machine, --quick
 (3 cases, 3 rounds) about 2.
 """
 
@@ -342,7 +342,8 @@ def main(argv=None) -> int:
     ap.add_argument("rev_a", metavar="REV_A")
     ap.add_argument("rev_b", metavar="REV_B", nargs="?", default=WORKTREE,
                     help=f"a commit, or '{WORKTREE}' (the default): the working tree as it is")
-    ap.add_argument("--rounds", type=int, default=None, help="pairs of processes per case (default 5, --quick 3)")
+    ap.add_argument("--rounds", type=int, default=None,
+                    help="pairs of processes per case (default 5, the expensive cases 3; --quick 3)")
     ap.add_argument("--cases", default=None, help="comma-separated, from: " + ", ".join(CASES))
     ap.add_argument("--quick", action="store_true", help=f"{', '.join(QUICK)}; 3 rounds")
     ap.add_argument("--fresh", action="store_true", help="also print each process's import + first call")
@@ -368,7 +369,8 @@ def main(argv=None) -> int:
         results = []
         for i in range(rounds):
             for name in cases:
-                if any(skipped[name].values()) or i >= (CASES[name].max_rounds or rounds):
+                cap = CASES[name].max_rounds if args.rounds is None else None  # (--rounds says it for all)
+                if any(skipped[name].values()) or i >= (cap or rounds):
                     continue
                 for side, (tree, cache) in trees.items():
                     spec = dict(case=name, side=side, round=i)
