@@ -4,7 +4,7 @@ import numba as nb
 import numpy as np
 
 from .._config import JIT
-from .cells import _face_in_face, _face_key, _find, _joined_pieces, _local_code
+from .cells import _cube_cells, _face_key
 from .lazy import cubes_chunk_lazy
 from .records import _grown_keys, _grown_rows, _new_records, _records_upto
 from .solve import _simplex_crosses_call, _zero_side, simplex_crosses
@@ -62,6 +62,7 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
     walked = np.empty(n_boundary, np.int8)
     vertex_ksimplex = np.empty(n_ksimplices, np.int64)
     vertex_face = np.empty(n_ksimplices, np.int64)
+    vertex_perm = np.empty(n_ksimplices, np.int64)
     vertex_key = np.empty(n_ksimplices, np.int64)
     max_edges = (face_start[k + 2] - face_start[k + 1]) * (n_boundary // 2)
     edge_a = np.empty(max_edges, np.int64)
@@ -83,6 +84,11 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
     kuhn_parent = np.empty(kuhn.corners.shape[0], np.int64)
     non_ball = np.empty((4, 3), np.int64)  # rows (cube - lo, face, pieces joined)
     n_non_ball = np.int64(0)  # (int64 from the start: see _config)
+    faces = (face_start, face_free, face_fixed, face_rank, n_subsets, n_codes)  # for _cube_cells
+    vertices = (vertex_face, vertex_perm, vertex_key, vertex_ksimplex)
+    edges = (edge_a, edge_b, edge_face)
+    balls = (check_balls, kuhn, ksimplex_kuhn, kuhn_parent)
+    solve_scratch = (mat, rhs, lam)
     for ci in range(lo, hi):
         o = cube_row[ci]
         g_vertex = cube_vertex[ci]
@@ -158,6 +164,7 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
                 if hit:
                     vertex_of_ksimplex[s] = nv
                     vertex_ksimplex[nv] = s
+                    vertex_perm[nv] = ksimplex_perm[s]
                     row = used_v + nv
                     if row >= vk_out.shape[0]:
                         vk_out = _grown_keys(vk_out, row)
@@ -300,135 +307,13 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
                 edge_face[ne] = k1face0 + kf1
                 ne += 1
 
-        # 3. Cells (paper 3.1.2): for r = 1..n-k, the r-cells are the connected pieces of the
-        # vertex-edge graph inside each (r+k)-face; for r = 1 they are the edges themselves.
-        # Rows of lower/cells: (face, a vertex of the piece, key); the buffers swap per level.
-        lower = cells_buf_a
-        cells = cells_buf_b
-        if lower.shape[0] < ne:
-            lower = np.empty((ne, 3), np.int64)
-        for e in range(ne):
-            f = edge_face[e]
-            ca = _local_code(
-                face_free[f], face_free[vertex_face[edge_a[e]]], face_fixed[vertex_face[edge_a[e]]],
-                ksimplex_perm[vertex_ksimplex[edge_a[e]]], k, kfact, binom,
-            )
-            cb = _local_code(
-                face_free[f], face_free[vertex_face[edge_b[e]]], face_fixed[vertex_face[edge_b[e]]],
-                ksimplex_perm[vertex_ksimplex[edge_b[e]]], k, kfact, binom,
-            )
-            lower[e, 0] = f
-            lower[e, 1] = edge_a[e]
-            lower[e, 2] = (
-                _face_key(g_vertex + corner_vertex[face_fixed[f]], n_subsets[k1], face_rank[f]) * n_codes[k1]
-                + min(ca, cb)
-            )
-            row = used_e + e
-            if row >= e_out.shape[0]:
-                e_out = _grown_rows(e_out, row)
-            e_out[row, 0] = lower[e, 2]
-            e_out[row, 1] = vertex_key[edge_a[e]]
-            e_out[row, 2] = vertex_key[edge_b[e]]
-        n_lower = ne
-        n_cells = 0
-        n_incidences = 0
-        for r in range(2, n - k + 1):
-            dim = r + k
-            face0 = face_start[dim]
-            n_faces = face_start[dim + 1] - face0
-            n_here = np.int64(0)
-            for fi in range(n_faces):
-                f = face0 + fi
-                n_in = 0
-                for v in range(nv):
-                    if _face_in_face(
-                        face_free[vertex_face[v]], face_fixed[vertex_face[v]], face_free[f], face_fixed[f]
-                    ):
-                        parent[v] = v
-                        n_in += 1
-                    else:
-                        parent[v] = -1
-                if n_in == 0:
-                    continue
-                has_edge = False
-                for e in range(ne):
-                    if _face_in_face(face_free[edge_face[e]], face_fixed[edge_face[e]], face_free[f], face_fixed[f]):
-                        has_edge = True
-                        ra = _find(parent, edge_a[e])
-                        rb = _find(parent, edge_b[e])
-                        if ra != rb:
-                            parent[max(ra, rb)] = min(ra, rb)
-                if not has_edge:
-                    continue
-                # a piece needs an edge: a vertex left alone in f (degenerate data) is no r-cell
-                for v in range(nv):
-                    cell_of_root[v] = -1
-                for e in range(ne):
-                    if _face_in_face(face_free[edge_face[e]], face_fixed[edge_face[e]], face_free[f], face_fixed[f]):
-                        cell_of_root[_find(parent, edge_a[e])] = -2
-                if cells.shape[0] < n_here + n_in:  # rare: grow the buffer (n_in <= its first size)
-                    cells = _grown_rows(cells, n_here)
-                first = n_here
-                ff = face_free[f]
-                for v in range(nv):  # a root is its piece's smallest vertex index: it comes first
-                    if parent[v] >= 0:
-                        root = _find(parent, v)
-                        code = _local_code(
-                            ff, face_free[vertex_face[v]], face_fixed[vertex_face[v]],
-                            ksimplex_perm[vertex_ksimplex[v]], k, kfact, binom,
-                        )
-                        if root == v:
-                            if cell_of_root[v] != -2:
-                                continue
-                            cell_of_root[v] = n_here
-                            cells[n_here, 0] = f
-                            cells[n_here, 1] = v
-                            cells[n_here, 2] = code
-                            n_here += 1
-                        else:
-                            c = cell_of_root[root]
-                            if c >= 0 and code < cells[c, 2]:
-                                cells[c, 2] = code
-                fkey = _face_key(g_vertex + corner_vertex[face_fixed[f]], n_subsets[dim], face_rank[f]) * n_codes[dim]
-                for c in range(first, n_here):
-                    cells[c, 2] += fkey
-                    row = used_c + n_cells + c
-                    if row >= c_out.shape[0]:
-                        c_out = _grown_rows(c_out, row)
-                    c_out[row, 0] = r
-                    c_out[row, 1] = cells[c, 2]
-                if n_here - first >= 2 and check_balls:  # several pieces: does M_A join them in f?
-                    joined = _joined_pieces(
-                        values, o, corner_row, corner_signs, all_signs, kuhn, ksimplex_kuhn, vertex_ksimplex,
-                        face_free[f], face_fixed[f], cells, first, n_here, kuhn_parent, mat, rhs, lam,
-                    )
-                    if joined:
-                        if n_non_ball >= non_ball.shape[0]:
-                            non_ball = _grown_rows(non_ball, n_non_ball)
-                        non_ball[n_non_ball, 0] = ci - lo
-                        non_ball[n_non_ball, 1] = f
-                        non_ball[n_non_ball, 2] = joined
-                        n_non_ball += 1
-                # its (r-1)-faces: each lower-level piece in a face g of f lies in one piece of f
-                for y in range(n_lower):
-                    if not _face_in_face(face_free[lower[y, 0]], face_fixed[lower[y, 0]], face_free[f], face_fixed[f]):
-                        continue
-                    rep = lower[y, 1]
-                    if parent[rep] < 0:
-                        degenerate += 1
-                        continue
-                    row = used_i + n_incidences
-                    if row >= i_out.shape[0]:
-                        i_out = _grown_rows(i_out, row)
-                    i_out[row, 0] = r
-                    i_out[row, 1] = cells[cell_of_root[_find(parent, rep)], 2]
-                    i_out[row, 2] = lower[y, 2]
-                    n_incidences += 1
-            n_cells += n_here
-            swap = lower
-            lower = cells
-            cells = swap
-            n_lower = n_here
+        # 3. Cells (paper 3.1.2)
+        (e_out, c_out, i_out), n_cells, n_incidences, events, non_ball, n_non_ball = _cube_cells(
+            ci - lo, g_vertex, corner_vertex, n, k, kfact, binom, faces, nv, vertices, ne, edges, parent, cell_of_root,
+            cells_buf_a, cells_buf_b, (e_out, c_out, i_out), used_e, used_c, used_i, values, o, corner_row,
+            corner_signs, all_signs, balls, solve_scratch, non_ball, n_non_ball,
+        )
+        degenerate += events
         used_v += nv
         used_e += ne
         used_c += n_cells

@@ -4,7 +4,7 @@ import numba as nb
 import numpy as np
 
 from .._config import JIT
-from .cells import _face_in_face, _face_key, _find, _local_code
+from .cells import _cube_cells, _face_in_face, _face_key
 from .records import _grown_keys, _grown_rows, _new_records, _records_upto
 from .solve import _simplex_crosses_call, _zero_side
 
@@ -368,6 +368,12 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
     cell_of_root = np.empty(16, np.int64)
     cells_buf_a = np.empty((64, 3), np.int64)
     cells_buf_b = np.empty((64, 3), np.int64)
+    no_rows = np.zeros(0, np.int64)
+    non_ball = np.zeros((0, 3), np.int64)
+    n_non_ball = np.int64(0)
+    faces = (face_start, face_free, face_fixed, face_rank, n_subsets, n_codes)  # for _cube_cells
+    balls = (False, tables.kuhn, tables.ksimplex_kuhn, no_rows)  # (`_joined_pieces` needs the tables' simplices)
+    solve_scratch = (mat, rhs, lam)
     vk_out, vp_out, e_out, c_out, i_out = _new_records(8 * (hi - lo) + 16, n)
     used_v = used_e = used_c = used_i = np.int64(0)
     crossed_facets = np.zeros(hi - lo, np.int64)
@@ -638,124 +644,27 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
             for i in range(n_nodes):  # the table empty for the next walk
                 slot_key[node_slot[i]] = -1
 
-        # 3. Cells (paper 3.1.2), as in `cubes_chunk`
+        # 3. Cells (paper 3.1.2): no cell here is tested for a ball (`_joined_pieces` needs the tables)
         if parent.shape[0] < nv:
             parent = np.empty(2 * nv, np.int64)
             cell_of_root = np.empty(2 * nv, np.int64)
         if cells_buf_a.shape[0] < 4 * nv or cells_buf_a.shape[0] < ne:
             cells_buf_a = np.empty((4 * nv + ne, 3), np.int64)
             cells_buf_b = np.empty((4 * nv + ne, 3), np.int64)
-        lower = cells_buf_a
-        cells = cells_buf_b
-        for e in range(ne):
-            f = edge_face[e]
-            ca = _local_code(face_free[f], face_free[vertex_face[edge_a[e]]], face_fixed[vertex_face[edge_a[e]]],
-                             vertex_perm[edge_a[e]], k, kfact, binom)
-            cb = _local_code(face_free[f], face_free[vertex_face[edge_b[e]]], face_fixed[vertex_face[edge_b[e]]],
-                             vertex_perm[edge_b[e]], k, kfact, binom)
-            lower[e, 0] = f
-            lower[e, 1] = edge_a[e]
-            lower[e, 2] = (
-                _face_key(g_vertex + corner_vertex[face_fixed[f]], n_subsets[k1], face_rank[f]) * n_codes[k1]
-                + min(ca, cb)
-            )
-            row = used_e + e
-            if row >= e_out.shape[0]:
-                e_out = _grown_rows(e_out, row)
-            e_out[row, 0] = lower[e, 2]
-            e_out[row, 1] = vertex_key[edge_a[e]]
-            e_out[row, 2] = vertex_key[edge_b[e]]
-        n_lower = ne
-        n_cells = 0
-        n_incidences = 0
-        for r in range(2, n - k + 1):
-            dim = r + k
-            face0 = face_start[dim]
-            n_faces = face_start[dim + 1] - face0
-            n_here = np.int64(0)
-            for fi in range(n_faces):
-                f = face0 + fi
-                n_in = 0
-                for v in range(nv):
-                    if _face_in_face(
-                        face_free[vertex_face[v]], face_fixed[vertex_face[v]], face_free[f], face_fixed[f]
-                    ):
-                        parent[v] = v
-                        n_in += 1
-                    else:
-                        parent[v] = -1
-                if n_in == 0:
-                    continue
-                has_edge = False
-                for e in range(ne):
-                    if _face_in_face(face_free[edge_face[e]], face_fixed[edge_face[e]], face_free[f], face_fixed[f]):
-                        has_edge = True
-                        ra = _find(parent, edge_a[e])
-                        rb = _find(parent, edge_b[e])
-                        if ra != rb:
-                            parent[max(ra, rb)] = min(ra, rb)
-                if not has_edge:
-                    continue
-                for v in range(nv):
-                    cell_of_root[v] = -1
-                for e in range(ne):
-                    if _face_in_face(face_free[edge_face[e]], face_fixed[edge_face[e]], face_free[f], face_fixed[f]):
-                        cell_of_root[_find(parent, edge_a[e])] = -2
-                if cells.shape[0] < n_here + n_in:
-                    cells = _grown_rows(cells, n_here)
-                first = n_here
-                ff = face_free[f]
-                for v in range(nv):
-                    if parent[v] >= 0:
-                        root = _find(parent, v)
-                        code = _local_code(ff, face_free[vertex_face[v]], face_fixed[vertex_face[v]], vertex_perm[v],
-                                           k, kfact, binom)
-                        if root == v:
-                            if cell_of_root[v] != -2:
-                                continue
-                            cell_of_root[v] = n_here
-                            cells[n_here, 0] = f
-                            cells[n_here, 1] = v
-                            cells[n_here, 2] = code
-                            n_here += 1
-                        else:
-                            c = cell_of_root[root]
-                            if c >= 0 and code < cells[c, 2]:
-                                cells[c, 2] = code
-                fkey = _face_key(g_vertex + corner_vertex[face_fixed[f]], n_subsets[dim], face_rank[f]) * n_codes[dim]
-                for c in range(first, n_here):
-                    cells[c, 2] += fkey
-                    row = used_c + n_cells + c
-                    if row >= c_out.shape[0]:
-                        c_out = _grown_rows(c_out, row)
-                    c_out[row, 0] = r
-                    c_out[row, 1] = cells[c, 2]
-                for y in range(n_lower):
-                    if not _face_in_face(face_free[lower[y, 0]], face_fixed[lower[y, 0]], face_free[f], face_fixed[f]):
-                        continue
-                    rep = lower[y, 1]
-                    if parent[rep] < 0:
-                        degenerate += 1
-                        continue
-                    row = used_i + n_incidences
-                    if row >= i_out.shape[0]:
-                        i_out = _grown_rows(i_out, row)
-                    i_out[row, 0] = r
-                    i_out[row, 1] = cells[cell_of_root[_find(parent, rep)], 2]
-                    i_out[row, 2] = lower[y, 2]
-                    n_incidences += 1
-            n_cells += n_here
-            swap = lower
-            lower = cells
-            cells = swap
-            n_lower = n_here
+        (e_out, c_out, i_out), n_cells, n_incidences, events, non_ball, n_non_ball = _cube_cells(
+            ci - lo, g_vertex, corner_vertex, n, k, kfact, binom, faces, nv,
+            (vertex_face, vertex_perm, vertex_key, no_rows), ne, (edge_a, edge_b, edge_face), parent, cell_of_root,
+            cells_buf_a, cells_buf_b, (e_out, c_out, i_out), used_e, used_c, used_i, values, o, corner_row,
+            corner_signs, all_signs, balls, solve_scratch, non_ball, n_non_ball,
+        )
+        degenerate += events
         used_v += nv
         used_e += ne
         used_c += n_cells
         used_i += n_incidences
     return (
         _records_upto(vk_out, vp_out, e_out, c_out, i_out, used_v, used_e, used_c, used_i), crossed_facets, degenerate,
-        np.zeros((0, 3), np.int64),
+        non_ball[:n_non_ball].copy(),
     )
 
 
