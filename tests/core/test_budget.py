@@ -260,3 +260,23 @@ def test_the_marching_pass_is_counted_for_n3(monkeypatch):
     monkeypatch.setattr(sweep, "MARCHING3", False)
     general = budget.estimate_run(3, 1, 200, bounds=[(-1.5, 1.5)] * 3, system=system, probe=True)
     assert one.record_bytes == pytest.approx(budget._MARCHING_RECORDS * general.record_bytes)
+
+
+def _candidates_naive(values):
+    """Cube by cube, component by component: both signs among the finite corner values."""
+    n = values.ndim - 1
+    out = np.zeros(tuple(s - 1 for s in values.shape[:-1]), bool)
+    for origin in np.ndindex(*out.shape):
+        corners = values[tuple(slice(o, o + 2) for o in origin)].reshape(-1, values.shape[-1])
+        out[origin] = all((c >= 0).any() and (c < 0).any() for c in corners.T)
+    assert out.ndim == n
+    return out
+
+
+@pytest.mark.parametrize("shape", [(5, 1), (4, 6, 2), (5, 4, 3, 2), (3, 4, 3, 3, 3), (2, 2, 2, 2, 2, 2, 2, 4)])
+def test_probe_candidates_match_the_naive_twin(shape):
+    rng = np.random.default_rng(sum(shape))
+    values = rng.normal(size=shape)
+    values[rng.random(shape) < 0.05] = np.nan
+    values[rng.random(shape) < 0.05] = 0.0
+    np.testing.assert_array_equal(budget._candidates(values), _candidates_naive(values))
