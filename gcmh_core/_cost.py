@@ -18,13 +18,13 @@ _KERNEL_SECONDS_PER_ENTRY = 2e-9
 
 
 def _functionals(k: int) -> int:
-    """Rows the lazy kernel keeps for its prune's functionals (`_kernels._face_functionals`: F's
+    """Rows the lazy kernel keeps for its prune's functionals (`kernels.lazy._face_functionals`: F's
     components and up to 2k differences of W F's rows, _MODEL_NEIGHBOURS = 2)."""
     return 3 * k
 
 
 def kernel_entries(n: int, k: int) -> int:
-    """Table entries `_kernels.cubes_chunk` reads for one candidate cube (at most): the corners of
+    """Table entries `kernels.gcmh.cubes_chunk` reads for one candidate cube (at most): the corners of
     every k-simplex, the boundary nodes of every (k+1)-face and its walk's simplices.  For lazy
     tables (`cubes_chunk_lazy`): the sign prune over every k-face's corners, then the prune's
     functionals (k + 2 operations per corner each) on the k-faces M crosses, 2^(n-k) as for a plane."""
@@ -52,7 +52,7 @@ _CHECK_SECONDS_PER_SIMPLEX = 2e-8
 
 
 def kuhn_simplices(n: int, k: int) -> int:
-    """Simplices of dimensions k..n in a cube's Kuhn triangulation (`_tables.simplex_tables`' rows):
+    """Simplices of dimensions k..n in a cube's Kuhn triangulation (`kernels.tables.simplex_tables`' rows):
     the strict chains c0 < ... < cd of its corners, for each d."""
     total = 0
     for d in range(k, n + 1):
@@ -66,7 +66,7 @@ def checks_cells(n: int, k: int, simplicial: bool, check_cells: bool | None) -> 
     """Whether a run checks its cells against CMS's Euler characteristic (`runner.Grid.check_cells`):
     GCMH and GCCH for n - k >= 2 and 4 <= n <= 7 when asked (no Kuhn tables beyond n = 7; surfaces
     in R^3 go by the one-pass marching).  By default for solids (n - k >= 3) where a cube's Kuhn
-    simplices are few (n <= 5, 1.4 to 2.3 times the run, README); not for surfaces, whose pieces the
+    simplices are few (n <= 5, 1.4 to 2.3 times the run, docs/cells.md); not for surfaces, whose pieces the
     kernel's own check covers but for noise (the complex cosine would take twice as long)."""
     if simplicial or n - k < 2 or not 4 <= n <= 7 or lazy_tables(n, k):
         return False

@@ -3,8 +3,8 @@
 `estimate_run` adds up what an extraction holds at its peak, from (n, k, div, method)
 and a probe of F on a coarse grid (a few thousand vertices, milliseconds):
 
-* the cube tables for (n, k) (`_tables`): int64 arrays counted exactly (faces of
-  dimension k..n; unless `_tables.lazy_tables` also k! Kuhn simplices per k-face, the walk template of
+* the cube tables for (n, k) (`kernels.tables`): int64 arrays counted exactly (faces of
+  dimension k..n; unless `kernels.tables.lazy_tables` also k! Kuhn simplices per k-face, the walk template of
   (k+1)! simplices and its map onto every (k+1)-face, the Kuhn triangulation for n = 7),
   plus the numpy temporaries of their build;
 * the kernel's scratch: per thread, with Kuhn simplices in the tables arrays of one entry per k-simplex and
@@ -77,7 +77,7 @@ _RECORD_OVERHEAD = 3.2
 # faces where every component changes sign undercount the cells of k >= 2 in a cube)
 _K_FACTOR = {1: 1.0, 2: 1.2}
 _K_FACTOR_MORE = 1.6
-# GCMH's marching pass for n = 3, k = 1 (`_marching3`) writes the complex in its final form,
+# GCMH's marching pass for n = 3, k = 1 (`kernels.marching3`) writes the complex in its final form,
 # no records to sort: its peak is this fraction of the records' (0.27-0.33 measured at div 100-300 with
 # its work arrays new; kept between runs they are less: the estimate was 1.6-2.1x the peak at 0.3)
 _MARCHING_RECORDS = 0.2
@@ -172,12 +172,12 @@ def _time_limit() -> float:
 
 # ----------------------------------------------------------------------------- the parts
 def table_cost(n: int, k: int) -> tuple[int, int, float]:
-    """(peak bytes of the build, bytes held after it, seconds) of `_tables.cube_tables(n, k)`.
+    """(peak bytes of the build, bytes held after it, seconds) of `kernels.tables.cube_tables(n, k)`.
 
     The held bytes are its arrays to the byte (tests/core/test_budget.py compares); the
     build's temporaries add the largest of: the walk's Lehmer digits and ranks ((k+1)! rows of
     k+1 int64, about three such), an anchor table of the faces, the Kuhn triangulation's
-    label enumeration (n <= 7: two n (n+2)^n byte arrays).  Lazy tables (`_tables.lazy_tables`)
+    label enumeration (n <= 7: two n (n+2)^n byte arrays).  Lazy tables (`kernels.tables.lazy_tables`)
     are the faces only."""
     m = k + 1
     w = 8  # int64
@@ -245,7 +245,7 @@ def _random_plane_faces(n: int, k: int) -> np.ndarray:
 def _bytes_per_cube(n: int, k: int, faces: np.ndarray) -> float:
     """Peak bytes per candidate cube whose crossed faces (per dimension) are `faces`.
 
-    The kernel's records (`_kernels`): a vertex per crossed k-face (its key and n
+    The kernel's records (`gcmh_core.kernels`): a vertex per crossed k-face (its key and n
     coordinates), an edge per crossed (k+1)-face (three keys), an r-cell per crossed
     (k+r)-face (two words) with its 2r faces (three words each); held while the
     kernel grows its buffers by doubling, then concatenated and sorted."""

@@ -1,7 +1,7 @@
 """The same extraction over blocks of the grid on a Dask cluster (`extract(..., scheduler=...)`).
 
 Every cube is processed independently and every vertex, edge and cell carries a
-global key computed from grid indices alone (see `_kernels`), and `runner.assemble_records`
+global key computed from grid indices alone (see `gcmh_core.kernels`), and `runner.assemble_records`
 sorts by key: blocks processed on different machines merge without a second pass.
 
 Whole-grid methods ("gcmh", "cms"): the grid of cubes is cut into n-D blocks, one

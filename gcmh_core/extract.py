@@ -4,7 +4,7 @@ public function (validates every argument, `_validate`)
   -> `sweep.run_sweep` (GCMH/CMS: every cube, slab by slab)
    | `continuation.run_continuation` (GCCH/CCS: the cubes M passes through)
    | `distributed.run_distributed` (either, on a Dask cluster)
-  -> `runner.Grid` (kernel runs on threads, records, assembly) -> `_kernels` (numba);
+  -> `runner.Grid` (kernel runs on threads, records, assembly) -> `gcmh_core.kernels` (numba);
      with glued axes (periodic=), `identify.IdentifiedGrid`, a Grid whose seams wrap.
 """
 

@@ -186,7 +186,7 @@ class IdentifiedGrid(Grid):
         self.centres = np.asarray(bounds, np.float64).sum(axis=1)
         self.widths = np.diff(np.asarray(bounds, np.float64), axis=1)[:, 0]
         self.div = self.dims - 1
-        # the key layout of `_kernels` (its glossary), computed here rather than read from the
+        # the key layout of `gcmh_core.kernels` (its glossary), computed here rather than read from the
         # tables: a face of dimension dim has key (anchor * C(n, dim) + rank) * n_codes[dim] + code,
         # rank its free axes' index in combinations(range(n), dim); a simplex (anchor) * (n+1)^n + code
         self._n_subsets = np.array([comb(n, d) for d in range(n + 1)], np.int64)
@@ -531,7 +531,7 @@ class IdentifiedGrid(Grid):
         return self.cubes_from_corner_values(values, origins, self._run), nonfinite
 
     def wrapped_neighbours(self, wave, masks, cube_strides) -> tuple[np.ndarray, np.ndarray]:
-        """`_kernels.facet_neighbours` with seams crossed: past the last cube of a periodic
+        """`kernels.candidates.facet_neighbours` with seams crossed: past the last cube of a periodic
         axis is its first (and back), mirrored along the axes its seam reverses."""
         n = self.n
         out = []

@@ -110,7 +110,7 @@ class Grid:
         self.stats = dict(candidate_cubes=0, cubes=int(np.prod(self.dims - 1)), nonfinite_vertices=0, degenerate=0,
                           non_ball_cells=0, non_ball_split=0)
         self.parts: dict[str, list[np.ndarray]] = dict(vk=[], vp=[], e=[], c=[], i=[])
-        # the kernel's tables, one named tuple (`_tables.CubeTables` or `SimplexTables`)
+        # the kernel's tables, one named tuple (`kernels.tables.CubeTables` or `SimplexTables`)
         self.kernel_tables = self.stab if self.simplicial else self.tab
 
     def run_kernel(self, values, cube_lin, origin, value_off) -> np.ndarray:
@@ -177,7 +177,7 @@ class Grid:
         """The candidate cubes of the block of cubes lo..hi-1 (per axis, global indices).
 
         values (hi-lo+1 ..., k): F at the block's vertices.  Blocks may be processed in
-        any order and on any machine: records carry global keys (see `_kernels`).
+        any order and on any machine: records carry global keys (see `gcmh_core.kernels`).
         first_layer: when values[0] is the previous block's last layer (slabs along
         axis 0), the codes this returned for it, so the candidate pass skips it.
         """
@@ -344,7 +344,7 @@ def unique_first(keys: np.ndarray):
 def assemble_records(n, k, vk, vp, e, c, inc) -> CellComplex:
     """Identify what neighbouring cubes emitted twice and build the CellComplex.
 
-    Every entity carries a key computed from grid indices alone (see `_kernels`);
+    Every entity carries a key computed from grid indices alone (see `gcmh_core.kernels`);
     ids in the result follow the sorted keys, so the output does not depend on
     the order in which cubes, slabs or threads produced it.  Lens 2-cells (two edges
     with the same ends) are collapsed last (`_regular`); meta counts them.

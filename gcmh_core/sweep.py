@@ -14,7 +14,7 @@ size of M rather than with div^n, and the complex is the plain sweep's, bit for 
 a dropped block would have given the candidate pass nothing (no candidate, no
 non-finite vertex), and the others give the same values and the same records.
 
-n = 3, k = 1 (GCMH, no periodic axes): the marching pass (`_marching3`) instead, F in
+n = 3, k = 1 (GCMH, no periodic axes): the marching pass (`kernels.marching3`) instead, F in
 thin slabs, the complex written in its final order in one pass over the grid's layers;
 the same bytes as the general path, which it hands over to when a value is not finite.
 
@@ -69,7 +69,7 @@ MARCH_SLAB_VERTICES = 1 << 18
 # (at div 256: the values 2 MB, the ring buffers 14 MB).
 _SCRATCH_KEEP_BYTES = 16 << 20
 _scratch_arrays = threading.local()
-# None: GCMH for n = 3, k = 1 takes the marching pass (`_marching3`) unless PRUNE is True;
+# None: GCMH for n = 3, k = 1 takes the marching pass (`kernels.marching3`) unless PRUNE is True;
 # False: never (tests compare it with the general path).  Periodic axes never take it.
 MARCHING3: bool | None = None
 
@@ -162,7 +162,7 @@ def _marching_sweep(grid, axes, system, sampled, progress, cancel) -> CellComple
 def _march(grid, axes, system, sampled, progress, cancel) -> CellComplex | None:
     """n = 3, k = 1: F slab by slab along axis 0 as in `_plain_sweep` (thinner slabs: each
     row of values is computed alike, so the values are the same), each slab through
-    `_marching3.march_layers`, which writes the complex in its final order.  None when a
+    `kernels.marching3.march_layers`, which writes the complex in its final order.  None when a
     value is not finite or a difference overflows (the general path then runs: it
     counts and skips such vertices), and when M_A joins two pieces of G_H through a cube
     (the general path splits those cells: rare, and found in the first slab that has one)."""
