@@ -105,10 +105,10 @@ class QtPresentation(QObject):
         self._add_to_menu("View", [self.present_action, self.formula_action, self.axes_action])
         self._add_to_menu("Examples", [self.next_action, self.previous_action])
 
-        pp = window.projection_panel
+        events = window.model.events   # the model's, not the View tab's: undo, sessions and animation turn it too
         self._connections = [(window.resultChanged, self._on_result), (window.runFinished, self._on_run_finished),
-                             (pp.projectionChanged, self._on_turned), (pp.sliceChanged, self._on_turned),
-                             (pp.baseChanged, self._on_new_base)]
+                             (events.projection, self._on_turned), (events.slice, self._on_turned),
+                             (events.base, self._on_new_base)]
         for signal, slot in self._connections:   # after the viewer's own slots: it has framed the object
             signal.connect(slot)
         window.viewer.widget.installEventFilter(self._keys)
@@ -238,8 +238,8 @@ class QtPresentation(QObject):
         cplx: tuple = (None, None)
         if ex is not None and ex.complex and ex.complex_variables:
             cplx = (tuple(ex.complex), tuple(ex.complex_variables))
-        elif ex is None and w.formula_panel.is_complex():   # typed in complex mode (the card checks the split)
-            cplx = (tuple(w.formula_panel.complex_equations()), tuple(w.formula_panel.complex_variables()))
+        elif ex is None and w.model.system.get("complex"):   # typed in complex mode (the card checks the split)
+            cplx = (tuple(w.model.system["complex"]), tuple(w.model.system.get("complex_variables") or ()))
         params = tuple(sorted((job.params or {}).items()))
         return (tuple(job.formulas), tuple(job.variables), params) + cplx
 
