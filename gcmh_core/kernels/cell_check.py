@@ -6,7 +6,7 @@ import numpy as np
 
 from .._config import JIT
 from .cells import _find
-from .solve import _simplex_crosses_call, _zero_side
+from .solve import _simplex_crosses_call, _zero_side, crossable_mask
 
 
 @nb.njit(**JIT)
@@ -70,16 +70,8 @@ def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables, carrier, n_fa
         n_front = 0
         for s in range(start[k], start[k + 1]):
             crossed[s] = 0
-            if masked:  # a simplex on which some F_j has one sign holds no zero
-                m = corner_mask[s]
-                out_of = False
-                for j in range(k):
-                    on = positive_corners[j] & m
-                    if on == 0 or on == m:
-                        out_of = True
-                        break
-                if out_of:
-                    continue
+            if masked and not crossable_mask(positive_corners, corner_mask[s], k):
+                continue  # a simplex on which some F_j has one sign holds no zero
             hit = _simplex_crosses_call(values, o, corner_row, corners, s, k, corner_signs, all_signs, mat, rhs, lam)
             if hit == 2:
                 hit = _zero_side(values, o, corner_row, corners, s, k, lam)

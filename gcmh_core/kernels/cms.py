@@ -5,7 +5,7 @@ import numpy as np
 
 from .._config import INLINE_JIT, JIT
 from .records import _grown_keys, _grown_rows, _new_records, _records_upto
-from .solve import _zero_side, simplex_crosses
+from .solve import _zero_side, crossable_chain, crossable_mask, simplex_crosses
 
 # ----------------------------------------------------------------------------- simplicial baselines (CMS, CCS)
 # Marching simplices over the CFK triangulation (paper Section 4): every simplex of
@@ -70,25 +70,11 @@ def simplices_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lin
         facets = np.int64(0)
         for s in range(dim_start[k], dim_start[k + 1]):
             crossed[s] = 0
-            # the sign prune, written out as in cubes_chunk
-            if masked:
-                m = simplex_corner_mask[s]
-                out = False
-                for j in range(k):
-                    on = positive_corners[j] & m
-                    if on == 0 or on == m:
-                        out = True
-                if out:
+            if masked:  # the sign prune first (`solve`)
+                if not crossable_mask(positive_corners, simplex_corner_mask[s], k):
                     continue
-            else:
-                any_pos = 0
-                all_pos = all_signs
-                for i in range(k + 1):
-                    p = corner_signs[simplex_corners[s, i]]
-                    any_pos |= p
-                    all_pos &= p
-                if any_pos != all_signs or all_pos != 0:
-                    continue
+            elif not crossable_chain(corner_signs, simplex_corners, s, k + 1, all_signs):
+                continue
             hit = simplex_crosses(values, o, corner_row, simplex_corners, s, k, corner_signs, all_signs, mat, rhs, lam)
             if hit == 2:
                 hit = _zero_side(values, o, corner_row, simplex_corners, s, k, lam)

@@ -6,7 +6,8 @@ import numpy as np
 from .._config import JIT
 from .cells import _cube_cells, _face_in_face, _face_key
 from .records import _grown_keys, _grown_rows, _new_records, _records_upto
-from .solve import _simplex_crosses_call, _zero_side
+from .solve import _simplex_crosses_call, _zero_side, crossable_face
+from .walk import _link, _walk_edges
 
 # ----------------------------------------------------------------------------- large n: simplices found, not listed
 # Where `_tables.lazy_tables` (n >= 8, large k) a k-face's k! Kuhn simplices (40,320 at k = 8, 3.6M
@@ -356,6 +357,7 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
     edge_face = np.empty(16, np.int64)
     found_node = np.empty(16, np.int64)
     found_vertex = np.empty(16, np.int64)
+    found_row = np.empty(16, np.int64)
     walked = np.empty(16, np.int8)
     node_id = np.empty(64, np.int64)
     node_slot = np.empty(64, np.int64)
@@ -401,18 +403,8 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
             f = kface0 + kf
             free = face_free[f]
             fixed = face_fixed[f]
-            any_pos = 0
-            all_pos = all_signs
-            sub_mask = free
-            while True:  # the sign prune over the face's corners first: most faces stop here
-                p = corner_signs[fixed | sub_mask]
-                any_pos |= p
-                all_pos &= p
-                if sub_mask == 0:
-                    break
-                sub_mask = (sub_mask - 1) & free
-            if any_pos != all_signs or all_pos != 0:
-                continue
+            if not crossable_face(corner_signs, free, fixed, all_signs):
+                continue  # the sign prune over the face's corners first: most faces stop here
             q = 0
             for a in range(n):
                 if (free >> a) & 1:
@@ -474,8 +466,9 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
         if found_node.shape[0] < nv:
             found_node = np.empty(2 * nv, np.int64)
             found_vertex = np.empty(2 * nv, np.int64)
+            found_row = np.empty(2 * nv, np.int64)
             walked = np.empty(2 * nv, np.int8)
-        ne = 0
+        ne = np.int64(0)  # (passed to _walk_edges: see _config)
         for kf1 in range(n_k1faces):
             f1 = k1face0 + kf1
             ff = face_free[f1]
@@ -598,49 +591,12 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
                         elif n_crossed == 1:
                             node_b = at
                         n_crossed += 1
-                if n_crossed == 2:
-                    for pair in range(2):
-                        u = node_a if pair == 0 else node_b
-                        w = node_b if pair == 0 else node_a
-                        if next0[u] < 0:
-                            next0[u] = w
-                        elif next1[u] < 0:
-                            next1[u] = w
-                        else:
-                            degenerate += 1
-                elif n_crossed != 0:
-                    degenerate += 1
+                degenerate += _link(next0, next1, n_crossed, node_a, node_b)
             for q in range(n_found):
-                walked[q] = 0
-            for q in range(n_found):
-                if walked[q]:
-                    continue
-                start = _node_index(slot_key, slot_node, found_node[q])
-                before = -1
-                at = start
-                end = -1
-                if start >= 0:
-                    for _step in range(n_nodes + 1):
-                        nxt = next0[at] if next0[at] != before else next1[at]
-                        if nxt < 0:
-                            break
-                        before = at
-                        at = nxt
-                        if node_id[at] < n_boundary:
-                            end = at
-                            break
-                if end < 0 or end == start:
-                    degenerate += 1
-                    walked[q] = 1
-                    continue
-                for q2 in range(n_found):
-                    if found_node[q2] == node_id[end]:
-                        walked[q2] = 1
-                        edge_b[ne] = found_vertex[q2]
-                walked[q] = 1
-                edge_a[ne] = found_vertex[q]
-                edge_face[ne] = f1
-                ne += 1
+                found_row[q] = _node_index(slot_key, slot_node, found_node[q])
+            ne, events = _walk_edges(next0, next1, node_id, n_boundary, n_nodes + 1, found_row, found_vertex, n_found,
+                                     walked, edge_a, edge_b, edge_face, ne, f1)
+            degenerate += events
             for i in range(n_nodes):  # the table empty for the next walk
                 slot_key[node_slot[i]] = -1
 
