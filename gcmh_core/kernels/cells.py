@@ -101,7 +101,7 @@ def _joined_pieces(values, o, corner_row, corner_signs, all_signs, kuhn, ksimple
     return joined
 
 
-@nb.njit(**JIT)
+@nb.njit(**INLINE_JIT)
 def _cube_cells(cube, g_vertex, corner_vertex, n, k, kfact, binom, faces, nv, vertices, ne, edges, parent,
                 cell_of_root, lower, cells, records, used_e, used_c, used_i, values, o, corner_row, corner_signs,
                 all_signs, balls, solve_scratch, non_ball, n_non_ball):
