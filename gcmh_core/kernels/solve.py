@@ -96,7 +96,13 @@ def simplex_crosses(vals, o, value_off, table, s, k, pos_mask, full, mat, rhs, l
     kernels' variables, they made the inlined code 10% slower on the complex cosine.)
     """
     m = k + 1
-    if not crossable_chain(pos_mask, table, s, m, full):
+    any_pos = 0
+    all_pos = full
+    for i in range(m):
+        p = pos_mask[table[s, i]]
+        any_pos |= p
+        all_pos &= p
+    if any_pos != full or all_pos != 0:
         return 0
     # Solve sum_{i>=1} lam_i (F(v_i) - F(v_0)) = -F(v_0), a k x k system.
     r0 = o + value_off[table[s, 0]]
