@@ -841,10 +841,13 @@ def evaluate_constant(text: str | int | float) -> float:
     src = text.strip().replace("π", "pi")
     if not src:
         raise InputError("empty number")
+    # ``^`` is power, as in formulas: read as Python's XOR it bound looser than unary minus and
+    # products (-0.5^2 was +0.25, 2*3^2 was 36); as ``**`` it binds tighter and to the right.
+    expr = src.replace("^", "**")
     if len(src) > _CONST_MAX_TEXT:
         raise InputError(f"constant expression longer than {_CONST_MAX_TEXT} characters")
     try:
-        tree = _parse_quietly(src)
+        tree = _parse_quietly(expr)
     except SyntaxError:
         raise InputError(f"cannot read {src!r} as a number (e.g. 1.5, -pi/2, 2*pi)") from None
     try:

@@ -1,5 +1,6 @@
 """Tests for gcmh_core.formula: safe parsing, point/grid/Jacobian evaluation, errors."""
 
+import math
 import pickle
 
 import numpy as np
@@ -8,7 +9,7 @@ import sympy
 
 from gcmh_core import formula
 from gcmh_core.errors import InputError
-from gcmh_core.formula import FormulaError, System, check_component, parse_system
+from gcmh_core.formula import FormulaError, System, check_component, evaluate_constant, parse_system
 
 KLEIN = [
     "cos(s)*(3+cos(s/2)*sin(t)-sin(s/2)*sin(2*t))-x",
@@ -383,3 +384,14 @@ def test_syntax_warnings_stay_off_stderr(capsys):
             with pytest.raises(InputError):
                 formula.evaluate_constant(text)
     assert capsys.readouterr().err == ""
+
+
+@pytest.mark.parametrize("text, value", [
+    ("-0.5^2", -0.25), ("2*3^2", 18.0), ("2^3^2", 512.0), ("(-0.5)^2", 0.25), ("-2^-1", -0.5),
+    ("pi^2/4", math.pi ** 2 / 4), ("2**3", 8.0),
+])
+def test_caret_in_constants_is_power_with_formula_precedence(text, value):
+    # the same grammar as formulas: the formula x - (text) vanishes at x = the constant's value
+    assert evaluate_constant(text) == pytest.approx(value, rel=1e-15)
+    system = parse_system([f"x - ({text})"], ["x"])
+    assert system.evaluate_points(np.array([[value]]))[0, 0] == pytest.approx(0.0, abs=1e-12)
