@@ -270,9 +270,10 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
                 degenerate += _link(walk_next0, walk_next1, n_crossed, node_a, node_b)
             for q in range(n_found):
                 found_vertex[q] = vertex_of_ksimplex[walk_boundary_simplex[kf1, boundary_found[q]]]
+            # np.int64: numba typed n_found here as Literal[int](0) and compiled the walk a second time
             ne, events = _walk_edges(walk_next0, walk_next1, node_id, n_boundary, n_boundary + n_interior + 1,
-                                     boundary_found, found_vertex, n_found, walked, edge_a, edge_b, edge_face, ne,
-                                     k1face0 + kf1)
+                                     boundary_found, found_vertex, np.int64(n_found), walked, edge_a, edge_b,
+                                     edge_face, ne, k1face0 + kf1)
             degenerate += events
 
         # 3. Cells (paper 3.1.2)
