@@ -78,6 +78,10 @@ MIN_CHUNK = 1024
 CONNECT_TIMEOUT = 5.0
 # Seconds between two polls of `cancel` while tasks run.
 POLL = 0.05
+# meta keys that say how a run went on the cluster, not what it produced: the JSON summary shows
+# them; `CellComplex.save` leaves them out (complex.VOLATILE_META), so the file has the
+# single-process bytes
+RUN_META = ("scheduler", "workers", "tasks", "blocks", "block")
 
 _ADDRESS = re.compile(r"^tcp://(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):(\d{1,5})$")
 
