@@ -1,0 +1,809 @@
+"""Integer homology of an extracted complex: Betti numbers over Q and Z/2, torsion,
+generating cycles, and the loop along which a surface's orientation reverses.
+
+The cells of a GCMH result are balls (a regular CW complex), so the boundary
+matrices over Z need only incidence numbers [c : f] = +-1, found by orienting each
+cell consistently with its faces (:func:`incidences`).  The complex is then
+reduced by *coreductions* (Mrozek and Batko; CAPD RedHom's CoreductionMorse): a cell
+b whose boundary, in what is left, is one cell a is paired with it, and both leave;
+when no cell has exactly one face left, a cell with no face left is declared
+critical.  The pairs form an acyclic matching (discrete Morse theory), the critical
+cells span the *Morse complex*, whose boundary follows the gradient paths
+(:func:`_flow`).  On a surface the vertex pairs are a spanning tree and the face pairs a
+spanning tree of the dual graph: the tree-cotree decomposition, so the critical
+edges are few and the cycles lifted from them are short.  Smith normal form (exact,
+Python ints) runs only on the Morse complex.
+
+Example
+-------
+>>> from gcmh_core import CellComplex
+>>> square = CellComplex(2, 0, [[0, 0], [1, 0], [1, 1], [0, 1]],
+...                      [[0, 1], [1, 2], [2, 3], [3, 0]], {2: ([0, 4], [0, 1, 2, 3])})
+>>> homology(square).describe()
+'H0 = Z, H1 = 0, H2 = 0'
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from ._config import JIT
+from .analysis import _bfs_flips, graph_components, orient_2cells
+from .complex import CellComplex
+from .errors import InputError
+
+__all__ = ["Cycle", "Homology", "homology", "incidences", "summary"]
+
+
+# ----------------------------------------------------------------------------
+# results
+# ----------------------------------------------------------------------------
+
+@dataclass(frozen=True, eq=False)
+class Cycle:
+    """A cycle of the complex: ``sum(coefficients[i] * cell cells[i])`` over dim-cells.
+
+    ``order`` is 0 for a generator of a free summand Z, else the order s of the cyclic
+    summand Z/s it generates.
+    """
+
+    dim: int
+    cells: np.ndarray         # (m,) int64 ids of dim-cells
+    coefficients: np.ndarray  # (m,) int64, nonzero
+    order: int = 0
+
+    def __len__(self) -> int:
+        return int(self.cells.size)
+
+
+@dataclass(frozen=True, eq=False)
+class Homology:
+    """Homology of a cell complex with integer coefficients.
+
+    Attributes
+    ----------
+    betti : list of int
+        Betti numbers over Q, b_0 .. b_dim.
+    betti_mod2 : list of int
+        Dimensions of H_q(X; Z/2).
+    torsion : list of list of int
+        Per dimension, the orders of the cyclic factors of the torsion of H_q(X; Z)
+        (invariant factors > 1, ascending): the Klein bottle gives ``[[], [2], []]``.
+    generators : list of tuple of Cycle, or None
+        Per dimension, cycles generating H_q(X; Z): the free summands first (order 0),
+        then the torsion summands.  None when computed with ``generators=False``.
+    orientation_cycle : (m,) int64 edge ids, or None
+        For a surface that is not orientable: the edges across which the normals of
+        :func:`~gcmh_core.analysis.orient_2cells` flip (a Z/2 cycle, Poincare dual to
+        the first Stiefel-Whitney class w1).  None otherwise.
+    critical : list of int
+        Critical cells per dimension after the coreductions (the Morse complex's size).
+    """
+
+    betti: list
+    betti_mod2: list
+    torsion: list
+    generators: list | None
+    orientation_cycle: np.ndarray | None
+    critical: list
+
+    @property
+    def euler_characteristic(self) -> int:
+        return int(sum((-1) ** q * b for q, b in enumerate(self.betti)))
+
+    def as_dict(self) -> dict:
+        """``{"betti": [...], "betti_mod2": [...], "torsion": [[...], ...]}`` (JSON-ready)."""
+        return {"betti": [int(b) for b in self.betti],
+                "betti_mod2": [int(b) for b in self.betti_mod2],
+                "torsion": [[int(t) for t in ts] for ts in self.torsion]}
+
+    def group(self, q: int) -> str:
+        """H_q as text: ``"Z^2 + Z/2"``, ``"0"``."""
+        parts = []
+        b = self.betti[q]
+        if b:
+            parts.append("Z" if b == 1 else f"Z^{b}")
+        parts += [f"Z/{t}" for t in self.torsion[q]]
+        return " + ".join(parts) if parts else "0"
+
+    def describe(self) -> str:
+        """One line: ``"H0 = Z, H1 = Z + Z/2, H2 = 0"``."""
+        return ", ".join(f"H{q} = {self.group(q)}" for q in range(len(self.betti)))
+
+
+# ----------------------------------------------------------------------------
+# incidence numbers
+# ----------------------------------------------------------------------------
+
+def incidences(cx: CellComplex) -> list:
+    """Incidence numbers [c : f] of every cell with its faces, from cell orientations.
+
+    Returns a list ``signs`` with ``signs[r]`` an int64 array aligned with the face
+    list of the r-cells: for r = 1, (E, 2) (-1 at the first vertex, +1 at the second;
+    0 and 0 for an edge whose two ends are one vertex); for r >= 2, aligned with
+    ``cx.cells[r][1]``.  ``signs[0]`` is empty.  With these, boundary of boundary is 0.
+
+    Raises InputError if some cell's boundary is not an orientable closed
+    pseudo-manifold (the cell is not a ball).
+    """
+    _check(cx)
+    return _incidences(cx)
+
+
+def _faces(cx, r):
+    """(owner, face) of every face entry of the r-cells, r >= 1."""
+    if r == 1:
+        ne = cx.count(1)
+        return np.repeat(np.arange(ne, dtype=np.int64), 2), np.asarray(cx.edges).ravel()
+    off, fac = cx.cells[r]
+    return np.repeat(np.arange(off.size - 1, dtype=np.int64), np.diff(off)), np.asarray(fac)
+
+
+def _incidences(cx):
+    signs = [np.zeros(0, dtype=np.int64)]
+    if cx.dim >= 1:
+        e = np.asarray(cx.edges)
+        s = np.tile(np.array([-1, 1], dtype=np.int64), (e.shape[0], 1))
+        s[e[:, 0] == e[:, 1]] = 0
+        signs.append(s.ravel())
+    for r in range(2, cx.dim + 1):
+        signs.append(_orient_cells(cx, r, signs[r - 1]))
+    signs[1] = signs[1].reshape(-1, 2) if cx.dim >= 1 else signs[1]
+    return signs
+
+
+def _orient_cells(cx, r, below):
+    """Signs of the r-cells' face entries such that each cell's faces cancel on every
+    (r-2)-cell they share: [c:f1][f1:g] + [c:f2][f2:g] = 0."""
+    owner, fac = _faces(cx, r)
+    m = fac.size
+    if m == 0:
+        return np.zeros(0, dtype=np.int64)
+    sub_owner, sub_face = _faces(cx, r - 1)
+    below = np.asarray(below).ravel()
+    sub_off = np.zeros(cx.count(r - 1) + 1, dtype=np.int64)
+    np.cumsum(np.bincount(sub_owner, minlength=cx.count(r - 1)), out=sub_off[1:])
+    # triples (entry j, (r-2)-cell g, [f_j : g])
+    starts, counts = sub_off[fac], sub_off[fac + 1] - sub_off[fac]
+    rep = np.repeat(np.arange(m, dtype=np.int64), counts)
+    idx = starts[rep] + np.arange(rep.size) - np.repeat(np.cumsum(counts) - counts, counts)
+    g, sg = sub_face[idx], below[idx]
+    nz = sg != 0
+    rep, g, sg = rep[nz], g[nz], sg[nz]
+    order = np.lexsort((g, owner[rep]))
+    rep, g, sg = rep[order], g[order], sg[order]
+    cell = owner[rep]
+    new = np.ones(rep.size, dtype=bool)
+    new[1:] = (cell[1:] != cell[:-1]) | (g[1:] != g[:-1])
+    start = np.flatnonzero(new)
+    size = np.diff(np.append(start, rep.size))
+    if np.any(size != 2):
+        bad = int(cell[start[np.flatnonzero(size != 2)[0]]])
+        raise InputError(f"{r}-cell {bad} is not a ball: one of its {r - 2}-faces lies on "
+                         f"{int(size[size != 2][0])} of its {r - 1}-faces, not 2")
+    p, q = rep[start], rep[start + 1]
+    same = sg[start] == sg[start + 1]
+    comp, n_comp = graph_components(m, p, q)
+    flipped = _bfs_flips(m, p, q, same, comp, n_comp)
+    sign = np.where(flipped, -1, 1).astype(np.int64)
+    bad = (sign[p] * sg[start] + sign[q] * sg[start + 1]) != 0
+    if bad.any():
+        c = int(owner[p[np.flatnonzero(bad)[0]]])
+        raise InputError(f"{r}-cell {c} is not a ball: its boundary cannot be oriented")
+    # one sphere per cell (for r >= 2 the boundary is connected): else it is no ball
+    per_cell = np.bincount(owner[np.unique(comp, return_index=True)[1]], minlength=cx.count(r))
+    if np.any(per_cell > 1):
+        c = int(np.flatnonzero(per_cell > 1)[0])
+        raise InputError(f"{r}-cell {c} is not a ball: its boundary has {int(per_cell[c])} pieces")
+    return sign
+
+
+# ----------------------------------------------------------------------------
+# the chain complex in one numbering: cell ids global, dimension by dimension
+# ----------------------------------------------------------------------------
+
+def _chain_complex(cx, signs):
+    """Global CSR boundary (cell -> faces, signs; zero incidences left out) and
+    coboundary, with ``base[r]`` the global id of r-cell 0."""
+    counts = cx.counts()
+    base = np.zeros(len(counts) + 1, dtype=np.int64)
+    np.cumsum(counts, out=base[1:])
+    owners, faces, vals = [], [], []
+    for r in range(1, cx.dim + 1):
+        owner, fac = _faces(cx, r)
+        s = signs[r].ravel()
+        nz = s != 0
+        owners.append(owner[nz] + base[r])
+        faces.append(fac[nz] + base[r - 1])
+        vals.append(s[nz])
+    n = int(base[-1])
+    if owners:
+        owner = np.concatenate(owners)
+        face = np.concatenate(faces)
+        val = np.concatenate(vals)
+    else:
+        owner = face = val = np.zeros(0, dtype=np.int64)
+    bd_off = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(np.bincount(owner, minlength=n), out=bd_off[1:])
+    # owner is sorted already (dimension by dimension, cell by cell)
+    order = np.argsort(face, kind="stable")
+    cb_off = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(np.bincount(face, minlength=n), out=cb_off[1:])
+    dims = np.repeat(np.arange(len(counts), dtype=np.int64), counts)
+    return base, dims, bd_off, face, val, cb_off, owner[order]
+
+
+# ----------------------------------------------------------------------------
+# kernels: coreductions, and the flow along the matching
+# ----------------------------------------------------------------------------
+
+@njit(**JIT)
+def _coreduce(dims, top, bd_off, bd, cb_off, cb):
+    """Coreduction Morse matching.
+
+    Returns (partner, time, critical): partner[x] is the cell x is paired with (-1 for
+    a critical cell), time[x] the step at which x left; critical lists the critical
+    cells in the order they were chosen.  A pair (a, b) leaves when b's only face left
+    is a; when no cell has exactly one face left, a cell of lowest dimension with no
+    face left becomes critical.
+    """
+    n = dims.size
+    left = np.empty(n, dtype=np.int64)
+    for x in range(n):
+        left[x] = bd_off[x + 1] - bd_off[x]
+    removed = np.zeros(n, dtype=np.bool_)
+    partner = np.full(n, -1, dtype=np.int64)
+    time = np.zeros(n, dtype=np.int64)
+    queue = np.empty(n + 1, dtype=np.int64)   # cells that have one face left
+    qhead = 0
+    qtail = 0
+    # per dimension, a stack of cells that have no face left (each pushed once)
+    zstack = np.empty(n, dtype=np.int64)
+    zoff = np.zeros(top + 2, dtype=np.int64)
+    for x in range(n):
+        zoff[dims[x] + 1] += 1
+    for d in range(top + 1):
+        zoff[d + 1] += zoff[d]
+    ztop = zoff[:-1].copy()
+    for x in range(n):
+        if left[x] == 0:
+            zstack[ztop[dims[x]]] = x
+            ztop[dims[x]] += 1
+    critical = np.empty(n, dtype=np.int64)
+    n_crit = 0
+    clock = 0
+    done = 0
+    while done < n:
+        # coreductions while some cell has one face left
+        while qhead < qtail:
+            b = queue[qhead]
+            qhead += 1
+            if removed[b] or left[b] != 1:
+                continue
+            a = -1
+            for j in range(bd_off[b], bd_off[b + 1]):
+                if not removed[bd[j]]:
+                    a = bd[j]
+                    break
+            partner[a] = b
+            partner[b] = a
+            for x in (a, b):
+                removed[x] = True
+                time[x] = clock
+                clock += 1
+                done += 1
+                for j in range(cb_off[x], cb_off[x + 1]):
+                    y = cb[j]
+                    if removed[y]:
+                        continue
+                    left[y] -= 1
+                    if left[y] == 1:
+                        queue[qtail] = y
+                        qtail += 1
+                    elif left[y] == 0:
+                        zstack[ztop[dims[y]]] = y
+                        ztop[dims[y]] += 1
+            qhead = min(qhead, qtail)
+            if qhead == qtail:
+                qhead = 0
+                qtail = 0
+        if done == n:
+            break
+        # stuck: the lowest-dimensional cell with no face left becomes critical
+        c = -1
+        for d in range(top + 1):
+            while ztop[d] > zoff[d]:
+                ztop[d] -= 1
+                x = zstack[ztop[d]]
+                if not removed[x]:
+                    c = x
+                    break
+            if c >= 0:
+                break
+        if c < 0:
+            break  # cannot happen: a cell of lowest dimension left has no face left
+        removed[c] = True
+        time[c] = clock
+        clock += 1
+        done += 1
+        critical[n_crit] = c
+        n_crit += 1
+        for j in range(cb_off[c], cb_off[c + 1]):
+            y = cb[j]
+            if removed[y]:
+                continue
+            left[y] -= 1
+            if left[y] == 1:
+                queue[qtail] = y
+                qtail += 1
+            elif left[y] == 0:
+                zstack[ztop[dims[y]]] = y
+                ztop[dims[y]] += 1
+    return partner, time, critical[:n_crit]
+
+
+@njit(**JIT)
+def _heap_push(heap, size, key, x):
+    heap[size, 0] = key
+    heap[size, 1] = x
+    i = size
+    while i > 0:
+        p = (i - 1) // 2
+        if heap[p, 0] >= heap[i, 0]:
+            break
+        for c in range(2):
+            t = heap[p, c]
+            heap[p, c] = heap[i, c]
+            heap[i, c] = t
+        i = p
+    return size + 1
+
+
+@njit(**JIT)
+def _heap_pop(heap, size):
+    x = heap[0, 1]
+    size -= 1
+    heap[0, 0] = heap[size, 0]
+    heap[0, 1] = heap[size, 1]
+    i = 0
+    while True:
+        big = i
+        for c in (2 * i + 1, 2 * i + 2):
+            if c < size and heap[c, 0] > heap[big, 0]:
+                big = c
+        if big == i:
+            break
+        for c in range(2):
+            t = heap[big, c]
+            heap[big, c] = heap[i, c]
+            heap[i, c] = t
+        i = big
+    return x, size
+
+
+_LIMIT = 1 << 60  # coefficients past this would overflow int64 in the next step
+
+
+@njit(**JIT)
+def _flow(chain_off, chain_cells, chain_coefs, dims, partner, time, bd_off, bd, bdv, want_lift):
+    """Follow the gradient paths from each chain (CSR over chains; cells of one
+    dimension q, integer coefficients).
+
+    For a chain x: every (q-1)-cell a of its boundary that is paired with a q-cell b
+    is cancelled by x -= ([dx : a] / [b : a]) b, latest-paired first (b's other faces
+    left before a, so each is cancelled once).  What stays of dx is on critical cells
+    and cells paired downwards: its critical part is the Morse boundary.
+
+    Returns (bd_off, bd_cells, bd_coefs) of the Morse boundaries, the lifted chains x
+    (CSR, when want_lift) and an overflow flag.
+    """
+    n = dims.size
+    n_chains = chain_off.size - 1
+    bx = np.zeros(n, dtype=np.int64)
+    xx = np.zeros(n, dtype=np.int64)
+    in_heap = np.zeros(n, dtype=np.bool_)
+    touched_b = np.empty(n, dtype=np.int64)
+    touched_x = np.empty(n, dtype=np.int64)
+    in_x = np.zeros(n, dtype=np.bool_)
+    in_b = np.zeros(n, dtype=np.bool_)
+    heap = np.empty((n + 1, 2), dtype=np.int64)
+    out_off = np.zeros(n_chains + 1, dtype=np.int64)
+    out_cells = np.empty(16, dtype=np.int64)
+    out_coefs = np.empty(16, dtype=np.int64)
+    lift_off = np.zeros(n_chains + 1, dtype=np.int64)
+    lift_cells = np.empty(16, dtype=np.int64)
+    lift_coefs = np.empty(16, dtype=np.int64)
+    overflow = False
+    for k in range(n_chains):
+        nb = 0
+        nx = 0
+        hs = 0
+        for i in range(chain_off[k], chain_off[k + 1]):
+            c = chain_cells[i]
+            v = chain_coefs[i]
+            if not in_x[c]:
+                in_x[c] = True
+                touched_x[nx] = c
+                nx += 1
+            xx[c] += v
+            for j in range(bd_off[c], bd_off[c + 1]):
+                a = bd[j]
+                bx[a] += v * bdv[j]
+                if not in_b[a]:
+                    in_b[a] = True
+                    touched_b[nb] = a
+                    nb += 1
+                p = partner[a]
+                if p >= 0 and dims[p] > dims[a] and not in_heap[a]:
+                    in_heap[a] = True
+                    hs = _heap_push(heap, hs, time[a], a)
+        while hs > 0:
+            a, hs = _heap_pop(heap, hs)
+            in_heap[a] = False
+            ca = bx[a]
+            if ca == 0:
+                continue
+            b = partner[a]
+            s = 0
+            for j in range(bd_off[b], bd_off[b + 1]):
+                if bd[j] == a:
+                    s = bdv[j]
+            t = ca * s  # s = +-1: ca / s
+            if not in_x[b]:
+                in_x[b] = True
+                touched_x[nx] = b
+                nx += 1
+            xx[b] -= t
+            if abs(xx[b]) > _LIMIT:
+                overflow = True
+            for j in range(bd_off[b], bd_off[b + 1]):
+                g = bd[j]
+                bx[g] -= t * bdv[j]
+                if abs(bx[g]) > _LIMIT:
+                    overflow = True
+                if not in_b[g]:
+                    in_b[g] = True
+                    touched_b[nb] = g
+                    nb += 1
+                p = partner[g]
+                if p >= 0 and dims[p] > dims[g] and not in_heap[g] and bx[g] != 0:
+                    in_heap[g] = True
+                    hs = _heap_push(heap, hs, time[g], g)
+        # collect the critical part of dx and the lifted chain, and clear
+        cnt = 0
+        for i in range(nb):
+            a = touched_b[i]
+            if bx[a] != 0 and partner[a] < 0:
+                cnt += 1
+        start = out_off[k]
+        if start + cnt > out_cells.size:
+            size = max(2 * out_cells.size, start + cnt)
+            grown = np.empty(size, dtype=np.int64)
+            grown[:start] = out_cells[:start]
+            out_cells = grown
+            grown = np.empty(size, dtype=np.int64)
+            grown[:start] = out_coefs[:start]
+            out_coefs = grown
+        w = start
+        for i in range(nb):
+            a = touched_b[i]
+            if bx[a] != 0 and partner[a] < 0:
+                out_cells[w] = a
+                out_coefs[w] = bx[a]
+                w += 1
+            bx[a] = 0
+            in_b[a] = False
+        out_off[k + 1] = w
+        start = lift_off[k]
+        w = start
+        if want_lift:
+            if start + nx > lift_cells.size:
+                size = max(2 * lift_cells.size, start + nx)
+                grown = np.empty(size, dtype=np.int64)
+                grown[:start] = lift_cells[:start]
+                lift_cells = grown
+                grown = np.empty(size, dtype=np.int64)
+                grown[:start] = lift_coefs[:start]
+                lift_coefs = grown
+        for i in range(nx):
+            c = touched_x[i]
+            if want_lift and xx[c] != 0:
+                lift_cells[w] = c
+                lift_coefs[w] = xx[c]
+                w += 1
+            xx[c] = 0
+            in_x[c] = False
+        lift_off[k + 1] = w
+    return (out_off, out_cells[:out_off[-1]], out_coefs[:out_off[-1]],
+            lift_off, lift_cells[:lift_off[-1]], lift_coefs[:lift_off[-1]], overflow)
+
+
+# ----------------------------------------------------------------------------
+# Smith normal form over Z (Python ints: exact whatever the entries grow to)
+# ----------------------------------------------------------------------------
+
+def _identity(n):
+    return [[int(i == j) for j in range(n)] for i in range(n)]
+
+
+def _smith(A, m, n, transforms):
+    """Diagonalise the m x n integer matrix A (list of rows, changed in place):
+    L A R = diag(s_1 | s_2 | ...), s_i > 0.
+
+    Returns (s, R, Rinv, Linv); the matrices are None unless `transforms`.
+    """
+    R = _identity(n) if transforms else None
+    Rinv = _identity(n) if transforms else None
+    Linv = _identity(m) if transforms else None
+    s = []
+    t = 0
+
+    def swap_rows(i, j):
+        A[i], A[j] = A[j], A[i]
+        if transforms:
+            for row in Linv:
+                row[i], row[j] = row[j], row[i]
+
+    def swap_cols(i, j):
+        for row in A:
+            row[i], row[j] = row[j], row[i]
+        if transforms:
+            for row in R:
+                row[i], row[j] = row[j], row[i]
+            Rinv[i], Rinv[j] = Rinv[j], Rinv[i]
+
+    def add_row(i, src, c):  # row_i += c row_src
+        ri, rs = A[i], A[src]
+        for j in range(t, n):
+            if rs[j]:
+                ri[j] += c * rs[j]
+        if transforms:
+            for row in Linv:
+                if row[i]:
+                    row[src] -= c * row[i]
+
+    def add_col(j, src, c):  # col_j += c col_src
+        for row in A:
+            if row[src]:
+                row[j] += c * row[src]
+        if transforms:
+            for row in R:
+                if row[src]:
+                    row[j] += c * row[src]
+            rj, rs = Rinv[j], Rinv[src]
+            for k in range(n):
+                if rj[k]:
+                    rs[k] -= c * rj[k]
+
+    while t < min(m, n):
+        best = None
+        for i in range(t, m):
+            row = A[i]
+            for j in range(t, n):
+                v = row[j]
+                if v and (best is None or abs(v) < best[0]):
+                    best = (abs(v), i, j)
+                    if best[0] == 1:
+                        break
+            if best is not None and best[0] == 1:
+                break
+        if best is None:
+            break
+        swap_rows(t, best[1])
+        swap_cols(t, best[2])
+        while True:
+            p = A[t][t]
+            for i in range(t + 1, m):
+                if A[i][t]:
+                    add_row(i, t, -(A[i][t] // p))
+            for j in range(t + 1, n):
+                if A[t][j]:
+                    add_col(j, t, -(A[t][j] // p))
+            rest = [(abs(A[i][t]), i, True) for i in range(t + 1, m) if A[i][t]] + \
+                   [(abs(A[t][j]), j, False) for j in range(t + 1, n) if A[t][j]]
+            if rest:  # a remainder smaller than the pivot: it becomes the pivot
+                _, k, is_row = min(rest)
+                if is_row:
+                    swap_rows(t, k)
+                else:
+                    swap_cols(t, k)
+                continue
+            bad = next(((i, j) for i in range(t + 1, m) for j in range(t + 1, n) if A[i][j] % p), None)
+            if bad is None:
+                break
+            add_row(t, bad[0], 1)  # brings an entry p does not divide into row t
+        if A[t][t] < 0:
+            A[t] = [-v for v in A[t]]
+            if transforms:
+                for row in Linv:
+                    row[t] = -row[t]
+        s.append(A[t][t])
+        t += 1
+    return s, R, Rinv, Linv
+
+
+def _matmul(A, B, m, k, n):
+    out = [[0] * n for _ in range(m)]
+    for i in range(m):
+        Ai, Oi = A[i], out[i]
+        for j in range(k):
+            a = Ai[j]
+            if a:
+                Bj = B[j]
+                for c in range(n):
+                    if Bj[c]:
+                        Oi[c] += a * Bj[c]
+    return out
+
+
+# ----------------------------------------------------------------------------
+# public function -> validated wrapper -> kernels
+# ----------------------------------------------------------------------------
+
+def _check(cx):
+    if not isinstance(cx, CellComplex):
+        raise InputError(f"homology needs a CellComplex, got {type(cx).__name__}")
+
+
+def homology(cx: CellComplex, generators: bool = True) -> Homology:
+    """Homology of `cx` over Z, Q and Z/2, with generating cycles.
+
+    Parameters
+    ----------
+    cx : CellComplex
+        A regular cell complex (every cell a ball), as GCMH extracts.
+    generators : bool, default True
+        Also compute cycles generating each H_q(X; Z) (False is faster when only the
+        groups are wanted).
+
+    Returns
+    -------
+    Homology
+
+    Raises
+    ------
+    InputError
+        If `cx` is not a CellComplex, `generators` is not a bool, or a cell is not a
+        ball (its boundary is no orientable sphere).
+
+    Examples
+    --------
+    >>> from gcmh_core import extract
+    >>> cx = extract("x^2 + y^2 + z^2 - 1", bounds=(-1.5, 1.5), div=6, variables="x, y, z")
+    >>> h = homology(cx)
+    >>> h.betti, h.torsion
+    ([1, 0, 1], [[], [], []])
+    """
+    _check(cx)
+    if not isinstance(generators, (bool, np.bool_)):
+        raise InputError(f"generators must be True or False, got {generators!r}")
+    return _homology(cx, bool(generators))
+
+
+def _morse_complex(cx):
+    """Incidences, coreductions and the Morse boundary.
+
+    Returns (chain, partner, time, crit, D): chain the global CSR complex, crit[q] the
+    critical q-cells (global ids), D[q] (q = 1..dim) the Morse boundary as a list of
+    rows (len(crit[q-1]) x len(crit[q]), Python ints).
+    """
+    signs = _incidences(cx)
+    base, dims, bd_off, bd, bdv, cb_off, cb = _chain_complex(cx, signs)
+    partner, time, critical = _coreduce(dims, cx.dim, bd_off, bd, cb_off, cb)
+    critical = np.sort(critical)
+    crit = [critical[dims[critical] == q] for q in range(cx.dim + 1)]
+    ones = np.ones(critical.size, dtype=np.int64)
+    off = np.arange(critical.size + 1, dtype=np.int64)
+    m_off, m_cells, m_coefs, *_, overflow = _flow(off, critical, ones, dims, partner, time,
+                                                  bd_off, bd, bdv, False)
+    if overflow:
+        raise InputError("homology: a Morse boundary coefficient passed 2^60 (int64 would overflow)")
+    pos = np.full(dims.size, -1, dtype=np.int64)
+    for q in range(cx.dim + 1):
+        pos[crit[q]] = np.arange(crit[q].size)
+    D = [None]
+    for q in range(1, cx.dim + 1):
+        rows = [[0] * int(crit[q].size) for _ in range(int(crit[q - 1].size))]
+        first = int(np.searchsorted(critical, base[q]))
+        for col in range(int(crit[q].size)):
+            k = first + col
+            for a, v in zip(m_cells[m_off[k]:m_off[k + 1]].tolist(), m_coefs[m_off[k]:m_off[k + 1]].tolist()):
+                rows[int(pos[a])][col] += v
+        D.append(rows)
+    chain = (base, dims, bd_off, bd, bdv, cb_off, cb)
+    return chain, partner, time, crit, D
+
+
+def _homology(cx, want_generators):
+    chain, partner, time, crit, D = _morse_complex(cx)
+    base, dims, bd_off, bd, bdv, _, _ = chain
+    top = cx.dim
+    size = [int(c.size) for c in crit]
+    # rank and invariant factors of each Morse boundary D_q, with R_q and R_q^-1
+    factors, Rs, Rinvs = [[]], [_identity(size[0]) if want_generators else None], [None]
+    for q in range(1, top + 1):
+        s, R, Rinv, _ = _smith([row[:] for row in D[q]], size[q - 1], size[q], want_generators)
+        factors.append(s)
+        Rs.append(R)
+        Rinvs.append(Rinv)
+    factors.append([])
+    betti, betti2, torsion = [], [], []
+    gens = [] if want_generators else None
+    for q in range(top + 1):
+        r_q, r_next = len(factors[q]), len(factors[q + 1])
+        betti.append(size[q] - r_q - r_next)
+        odd = sum(1 for f in factors[q] if f % 2) + sum(1 for f in factors[q + 1] if f % 2)
+        betti2.append(size[q] - odd)
+        torsion.append(sorted(f for f in factors[q + 1] if f > 1))
+        if want_generators:
+            gens.append(_generators(q, top, size, r_q, D, Rs, Rinvs, crit, chain, partner, time))
+    orientation = None
+    if top == 2 and cx.count(2):
+        o = orient_2cells(cx)
+        if not o.consistent:
+            orientation = np.array(o.conflict_edges, dtype=np.int64)
+    return Homology(betti=betti, betti_mod2=betti2, torsion=torsion, generators=gens,
+                    orientation_cycle=orientation, critical=size)
+
+
+def _generators(q, top, size, r_q, D, Rs, Rinvs, crit, chain, partner, time):
+    """Cycles generating H_q: the kernel of D_q in the basis R_q[:, r_q:], the image of
+    D_{q+1} in it diagonalised, each basis cycle lifted from the Morse complex."""
+    base, dims, bd_off, bd, bdv, _, _ = chain
+    n_ker = size[q] - r_q
+    if n_ker == 0:
+        return ()
+    R = Rs[q]
+    K = [row[r_q:] for row in R]  # size[q] x n_ker
+    if q < top and size[q + 1]:
+        coords = _matmul(Rinvs[q], D[q + 1], size[q], size[q], size[q + 1]) if q > 0 else \
+            [row[:] for row in D[q + 1]]
+        A = coords[r_q:]
+        s, _, _, Linv = _smith(A, n_ker, size[q + 1], True)
+    else:
+        s, Linv = [], _identity(n_ker)
+    basis = _matmul(K, Linv, size[q], n_ker, n_ker)  # columns: the new basis of ker
+    wanted = [(i, 0) for i in range(len(s), n_ker)] + [(i, f) for i, f in enumerate(s) if f > 1]
+    chains_off, chains_cells, chains_coefs = [0], [], []
+    for i, _ in wanted:
+        for row, c in zip(basis, crit[q].tolist()):
+            if row[i]:
+                chains_cells.append(c)
+                chains_coefs.append(row[i])
+        chains_off.append(len(chains_cells))
+    if any(abs(v) > _LIMIT for v in chains_coefs):
+        raise InputError("homology: a generator's coefficient passed 2^60 (int64 would overflow)")
+    out = _flow(np.array(chains_off, dtype=np.int64), np.array(chains_cells, dtype=np.int64),
+                np.array(chains_coefs, dtype=np.int64), dims, partner, time, bd_off, bd, bdv, True)
+    lift_off, lift_cells, lift_coefs, overflow = out[3], out[4], out[5], out[6]
+    if overflow:
+        raise InputError("homology: a generator's coefficient passed 2^60 (int64 would overflow)")
+    cycles = []
+    for k, (_, order) in enumerate(wanted):
+        cells = lift_cells[lift_off[k]:lift_off[k + 1]] - base[q]
+        coefs = lift_coefs[lift_off[k]:lift_off[k + 1]]
+        o = np.argsort(cells)
+        cycles.append(Cycle(q, _ro(cells[o]), _ro(coefs[o]), int(order)))
+    return tuple(cycles)
+
+
+def _ro(arr):
+    arr = np.array(arr, dtype=np.int64)
+    arr.flags.writeable = False
+    return arr
+
+
+def summary(cx: CellComplex) -> tuple[dict, str]:
+    """The ``"homology"`` object of ``gcmh extract --json`` and its summary line.
+
+    >>> from gcmh_core import extract
+    >>> cx = extract("x^2 + y^2 + z^2 - 1", bounds=(-1.5, 1.5), div=6, variables="x, y, z")
+    >>> summary(cx)[1]
+    'homology: H0 = Z, H1 = 0, H2 = Z (mod 2 Betti 1, 0, 1)'
+    """
+    h = homology(cx, generators=False)
+    line = f"homology: {h.describe()} (mod 2 Betti {', '.join(str(b) for b in h.betti_mod2)})"
+    return h.as_dict(), line
