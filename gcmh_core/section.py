@@ -54,8 +54,8 @@ import numpy as np
 from .complex import CellComplex, _component_roots, _gather_segments
 from .errors import InputError
 
-__all__ = ["Profile", "SectionCells", "Sectioner", "direction_vector", "section", "section_profile",
-           "section_summary"]
+__all__ = ["Profile", "SectionCells", "Sectioner", "direction_vector", "parse_section_spec", "section",
+           "section_profile", "section_summary"]
 
 
 # ----------------------------------------------------------------------------
@@ -437,21 +437,30 @@ def section_profile(cx: CellComplex, axis_or_direction, values=None, count: int 
     return sec.profile(values)
 
 
-def section_summary(cx: CellComplex, spec_text: str, variables=None) -> tuple[CellComplex, dict, str]:
-    """The section named by ``spec_text`` (``"VAR=C"``, C a constant such as ``0.5`` or ``-pi/4``) for the
-    command line: (the section, a summary dict, one human line).  ``variables``: the names VAR may take
-    (default ``cx.point_names()``)."""
+def parse_section_spec(spec_text: str, variables) -> tuple[int, float]:
+    """``"VAR=C"`` -> (the index of VAR among ``variables``, C) with C a constant (``0.5``, ``-pi/4``, read by
+    :func:`gcmh_core.formula.evaluate_constant`); InputError naming what is wrong.  The command line checks
+    ``--section`` with it before the run."""
     from .formula import evaluate_constant
 
-    names = list(variables) if variables is not None else cx.point_names()
+    names = list(variables)
     if not isinstance(spec_text, str) or "=" not in spec_text:
         raise InputError(f"--section wants VAR=C (VAR one of {', '.join(names)}), got {spec_text!r}")
     var, _, const = spec_text.partition("=")
     var = var.strip()
     if var not in names:
         raise InputError(f"--section {spec_text!r}: {var!r} is not a variable (variables: {', '.join(names)})")
-    c = evaluate_constant(const)
-    sec = Sectioner(cx, names.index(var)).section(c)
+    return names.index(var), evaluate_constant(const)
+
+
+def section_summary(cx: CellComplex, spec_text: str, variables=None) -> tuple[CellComplex, dict, str]:
+    """The section named by ``spec_text`` (``"VAR=C"``, see :func:`parse_section_spec`) for the command
+    line: (the section, a summary dict, one human line).  ``variables``: the names VAR may take (default
+    ``cx.point_names()``)."""
+    names = list(variables) if variables is not None else cx.point_names()
+    axis, c = parse_section_spec(spec_text, names)
+    var = names[axis]
+    sec = Sectioner(cx, axis).section(c)
     chi = sec.euler_characteristic()
     pieces = sec.connected_components() if sec.count(0) else 0
     open_facets = int(sec.boundary_facets().size) if sec.dim >= 1 else 0
