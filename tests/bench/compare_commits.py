@@ -210,17 +210,20 @@ def measure(spec: dict) -> dict:
     case = CASES[spec["case"]]
     run = _call(case)
     values = []
+    # --cpu: one thread, the whole call's CPU seconds (a loaded machine's preemption is not counted)
+    clock = time.process_time if spec.get("cpu") else time.perf_counter
     with _sweep_mode(case, tiny=False):
         t = time.perf_counter()
         cx = run()
         first_s = time.perf_counter() - t
         for _ in range(case.repeat):
-            t = time.perf_counter()
+            t = clock()
             cx = run()
-            seconds = time.perf_counter() - t
+            seconds = clock() - t
             if case.kind == "kernel":
                 cubes = cx.meta.get("candidate_cubes") or 0
-                values.append(1e6 * cx.meta["timings"]["kernel"] / cubes if cubes else float("nan"))
+                spent = seconds if spec.get("cpu") else cx.meta["timings"]["kernel"]
+                values.append(1e6 * spent / cubes if cubes else float("nan"))
             else:
                 values.append(seconds)
     _check_tree(spec["tree"])
@@ -324,6 +327,8 @@ def checkout(repo: str, rev: str):
 def _child(mode: str, spec: dict, tree: str, cache: str | None, timeout: float) -> dict:
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "GCMH_EXAMPLES_DIR", "NUMBA_CACHE_DIR")}
     env["PYTHONPATH"] = tree
+    if spec.get("cpu"):
+        env["NUMBA_NUM_THREADS"] = "1"
     if cache:
         env["NUMBA_CACHE_DIR"] = cache
     cmd = [sys.executable, os.path.abspath(__file__), mode, json.dumps(dict(spec, tree=tree))]
@@ -348,6 +353,9 @@ def main(argv=None) -> int:
     ap.add_argument("--quick", action="store_true", help=f"{', '.join(QUICK)}; 3 rounds")
     ap.add_argument("--fresh", action="store_true", help="also print each process's import + first call")
     ap.add_argument("--json", help="write every process's result here")
+    ap.add_argument("--cpu", action="store_true",
+                    help="one thread, CPU seconds of the whole call (kernel cases: CPU us per candidate cube of the "
+                    "whole run): steadier than wall time on a loaded machine")
     ap.add_argument("--timeout", type=float, default=600.0, help="seconds a process may take")
     args = ap.parse_args(argv)
     cases = args.cases.split(",") if args.cases else list(QUICK if args.quick else CASES)
@@ -373,7 +381,7 @@ def main(argv=None) -> int:
                 if any(skipped[name].values()) or i >= (cap or rounds):
                     continue
                 for side, (tree, cache) in trees.items():
-                    spec = dict(case=name, side=side, round=i)
+                    spec = dict(case=name, side=side, round=i, cpu=args.cpu)
                     res = _child("--measure", spec, tree, cache, args.timeout)
                     results.append(dict(spec, **res))
                     print(f"# round {i + 1}/{rounds} {name} {side}: {res.get('value', res.get('error'))}",
@@ -390,6 +398,8 @@ def main(argv=None) -> int:
           f"{time.perf_counter() - t0:.0f} s")
     print(f"# A = {subject[label_a]}\n# B = {subject[label_b]}")
     print(f"# python tests/bench/compare_commits.py {' '.join(argv if argv is not None else sys.argv[1:])}")
+    if args.cpu:
+        print("# --cpu: NUMBA_NUM_THREADS=1, CPU seconds of the whole call (kernel cases: per candidate cube)")
     print(format_table(rows, fresh=args.fresh))
     if args.json:
         with open(args.json, "w") as fh:
