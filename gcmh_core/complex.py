@@ -762,6 +762,8 @@ class CellComplex:
                     part = json.loads(str(data[key][()]))
                 except ValueError as exc:
                     raise bad(f"{key!r} is not valid JSON: {exc}") from None
+                except RecursionError:
+                    raise bad(f"{key!r} is nested too deeply") from None
                 if not isinstance(part, dict):
                     raise bad(f"{key!r} must hold a JSON object")
                 meta.update(part)
@@ -836,11 +838,39 @@ class CellComplex:
 
     def save_vtu(self, path) -> None:
         """Write :meth:`to_pyvista` to `path` (a ``.vtu`` file, binary), atomically
-        and with the same checks of `path` as :meth:`save`."""
-        grid = self.to_pyvista()
-        atomic_write(path, lambda temp: grid.save(temp, binary=True), ".vtu")
+        and with the same checks of `path` as :meth:`save`; or to `path`'s ``write`` if it
+        is a binary file object.  A full disk is an OSError, the old file left as it was."""
+        data = _vtu_bytes(self.to_pyvista())
+        if hasattr(path, "write"):
+            path.write(data)
+            return
+
+        def write(temp):
+            with open(temp, "wb") as f:
+                f.write(data)
+
+        atomic_write(path, write, ".vtu")
 
     # --------------------------------------------------------------- misc
 
     def __repr__(self):
         return f"CellComplex(n={self.n}, k={self.k}, counts={self.counts()})"
+
+
+def _vtu_bytes(grid) -> bytes:
+    """``grid`` as the bytes of a binary, zlib-compressed .vtu file (what pyvista's ``save`` writes).
+
+    VTK writes to memory here and Python writes the file: VTK's own file writer, on a full disk,
+    went down its error path into ``free(): invalid pointer`` (an abort, the temporary left behind);
+    Python's write raises OSError, which the caller reports and cleans up after."""
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
+
+    writer = vtkXMLUnstructuredGridWriter()
+    writer.SetInputData(grid)
+    writer.SetDataModeToBinary()
+    writer.SetCompressorTypeToZLib()
+    writer.WriteToOutputStringOn()
+    if writer.Write() != 1 or writer.GetErrorCode() != 0:
+        raise OSError(f"VTK could not write the .vtu (error code {writer.GetErrorCode()})")
+    text = writer.GetOutputString()
+    return text if isinstance(text, bytes) else text.encode("utf-8")

@@ -38,6 +38,11 @@ __all__ = ["split_complex", "complex_view", "real_names", "DEFAULT_BOUNDS"]
 
 DEFAULT_BOUNDS = (-2.0, 2.0)  # on every real axis, when none are given
 
+# Terms the split of one equation may come to (both parts): sympy's expansion of (z + w + 1)^64 runs for
+# minutes, and a formula holds at most MAX_CHARS characters anyway ((z + w + 1)^8, 495 terms, is 6125 of them).
+MAX_TERMS = 1000
+_TERMS_CAP = 10**12   # (estimates are clipped here: no huge integers)
+
 # not holomorphic (or real-only): the split would be exact, but M would not be a complex variety
 _REFUSED = {"abs": "|z|", "min": "min", "max": "max", "atan2": "atan2", "conj": "conj",
             "conjugate": "conj", "re": "Re", "im": "Im", "Re": "Re", "Im": "Im", "arg": "arg"}
@@ -125,6 +130,67 @@ def _side(text: str, index: int, offset: int, cvars: tuple, symbols: dict, allow
         raise FormulaError(err.detail, index, None if err.position is None else err.position + offset) from None
 
 
+def expansion_terms(expr: sympy.Expr, complex_symbols) -> int:
+    """An upper bound on the terms of ``expr`` expanded over the real and imaginary parts of
+    ``complex_symbols`` (each is x + i y: two terms), computed from the tree without expanding: a sum adds
+    terms, a product multiplies them, a power p of t terms has C(t + p - 1, p), a function or a power that is
+    not an integer counts as two (its real and imaginary parts) and its argument as itself; a polynomial of
+    degree d in N real variables has at most C(N + d, d) monomials, whichever is smaller."""
+    cplx = set(complex_symbols)
+    reals = 2 * len(cplx) + len(expr.free_symbols - cplx)
+
+    inner = [0]   # the largest argument of a function (expanded inside it)
+
+    def clip(x):
+        return min(int(x), _TERMS_CAP)
+
+    def walk(e):   # (terms, degree or None if e is not a polynomial)
+        if e.is_Symbol:
+            return (2 if e in cplx else 1), 1
+        if e.is_Number or e.is_NumberSymbol or e is sympy.I or not e.free_symbols:
+            return 1, 0
+        if e.is_Add or e.is_Mul:
+            parts = [walk(a) for a in e.args]
+            degs = [d for _, d in parts]
+            terms, deg = (0, 0) if e.is_Add else (1, 0)
+            for t, _ in parts:
+                terms = clip(terms + t if e.is_Add else terms * t)
+            if all(d is not None for d in degs):
+                deg = max(degs) if e.is_Add else sum(degs)
+            else:
+                deg = None
+            return terms, deg
+        if e.is_Pow and e.exp.is_Integer:
+            t, d = walk(e.base)
+            p = abs(int(e.exp))
+            terms = clip(math.comb(min(t, 10**6) + p - 1, p))
+            if int(e.exp) < 0:   # conj(base)^p / |base|^(2p): the denominator expands too
+                terms = clip(terms * math.comb(min(t * t, 10**6) + p - 1, p))
+                return terms, None if d is None else 3 * p * d
+            return terms, None if d is None else p * d
+        for a in e.args:   # (a function's argument is expanded as well)
+            t, d = walk(a)
+            if d is not None:
+                t = min(t, clip(math.comb(reals + min(d, 10**4), reals)))
+            inner[0] = max(inner[0], t)
+        return 2, None
+
+    terms, degree = walk(expr)
+    if degree is not None:
+        terms = min(terms, clip(math.comb(reals + min(degree, 10**4), reals)))
+    return max(terms, inner[0])
+
+
+def _check_size(expr: sympy.Expr, csym: dict, index: int) -> None:
+    """Refuse, before sympy expands it, an equation whose split would have more than MAX_TERMS terms."""
+    terms = expansion_terms(expr, csym.values())
+    if terms > MAX_TERMS:
+        about = f"about {terms}" if terms < _TERMS_CAP else f"more than {_TERMS_CAP:.0e}"
+        raise FormulaError(f"this equation expands to {about} terms over the real and imaginary parts "
+                           f"(at most {MAX_TERMS}): expanding it would take minutes and the formula would be "
+                           "too long; use a lower power, or write it over the real variables", index)
+
+
 def split_complex(
     equations: Sequence[str] | str,
     variables: Sequence[str] | str,
@@ -167,6 +233,7 @@ def split_complex(
         expr = _side(sides[0], index, 0, cvars, symbols, allow_parameters)
         if len(sides) == 2:
             expr = expr - _side(sides[1], index, len(sides[0]) + 1, cvars, symbols, allow_parameters)
+        _check_size(expr, csym, index)
         expr = sympy.expand_complex(expr.xreplace({csym[v]: parts[v] for v in cvars}))
         # log gives arg(x + iy): atan2(y, x), which the parser knows
         expr = expr.replace(sympy.arg, lambda t: sympy.atan2(*reversed(t.as_real_imag())))
