@@ -76,12 +76,14 @@ def inside_share(plotter, X: np.ndarray | None = None, size=None, title_band: bo
     return float(np.mean(ok))
 
 
-def fit_camera(plotter, margin_x: float = 0.9, margin_y: float = 0.9, max_points: int = 400_000) -> None:
-    """Change the view angle so the shown points just fit (perspective camera, direction kept).
+def fit_camera(plotter, margin_x: float = 0.9, margin_y: float = 0.9, max_points: int = 400_000,
+               points=None) -> None:
+    """Change the view angle so the shown points (or ``points`` (m, 3): an animation's, all frames') just
+    fit (perspective camera, direction kept).
 
     The points fill at most ``margin_x`` of the half-width and ``margin_y`` of the half-height.
     """
-    X = shown_points(plotter, max_points)
+    X = shown_points(plotter, max_points) if points is None else np.asarray(points, dtype=float)
     if len(X) == 0:
         return
     cam = plotter.camera

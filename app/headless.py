@@ -104,12 +104,17 @@ def offscreen_scene(size, anti_aliasing: str | None = ANIMATION_AA):
 def write_frames(scene, projection, frames, window, paths, fps: float, progress=None, cancel=None) -> int:
     """Draw ``frames`` on ``scene`` and write them to each of ``paths`` (.gif/.mp4); returns the frames written.
 
+    The camera, from its direction, is fitted once to every frame's geometry together
+    (:func:`gcmh_studio.framing.fit_animation`): no frame cut, none over the text.
     One path: the frames stream to it (``progress(k)``, ``cancel()`` as in
     :func:`gcmh_studio.animation.write_animation`);
     several: rendered once, then written to each.
     """
+    from .framing import animation_extent, fit_animation
     from .offscreen import animation_images
 
+    frames = list(frames)
+    fit_animation(scene.plotter, animation_extent(scene, projection, frames))
     return write_images(animation_images(scene, projection, frames, window), paths, fps, progress, cancel)
 
 
