@@ -611,7 +611,7 @@ def display_complex(cx):
     return out
 
 
-def _seam_spec(cx):
+def seam_spec(cx):
     """[(axis, period, lo, (flipped axes), (their lo + hi))] of ``cx.meta`` (read by the engine's own
     `as_periodic`), or [] when it names no identified axes."""
     from gcmh_core._validate import as_periodic
@@ -633,7 +633,7 @@ def _seam_spec(cx):
 def _unwrapped_seams(cx):
     from gcmh_core import CellComplex
 
-    spec = _seam_spec(cx)
+    spec = seam_spec(cx)
     if not spec or cx.dim != 2:
         return cx
     V = np.asarray(cx.vertices, dtype=np.float64)

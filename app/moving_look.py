@@ -48,6 +48,7 @@ class MovingLook:
         sc = self.scene
         g = sc.geometry
         return (g is not None and g.coarse is not None and sc.slice is None and sc.actor is not None
+                and not sc.circles_on
                 and sc.draw_geo is g)
 
     def set_lights(self, moving: bool) -> None:

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from qtpy.QtWidgets import QCheckBox, QComboBox, QFormLayout, QGroupBox
 
+from .angles import angle_look, seam_spec
 from .model import StudioModel
 from .qt_widgets import blocked, connect_all, slider
 
@@ -32,6 +33,20 @@ class QtStyleBox(QGroupBox):
         sf.addRow(self.boundary_check)
         self.grid_check = QCheckBox("show the grid cubes it passes through")
         sf.addRow(self.grid_check)
+        # angles (periodic axes) as the circles they are, and where the gluing is: with view state only
+        self.circles_check = QCheckBox("angles as circles")
+        self.circles_check.setToolTip("draw each periodic (angle) variable t as the circle (cos t, sin t) before "
+                                      "projecting: two angles make a ring torus, and the picture is closed")
+        sf.addRow(self.circles_check)
+        self.seam_check = QCheckBox("show the glued seam")
+        self.seam_check.setToolTip("draw where the two ends of a periodic variable are glued (t = 2pi is t = 0)")
+        sf.addRow(self.seam_check)
+        self.angles = angle_look(model)
+        self.circles_check.toggled.connect(lambda on: self.angles.set(circles=on))
+        self.seam_check.toggled.connect(lambda on: self.angles.set(seam=on))
+        self.angles.changed.connect(self._show_angles)
+        model.events.result.connect(self._on_result)
+        self._on_result(model.result)
         connect_all((self.color_combo.currentIndexChanged, self.opacity_slider.valueChanged,
                      self.edges_check.toggled, self.two_sided_check.toggled, self.boundary_check.toggled,
                      self.grid_check.toggled), self._on_edit)
@@ -59,6 +74,18 @@ class QtStyleBox(QGroupBox):
             self.two_sided_check.setChecked(st.two_sided)
             self.boundary_check.setChecked(st.boundary)
             self.grid_check.setChecked(st.grid)
+
+    def _on_result(self, cx) -> None:
+        """The angle switches only for a result with periodic axes (they would change nothing else)."""
+        has = cx is not None and bool(seam_spec(cx))
+        for w in (self.circles_check, self.seam_check):
+            w.setEnabled(has)
+            w.setVisible(has)
+
+    def _show_angles(self) -> None:
+        with blocked(self.circles_check, self.seam_check):
+            self.circles_check.setChecked(self.angles.circles)
+            self.seam_check.setChecked(self.angles.seam)
 
     def _on_edit(self, *_) -> None:
         self.studio.set_style(color_by=self.color_combo.currentData(), opacity=self.opacity_slider.value() / 100.0,

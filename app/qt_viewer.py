@@ -32,6 +32,7 @@ import copy
 import numpy as np
 from qtpy.QtCore import QTimer
 
+from .angles import angle_look
 from .camera import (
     MARGIN_X,
     MARGIN_Y,
@@ -88,6 +89,8 @@ class QtViewer:
         self.still = QtStillPicture(self)
         if self.still.off_thread:
             warm_background()
+        self.angles = angle_look(model)
+        self.angles.changed.connect(self.on_angles)
         ev = model.events   # (the view's own listeners come before the presentation's relays)
         for signal, slot in ((ev.projection, self.on_projection), (ev.base, self.on_base), (ev.style, self.on_style),
                              (ev.slice, self.on_slice)):
@@ -112,7 +115,8 @@ class QtViewer:
         if params:   # the picture says at which values it was made (a class watching a slider reads them)
             sub = "  ".join(f"{p} = {format_value(v)}" for p, v in params.items()) + " \u00b7 " + sub
         return Style(color_by=st.color_by, opacity=st.opacity, show_edges=st.show_edges,
-                     title=self.model.title, subtitle=sub, two_sided=two, labels=labels)
+                     title=self.model.title, subtitle=sub, two_sided=two, labels=labels,
+                     circles=self.angles.circles, seam=self.angles.seam)
 
     def render(self) -> None:
         """Ask for one render of the window: Qt paints it once, however many changes came before
@@ -285,6 +289,17 @@ class QtViewer:
             self.scene.set_style(st, render=False)
         with self.scene.held_render(render=False):
             self.apply_overlays(self.scene)
+        self.render()
+
+    def on_angles(self) -> None:
+        """Angles as circles or as numbers, the seam shown or not: another extent, so a refit."""
+        if not self.drawn():
+            return
+        with self.scene.held_render(render=False):
+            self.scene.set_angle_look(self.angles.circles, self.angles.seam, render=False)
+            self.apply_slice(render=False)
+            self.refit()
+            self.plotter.renderer.ResetCameraClippingRange()
         self.render()
 
     def on_slice(self) -> None:

@@ -36,6 +36,7 @@ import numpy as np
 import pyvista as pv
 
 from . import picking
+from .angles import CircleProjector, cyclic_colour, seam_lines, seam_spec
 from .background import wait_background
 from .geometry import Geometry, MeshNormals, NormalField, display_complex
 from .labels import SceneTexts, axes_labels, with_meaning
@@ -52,6 +53,7 @@ BACKGROUND_TOP = "#4a5468"
 SURFACE_COLOR = "#d9a441"
 LINE_COLOR = "#f0c05a"
 BACK_COLOR = "#3f7fd0"       # back faces when two-sided colouring is on
+SEAM_COLOR = "#ff5cf0"       # the glued seam of identified axes
 CMAP = "viridis"
 
 
@@ -83,6 +85,8 @@ class Style:
     axes: bool = True
     two_sided: bool = False          # front faces SURFACE_COLOR, back faces BACK_COLOR (no colour map)
     slice_context: bool = True      # while slicing, the whole result as a faint ghost
+    circles: bool = False            # periodic axes drawn as circles (gcmh_studio.angles)
+    seam: bool = False               # the glued seam of periodic axes drawn
     labels: dict = field(default_factory=dict)   # variable -> its meaning ("y" -> "Im z"), from the example
     extra: dict = field(default_factory=dict)
 
@@ -159,7 +163,8 @@ def mesh_look(style: Style, dim: int, coloured: bool) -> dict:
     return kw
 
 
-def vertex_colours(style: Style, dim: int, n_points: int, values=None, limits=None) -> np.ndarray:
+def vertex_colours(style: Style, dim: int, n_points: int, values=None, limits=None, cmap: str | None = None
+                   ) -> np.ndarray:
     """(V, 3) uint8: each vertex's colour as the picture shows it: ``values`` (V,), the coloured variable at
     the vertices, through ``style``'s colour map over ``limits`` (lo, hi) (None: 0..1); the solid colour of
     a complex of dimension ``dim`` when ``values`` is None."""
@@ -172,7 +177,7 @@ def vertex_colours(style: Style, dim: int, n_points: int, values=None, limits=No
     lo, hi = limits or (0.0, 1.0)
     t = np.clip((np.asarray(values, dtype=float) - lo) / (hi - lo), 0.0, 1.0)
     t = np.where(np.isfinite(t), t, 0.0)
-    return np.round(255 * colormaps[style.cmap](t)[:, :3]).astype(np.uint8)
+    return np.round(255 * colormaps[cmap or style.cmap](t)[:, :3]).astype(np.uint8)
 
 
 class Scene:
@@ -198,6 +203,8 @@ class Scene:
         self.texts = SceneTexts(plotter)
         self.geometry: Geometry | None = None      # of the whole result
         self.draw_geo: Geometry | None = None      # what is drawn (the slice, or the whole)
+        self.source = None                         # the result as computed (display_complex draws a copy)
+        self._seam: tuple | None = None            # (projector, mesh, actor) of the glued seam
         self.view: View | None = None
         self.slice: tuple | None = None            # (direction (n,), c, w) or None
         self._mesh_normals: MeshNormals | None = None
@@ -250,6 +257,8 @@ class Scene:
         self.projector = None
         self._pts = self._normals = self._normal_field = None
         self.geometry = self.draw_geo = None
+        self.source = None
+        self._drop_seam()
         self.slice = None
         self._mesh_normals = None
         self.look.drop_coarse()
@@ -270,11 +279,13 @@ class Scene:
             self.texts.set_title(self.style.title, self.style.subtitle)
             return
         geo = geometry if geometry is not None else Geometry.build(cx)
+        self.source = cx
         cx = display_complex(cx)  # (seams of identified axes drawn whole: the geometry's own vertices)
         self.complex = cx
         self.names = list(names)
         self.geometry = geo
         self._show_geometry(geo, np.asarray(cx.vertices), self._set_view(P))
+        self._show_seam()
         self._update_axes_labels()
         self.plotter.renderer.reset_camera(render=False)   # (the plotter's wrapper renders)
 
@@ -287,7 +298,7 @@ class Scene:
     def _show_geometry(self, geo: Geometry, V: np.ndarray, view: View) -> None:
         """Make the mesh for ``geo`` (vertices ``V`` (V, n) for the colour data) at ``view``, and its actor."""
         self.draw_geo = geo
-        self.projector = geo.projector
+        self.projector = self._projector_for(V, geo.projector)
         self._mesh_normals = None
         if geo.projector.XT.shape[1] == 0 or len(geo.cells) == 0:   # an empty slice: draw nothing
             if self.actor is not None:
@@ -297,7 +308,7 @@ class Scene:
             self.mesh = None
             self._pts = self._normals = self._normal_field = None
             return
-        pts = geo.projector.project_view(view)
+        pts = self.projector.project_view(view)
         if geo.kind == "lines":
             mesh = pv.PolyData(pts, lines=geo.cells)
         else:
@@ -316,11 +327,67 @@ class Scene:
         self._write_normals()
         self._add_actor()
 
+    @property
+    def circles_on(self) -> bool:
+        """Periodic axes are drawn as circles (the style asks and the result has some)."""
+        return bool(self.style.circles) and self.source is not None and bool(seam_spec(self.source))
+
+    def _projector_for(self, V: np.ndarray, projector: Projector) -> Projector:
+        """``projector`` (of vertices ``V``), or with "angles as circles" one of their circles."""
+        if not self.circles_on:
+            return projector
+        return CircleProjector(V, seam_spec(self.source), center=projector.center)
+
+    def set_angle_look(self, circles: bool, seam: bool, render: bool = True) -> None:
+        """Periodic axes as circles or as numbers; the glued seam drawn or not (a new mesh for circles)."""
+        st = self.style
+        changed = bool(circles) != bool(st.circles)
+        st.circles, st.seam = bool(circles), bool(seam)
+        if self.complex is not None and changed:
+            sl = self.slice
+            if sl is None:
+                self.set_slice(None, render=False)
+            else:
+                self.set_slice(*sl, render=False)
+        self._show_seam()
+        if render:
+            self.plotter.render()
+
+    def _drop_seam(self) -> None:
+        if self._seam is not None and self._seam[2] is not None and self.plotter is not None:
+            self.plotter.remove_actor(self._seam[2], render=False)
+        self._seam = None
+
+    def _show_seam(self) -> None:
+        """The glued seam (:func:`gcmh_studio.angles.seam_lines`) as thick lines, when the style asks."""
+        self._drop_seam()
+        if not self.style.seam or self.source is None or self.geometry is None or self.view is None:
+            return
+        X, E = seam_lines(self.source)
+        if len(E) == 0:
+            return
+        proj = self._projector_for(X, Projector(X, center=self.geometry.projector.center))
+        lines = np.empty((len(E), 3), dtype=np.int64)
+        lines[:, 0] = 2
+        lines[:, 1:] = E
+        mesh = pv.PolyData(proj.project_view(self.view), lines=lines.ravel())
+        actor = self.plotter.add_mesh(mesh, color=SEAM_COLOR, line_width=4.0, render_lines_as_tubes=True,
+                                      render=False, reset_camera=False, name="gcmh-seam", pickable=False)
+        self._seam = (proj, mesh, actor)
+
+    def _project_seam(self) -> None:
+        if self._seam is not None and self.view is not None:
+            proj, mesh, _ = self._seam
+            proj.project_view(self.view, out=mesh.points)
+            mesh.GetPoints().Modified()
+            mesh.Modified()
+
     def detached(self) -> Scene:
         """A copy for another thread to draw with :meth:`adopt`: its meshes deep copies, sharing no VTK object
         with this scene (the GUI thread goes on moving this one's points), and no plotter of its own."""
         other = copy.copy(self)
         other.plotter = other.actor = None
+        other._seam = None
         other.texts = SceneTexts(None)
         other.look = MovingLook(other)
         other.style = copy.copy(self.style)
@@ -335,6 +402,7 @@ class Scene:
     def adopt(self, other: Scene, style: Style | None = None) -> None:
         """Show the mesh of another scene (shared, not copied) with its projection."""
         self.complex = other.complex
+        self.source = other.source
         self.names = list(other.names)
         self.mesh = other.mesh
         self.projector = other.projector
@@ -360,7 +428,7 @@ class Scene:
             clim = self.colour_limits(color_by)
             if clim is not None:
                 kw["clim"] = clim
-            kw.update(scalars=color_by, cmap=st.cmap, show_scalar_bar=st.scalar_bar,
+            kw.update(scalars=color_by, cmap=self.colour_map(color_by), show_scalar_bar=st.scalar_bar,
                       scalar_bar_args=self.texts.bar_args(st.label(color_by)))
         self.look.drop_coarse()
         self.actor_kw = {k: v for k, v in kw.items() if k not in ("show_scalar_bar", "scalar_bar_args", "name")}
@@ -393,6 +461,7 @@ class Scene:
                 self._write_normals()
                 self.mesh.Modified()
         self.overlay_meshes.project()
+        self._project_seam()
         self._update_axes_labels()
         if render:
             self.plotter.renderer.ResetCameraClippingRange()
@@ -431,7 +500,7 @@ class Scene:
         mesh, pts, normals, normal_field, geo = self.mesh, self._pts, self._normals, self._normal_field, self.draw_geo
         if mesh is None or pts is None or normals is None or normal_field is None or geo is None or self.P is None:
             return
-        if self.view is not None and not self.view.linear:
+        if self.view is not None and (not self.view.linear or self.circles_on):
             # the bivector identity needs a linear map: take the normals of the projected mesh
             if self._mesh_normals is None:
                 self._mesh_normals = geo.mesh_normals()
@@ -545,7 +614,8 @@ class Scene:
         color_by = self.style.colour_variable(self.names, self.dim)
         values = None if color_by is None else self.mesh.point_data[color_by]
         m.point_data["RGB"] = vertex_colours(self.style, self.dim, m.n_points, values,
-                                             None if color_by is None else self.colour_limits(color_by))
+                                             None if color_by is None else self.colour_limits(color_by),
+                                             None if color_by is None else self.colour_map(color_by))
         m.point_data.active_scalars_name = self.style.color_by if self.style.color_by in self.names else None
         return m
 
@@ -554,6 +624,15 @@ class Scene:
         colours), None when it has no finite value."""
         if self.complex is None:
             return None
+        cyc = cyclic_colour(self.complex, name, self.names)
+        if cyc is not None:   # an angle: its whole period, whose two ends are one colour
+            return cyc[1]
         col = np.asarray(self.complex.vertices)[:, self.names.index(name)]
         col = col[np.isfinite(col)]
         return colour_range(col) if len(col) else None
+
+    def colour_map(self, name: str) -> str:
+        """The colour map for variable ``name``: a cyclic one for an angle (a periodic axis no seam
+        reverses), else the style's."""
+        cyc = None if self.complex is None else cyclic_colour(self.complex, name, self.names)
+        return self.style.cmap if cyc is None else cyc[0]
