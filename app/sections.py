@@ -1,0 +1,285 @@
+"""The exact cross-section of a result on a :class:`gcmh_studio.scene.Scene` while it is sliced (no Qt here).
+
+Slicing a result of dimension d >= 2 by ``u . x = c`` draws its section (:mod:`gcmh_core.section`: a complex
+of dimension d - 1, cut from the cells themselves) opaque, in its own colour, over the faint ghost of the
+whole result, with the slice's value and the section's chi and pieces written in the picture.  A curve,
+or a direction the engine refuses (across a glued seam), keeps the window of :mod:`gcmh_studio.slicing`.
+
+:class:`SectionLayer` owns the section's mesh and text on a scene; :class:`SectionScene` is the scene
+that uses it: :meth:`SectionScene.set_slice` draws the section where :meth:`Scene.set_slice` drew the
+slab, and the projection, the still picture's copy (:meth:`Scene.detached`) and a new result carry it.
+A slider step re-sections (the cells the hyperplane meets only, :class:`gcmh_core.section.Sectioner`)
+and writes the new cells into the same mesh: no new actor.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pyvista as pv
+
+from gcmh_core.errors import InputError
+from gcmh_core.section import SectionCells, Sectioner
+
+from .geometry import Geometry
+from .labels import font_size
+from .projection import Projector, axis_label
+from .scene import Scene
+from .slicing import Slice
+
+SECTION_COLOR = "#ff7b5c"     # coral: apart from the surface's gold, the ghost's grey and viridis
+TEXT_COLOR = "#ffd2c4"
+TEXT_POSITION = (0.24, 0.035)  # viewport: right of the corner axes, under the object, left of the colour bar
+GHOST_OPACITY = 0.025         # the whole result behind a section: a 2-skeleton has many layers, and a
+#                               surface's ghost at the slab's 0.07 whitened the section in front of it
+
+
+def section_text(label: str, c: float, cells: SectionCells | None) -> str:
+    """What the picture says of a section: ``w = 0.3   section: chi = 2, 1 piece`` (VTK's font has no Greek)."""
+    head = f"{label} = {c:.3g}"
+    if cells is None or cells.complex.count(0) == 0:
+        return f"{head}   section: empty"
+    pieces = cells.pieces
+    return f"{head}   section: chi = {cells.euler_characteristic}, {pieces} piece{'s' if pieces != 1 else ''}"
+
+
+class SectionLayer:
+    """The section of ``scene``'s result, drawn on its plotter.
+
+    ``cells``: the :class:`gcmh_core.section.SectionCells` on show (None when no section is);
+    ``geometry``: its drawing arrays (a :class:`gcmh_studio.geometry.Geometry` placed with the whole
+    result's centre and scales, so it sits where it is in the ghost)."""
+
+    def __init__(self, scene: Scene):
+        self.scene = scene
+        self.source = None                 # the complex cut: the result as computed (glued axes glued)
+        self._cutter: Sectioner | None = None
+        self._cutter_key: bytes | None = None
+        self.cells: SectionCells | None = None
+        self.value: float | None = None
+        self.label = ""
+        self.geometry: Geometry | None = None
+        self.mesh: pv.PolyData | None = None
+        self.actor = None
+        self.text_actor = None
+
+    # ------------------------------------------------------------------ what is cut
+    def set_complex(self, cx) -> None:
+        """A new result (``cx`` as the engine made it, before :func:`gcmh_studio.geometry.display_complex`)."""
+        self.clear()
+        self.source = cx
+        self._cutter = None
+        self._cutter_key = None
+
+    def cutter(self, direction) -> Sectioner | None:
+        """The :class:`Sectioner` of the result along ``direction`` (n,), or None when the result is a curve
+        or the engine refuses the direction (across a glued seam): then the slab is drawn."""
+        cx = self.source
+        if cx is None or cx.dim < 2:
+            return None
+        u = np.asarray(direction, dtype=np.float64)
+        key = u.tobytes()
+        if key != self._cutter_key:
+            try:
+                self._cutter = Sectioner(cx, u)
+            except InputError:
+                self._cutter = None
+            self._cutter_key = key
+        return self._cutter
+
+    # ------------------------------------------------------------------ drawing
+    def show(self, direction, c: float) -> int:
+        """Cut at ``direction . x = c`` and draw the section; the number of cells drawn (0 when empty)."""
+        cutter = self.cutter(direction)
+        if cutter is None:
+            self.clear()
+            return 0
+        cells = cutter.cells(float(c))
+        self.cells, self.value = cells, float(c)
+        self.label = axis_label(cutter.direction, self.scene.names or cells.complex.point_names(), terms=3)
+        self._draw(cells.complex)
+        self._write_text()
+        return 0 if self.mesh is None else int(self.mesh.n_cells)
+
+    def _draw(self, sec) -> None:
+        sc = self.scene
+        if sec.count(0) == 0 or sc.geometry is None or sc.view is None:
+            self._remove_mesh()
+            return
+        geo = Geometry.build(sec, lod=False) if sec.dim >= 1 else None
+        if geo is None or len(geo.cells) == 0:
+            self._remove_mesh()
+            return
+        projector = Projector(np.asarray(sec.vertices), center=sc.geometry.projector.center)
+        projector.set_radii(sc.geometry.projector.radii())
+        geo.projector = projector
+        self.geometry = geo
+        pts = projector.project_view(sc.view)
+        if self.mesh is None or self._kind != geo.kind:
+            self._remove_mesh()
+            self.mesh = pv.PolyData(pts, lines=geo.cells) if geo.kind == "lines" else \
+                pv.PolyData(pts, faces=geo.cells)
+            self._kind = geo.kind
+            self._set_normals()
+            self.actor = self._add_actor(self.mesh, geo.kind)
+        else:   # the same actor: new points and cells written into its mesh
+            self.mesh.points = pts
+            if geo.kind == "lines":
+                self.mesh.lines = geo.cells
+            else:
+                self.mesh.faces = geo.cells
+            self._set_normals()
+
+    def _set_normals(self) -> None:
+        geo, mesh, sc = self.geometry, self.mesh, self.scene
+        if geo is None or mesh is None or geo.normals is None:
+            return
+        normals = np.zeros((mesh.n_points, 3), dtype=np.float32)
+        if sc.view is not None and not sc.view.linear:
+            mn = geo.mesh_normals()
+            if mn is not None:
+                mn.write(np.asarray(mesh.points, dtype=np.float32), normals)
+        else:
+            geo.normals.write(sc.P, normals)
+        mesh.point_data["Normals"] = normals
+        mesh.point_data.active_normals_name = "Normals"
+
+    _kind = ""
+
+    def _add_actor(self, mesh, kind: str):
+        pl = self.scene.plotter
+        if kind == "lines":
+            actor = pl.add_mesh(mesh, color=SECTION_COLOR, line_width=6.0, render_lines_as_tubes=True,
+                                ambient=0.35, render=False, reset_camera=False, name="gcmh-section",
+                                pickable=False)
+        else:
+            actor = pl.add_mesh(mesh, color=SECTION_COLOR, opacity=1.0, show_edges=True, edge_color="#7a3526",
+                                line_width=0.5, smooth_shading=False, specular=0.2, specular_power=30.0,
+                                diffuse=0.85, ambient=0.2, render=False, reset_camera=False,
+                                name="gcmh-section", pickable=False)
+            actor.prop.interpolation = "phong"
+        return actor
+
+    def _write_text(self) -> None:
+        pl = self.scene.plotter
+        text = section_text(self.label, self.value if self.value is not None else 0.0, self.cells)
+        if self.text_actor is None:
+            self.text_actor = pl.add_text(text, position=TEXT_POSITION, viewport=True,
+                                          font_size=font_size(pl, 16), color=TEXT_COLOR, name="gcmh-section-text")
+        else:
+            self.text_actor.SetInput(text)
+
+    def text(self) -> str:
+        """The words written in the picture ("" when no section is shown)."""
+        return "" if self.text_actor is None else str(self.text_actor.GetInput())
+
+    def project(self) -> None:
+        """Write the section's points (and normals) for the scene's view, in place."""
+        if self.mesh is None or self.geometry is None or self.scene.view is None:
+            return
+        self.geometry.projector.project_view(self.scene.view, out=self.mesh.points)
+        self.mesh.GetPoints().Modified()
+        self._set_normals()
+        self.mesh.Modified()
+
+    def _remove_mesh(self) -> None:
+        if self.actor is not None and self.scene.plotter is not None:
+            self.scene.plotter.remove_actor(self.actor, render=False)
+        self.actor = None
+        self.mesh = None
+        self.geometry = None
+        self._kind = ""
+
+    def clear(self) -> None:
+        """No section on show (its mesh and text removed)."""
+        self._remove_mesh()
+        if self.text_actor is not None and self.scene.plotter is not None:
+            self.scene.plotter.remove_actor(self.text_actor, render=False)
+        self.text_actor = None
+        self.cells = None
+        self.value = None
+
+    @property
+    def shown(self) -> bool:
+        return self.cells is not None
+
+    # ------------------------------------------------------------------ copies for another thread
+    def detached(self, scene: Scene) -> SectionLayer:
+        """A copy for ``scene`` (a detached scene): its mesh a deep copy, no actors."""
+        other = SectionLayer(scene)
+        other.source, other._cutter, other._cutter_key = self.source, self._cutter, self._cutter_key
+        other.cells, other.value, other.label = self.cells, self.value, self.label
+        other.geometry, other._kind = self.geometry, self._kind
+        other.mesh = None if self.mesh is None else self.mesh.copy(deep=True)
+        return other
+
+    def adopt(self, other: SectionLayer) -> None:
+        """Draw ``other``'s section (its mesh shared) and text on this layer's plotter."""
+        self.source, self._cutter, self._cutter_key = other.source, other._cutter, other._cutter_key
+        self.cells, self.value, self.label = other.cells, other.value, other.label
+        self.geometry, self._kind, self.mesh = other.geometry, other._kind, other.mesh
+        if self.mesh is not None:
+            self.actor = self._add_actor(self.mesh, self._kind)
+        if self.cells is not None:
+            self._write_text()
+
+
+def _no_slab(n: int) -> Slice:
+    """An empty window's slice: the slab drawn as nothing while the section stands for it."""
+    return Slice(np.empty((0, n)), np.empty(0, np.int64), np.zeros(1, np.int64), np.empty(0, np.int64),
+                 np.empty(0, np.int64))
+
+
+class SectionScene(Scene):
+    """A :class:`gcmh_studio.scene.Scene` that shows the exact section of a result of dimension >= 2 while
+    sliced (``sections``, a :class:`SectionLayer`), in place of the slab of cells."""
+
+    def __init__(self, plotter, anti_aliasing: str | None = "fxaa"):
+        self.sections = SectionLayer(self)
+        super().__init__(plotter, anti_aliasing)
+
+    def clear(self) -> None:
+        super().clear()
+        self.sections.clear()
+
+    def set_complex(self, cx, names, P, style=None, geometry=None) -> None:
+        super().set_complex(cx, names, P, style, geometry)
+        self.sections.set_complex(cx if self.complex is not None else None)
+
+    def set_slice(self, direction=None, c: float = 0.0, w: float = 0.0, render: bool = True) -> int:
+        """As :meth:`Scene.set_slice`; for a result of dimension >= 2 its section at ``c`` instead of the
+        slab of cells within ``w`` of it. Returns the number of cells drawn."""
+        geo, view = self.geometry, self.view
+        if direction is None or geo is None or view is None or self.sections.cutter(direction) is None:
+            self.sections.clear()
+            return super().set_slice(direction, c, w, render)
+        u = np.asarray(direction, dtype=float)
+        self.slice = (u, float(c), float(w))
+        empty = Geometry.from_slice(_no_slab(geo.n), geo.dim, geo.n, geo.projector.center, geo.projector.radii())
+        self._show_geometry(empty, np.empty((0, geo.n)), view)    # the section stands for the slab
+        drawn = self.sections.show(u, float(c))
+        self.overlay_meshes.rebuild()
+        self.overlay_meshes.set_ghost(self.style.slice_context)
+        ghost = self.overlay_meshes.ghost
+        if ghost is not None and ghost[1] is not None:
+            ghost[1].prop.opacity = GHOST_OPACITY
+        if render:
+            self.plotter.render()
+        return drawn
+
+    def set_projection(self, P, render: bool = True, moving: bool = False) -> None:
+        super().set_projection(P, render=False, moving=moving)
+        self.sections.project()
+        if render:
+            self.plotter.renderer.ResetCameraClippingRange()
+            self.plotter.render()
+
+    def detached(self) -> SectionScene:
+        other = super().detached()
+        assert isinstance(other, SectionScene)
+        other.sections = self.sections.detached(other)
+        return other
+
+    def adopt(self, other: Scene, style=None) -> None:
+        super().adopt(other, style)
+        if isinstance(other, SectionScene):
+            self.sections.adopt(other.sections)
