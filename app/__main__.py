@@ -126,14 +126,16 @@ def _session_screenshot(args) -> int:
         QTimer.singleShot(0, loop.quit)
 
     win.runFinished.connect(finished)
-    if not win.controller.open_session(args.session):
-        print(f"gcmh-app: {win.last_status}", file=sys.stderr)
-        return 2
+    # (a system the panel finds invalid starts no run: waiting for its end would never end)
+    if not win.controller.open_session(args.session) or not win.controller.is_running():
+        status = win.last_status or "the session's system cannot run"
+        win.close()
+        return fail(f"error: {args.session}: {status}")
     loop.exec_()
     if outcome.get("how") != "done":
-        print(f"gcmh-app: {win.last_status}", file=sys.stderr)
+        status = win.last_status or f"the run {outcome.get('how', 'ended')}"
         win.close()
-        return 1
+        return fail(f"error: {args.session}: {status}", 1)
     win.save_screenshot(args.screenshot, size=args.size, transparent=args.transparent)
     print(args.screenshot)
     win.close()
@@ -163,6 +165,38 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("gcmh-app: interrupted", file=sys.stderr)
         return 130
+    except OSError as e:   # a full disk, a folder gone: the writers leave the old file and no temporary
+        return fail(f"error: cannot write {_written_name(e)}: {e.strerror or e}", 1)
+
+
+def _written_name(e: OSError) -> str:
+    """The file an OSError names, as the user gave it (not the hidden temporary beside it)."""
+    import re
+
+    name = os.path.basename(str(e.filename or ""))
+    real = re.fullmatch(r"\.(.+)\.[A-Za-z0-9_]{8}\.tmp(\.\w+)?", name)   # (safe_io.AtomicFile's temporaries)
+    if real:
+        name = real.group(1)
+    return repr(name) if name else "the output"
+
+
+def read_session_or_fail(path):
+    """The session in ``path`` checked whole (:func:`gcmh_studio.studio_io.read_session`), or the one-line
+    message saying why it cannot be opened."""
+    from .studio_io import read_session
+
+    try:
+        return read_session(path), None
+    except (OSError, ValueError) as e:
+        return None, f"cannot open {path}: {e.strerror if isinstance(e, OSError) and e.strerror else e}"
+
+
+def list_examples_or_warn() -> list:
+    """The examples that can be read; each that cannot is named on stderr (one line each)."""
+    from gcmh_core.examples import list_examples
+
+    return list_examples(on_error=lambda name, err: print(f"gcmh-app: warning: example {name!r} left out: {err}",
+                                                         file=sys.stderr))
 
 
 def _main(argv=None) -> int:
@@ -172,10 +206,15 @@ def _main(argv=None) -> int:
     if problem:
         return fail(problem)
     if args.list:
-        from gcmh_core.examples import list_examples
-        for ex in list_examples():
+        examples = list_examples_or_warn()
+        for ex in examples:
             print(f"{ex.name:18s} {ex.title}  (n={ex.n}, k={ex.k})")
-        return 0
+        return 0 if examples else fail("error: no example could be read", 1)
+    problem = None
+    if args.session:   # checked whole before anything is built from it
+        _, problem = read_session_or_fail(args.session)
+        if problem and (args.screenshot or args.animate):
+            return fail(f"error: {problem}")
     if args.screenshot or args.animate:
         return _session_screenshot(args) if args.session else render(Options.from_args(args))
     if args.params:   # (the window takes a parameter from its slider)
@@ -217,9 +256,17 @@ def _main(argv=None) -> int:
             app.quit()
 
         win.runFinished.connect(grab)
-    if args.session:
+    if args.session and problem is None:
         win.controller.open_session(args.session)
     win.show()
+    if problem is not None:   # said, and the window stays
+        print(f"gcmh-app: error: {problem}", file=sys.stderr)
+        from qtpy.QtWidgets import QMessageBox
+
+        win.set_status(problem, error=True)
+        box = QMessageBox(QMessageBox.Warning, "Cannot open the session", problem, QMessageBox.Ok, win)
+        box.open()   # (not modal to the program: the window runs on)
+        win.session_problem_box = box
     return app.exec_()
 
 

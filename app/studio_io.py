@@ -82,21 +82,40 @@ def session_camera(session: dict) -> tuple[dict | None, bool]:
 
 
 def write_session(path, session: dict) -> Path:
-    path = Path(path)
-    path.write_text(json.dumps(session, indent=2) + "\n", encoding="utf-8")
-    return path
+    """Write ``session`` to ``path`` atomically: a full disk or an interrupted write leaves the old file as it was
+    and no temporary (OSError, or InputError for a path that cannot be written)."""
+    from gcmh_core.safe_io import atomic_write
+
+    data = (json.dumps(session, indent=2, allow_nan=False) + "\n").encode("utf-8")
+
+    def write(temp):
+        with open(temp, "wb") as f:
+            f.write(data)
+
+    atomic_write(path, write, ".json", what=str(path))
+    return Path(path)
 
 
 def read_session(path) -> dict:
-    """The session in ``path``; ValueError with a one-line message if it is not one (OSError if unreadable)."""
+    """The session in ``path``, checked whole (:func:`gcmh_studio.session_schema.validate_session`); ValueError
+    with a one-line message if it is not one that can be opened (OSError if unreadable)."""
+    from .session_schema import MAX_SESSION_BYTES, SessionError, validate_session
+
+    with open(path, "rb") as f:   # (a 100 MB title is refused by its size, not read)
+        raw = f.read(MAX_SESSION_BYTES + 1)
+    if len(raw) > MAX_SESSION_BYTES:
+        raise SessionError(f"the file is larger than {MAX_SESSION_BYTES >> 20} MB: not a session the app wrote")
     try:
-        d = json.loads(Path(path).read_text(encoding="utf-8"))
+        d = json.loads(raw.decode("utf-8"))
+    except UnicodeDecodeError as e:
+        raise SessionError(f"not a text file ({e.reason} at byte {e.start})") from None
     except json.JSONDecodeError as e:
-        raise ValueError(str(e)) from None
-    if not isinstance(d, dict) or d.get("format") != SESSION_FORMAT:
-        raise ValueError(f"not a GCMH session file (format {SESSION_FORMAT!r} expected)")
-    if not isinstance(d.get("system"), dict):
-        raise ValueError("the session has no system")
+        raise SessionError(str(e)) from None
+    except RecursionError:
+        raise SessionError("nested too deeply: not a session the app wrote") from None
+    except ValueError as e:   # (an integer of more than 4300 digits)
+        raise SessionError(str(e)) from None
+    validate_session(d)
     d["camera"], d["keep_camera"] = session_camera(d)
     return d
 

@@ -160,9 +160,24 @@ def example_names() -> list[str]:
     return sorted(f.name[: -len(".toml")] for f in folder.iterdir() if f.name.endswith(".toml") and f.is_file())
 
 
-def list_examples() -> list[Example]:
-    """All examples, sorted by name."""
-    return [load_example(name) for name in example_names()]
+def list_examples(on_error: Callable[[str, InputError], None] | None = None) -> list[Example]:
+    """All examples that can be read, sorted by name.
+
+    A file that cannot (malformed, too large, an equation too big to split) is left out, so one bad file in
+    ``$GCMH_EXAMPLES_DIR`` does not hide the others: ``on_error(name, error)`` is told of each (by default a
+    warning names it)."""
+    out = []
+    for name in example_names():
+        try:
+            out.append(load_example(name))
+        except InputError as err:
+            if on_error is None:
+                import warnings
+
+                warnings.warn(f"example {name!r} left out: {err}", stacklevel=2)
+            else:
+                on_error(name, err)
+    return out
 
 
 def load_example(name: str) -> Example:
@@ -189,11 +204,23 @@ def _read_example_cached(name: str, path: str, mtime_ns: int, size: int) -> Exam
     return _read_example(name, Path(path))
 
 
+MAX_EXAMPLE_BYTES = 1 << 20   # an example file is a few kB
+
+
 def _read_example(name: str, file: Traversable) -> Example:
     try:
-        data = tomllib.loads(file.read_text(encoding="utf-8"))
+        with file.open("rb") as f:
+            raw = f.read(MAX_EXAMPLE_BYTES + 1)
+    except OSError as err:
+        raise InputError(f"example file {file}: cannot read it: {err.strerror or err}") from None
+    if len(raw) > MAX_EXAMPLE_BYTES:
+        raise InputError(f"example file {file}: larger than {MAX_EXAMPLE_BYTES >> 20} MB, not an example")
+    try:
+        data = tomllib.loads(raw.decode("utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
         raise InputError(f"example file {file}: {err}") from None
+    except RecursionError:
+        raise InputError(f"example file {file}: nested too deeply") from None
     return _from_dict(name, data, file)
 
 
