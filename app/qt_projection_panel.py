@@ -31,6 +31,15 @@ from .qt_widgets import blocked, error_label, group, panel_layout, slider_row
 __all__ = ["SOLID", "QtProjectionPanel"]
 
 
+def narrow_combos(widget, chars: int = 8) -> None:
+    """Let every combo box in ``widget`` be narrower than its longest entry (the list still opens wide):
+    at 1024 x 768 a side panel is a third of the window, and "Stereographic (manifolds on a sphere)" or
+    ten variables' plane names made the View tab wider than that, cut off on the right."""
+    for c in widget.findChildren(QComboBox):
+        c.setSizeAdjustPolicy(QComboBox.AdjustToMinimumContentsLength)
+        c.setMinimumContentsLength(chars)
+
+
 class QtProjectionPanel(QWidget):
     projectionChanged = Signal()
     baseChanged = Signal()
@@ -94,6 +103,9 @@ class QtProjectionPanel(QWidget):
         self.two_sided_check, self.boundary_check, self.grid_check = (
             st.two_sided_check, st.boundary_check, st.grid_check)
 
+        narrow_combos(self)
+        for c in self.axis_combos:   # (three in a row: a variable's name each)
+            c.setMinimumContentsLength(3)
         self.kind_combo.currentIndexChanged.connect(self._on_kind)
         for c in self.axis_combos:
             c.currentIndexChanged.connect(self._on_axes)

@@ -38,6 +38,8 @@ from .projection import axis_label, hidden_directions
 from .qt_turn_pad import QtTurnPad
 from .qt_widgets import clear_layout
 
+PADS_PER_ROW = 4
+
 
 class QtRotationSliders(QWidget):
     """The rotation sliders, turn pads, plane filter, Reset and the Shift-drag and camera switches."""
@@ -56,15 +58,16 @@ class QtRotationSliders(QWidget):
         self.keep_camera_check = QCheckBox("keep camera")
         self.keep_camera_check.setToolTip("hold the camera still: no refitting when a result, the mapping or "
                                           "a slice changes the object's extent")
-        cam_row.addWidget(self.keep_camera_check)
-        cam_row.addStretch(1)
+        lay.addWidget(self.keep_camera_check)
         cam_row.addWidget(QLabel("Shift-drag turns"))
         self.drag_combo = QComboBox()
         self.drag_combo.setToolTip("Shift-drag on the view turns the screen's x and y against this hidden "
                                    "direction; Ctrl+Shift-drag (or Shift with the right button) against the next")
-        cam_row.addWidget(self.drag_combo)
+        cam_row.addWidget(self.drag_combo, 1)
         lay.addLayout(cam_row)
-        self.pad_row = QHBoxLayout()
+        self.pad_label = QLabel("turn X, Y into")
+        lay.addWidget(self.pad_label)
+        self.pad_row = QGridLayout()   # (rows of PADS_PER_ROW: at n = 10 one row was wider than the panel)
         self.pad_row.setSpacing(4)
         lay.addLayout(self.pad_row)
         rot_head = QHBoxLayout()
@@ -188,15 +191,14 @@ class QtRotationSliders(QWidget):
         self.drag_combo.setEnabled(p.n >= 4)
         clear_layout(self.pad_row)
         self.pads = []
+        self.pad_label.setVisible(p.n >= 4)
         if p.n < 4:
             return
-        self.pad_row.addWidget(QLabel("turn X, Y into"))
         for r, text in enumerate(labels):
             pad = QtTurnPad(text if not text.startswith("hidden ") else f"h{r + 1}", r)
             pad.dragged.connect(self.turn_screen)
-            self.pad_row.addWidget(pad)
+            self.pad_row.addWidget(pad, r // PADS_PER_ROW, r % PADS_PER_ROW)
             self.pads.append(pad)
-        self.pad_row.addStretch(1)
 
     # ------------------------------------------------------------ turning
     def _on_slider(self, row: int, value: int) -> None:

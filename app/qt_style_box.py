@@ -25,13 +25,13 @@ class QtStyleBox(QGroupBox):
         sf.addRow("opacity", self.opacity_slider)
         self.edges_check = QCheckBox("show cell edges")
         sf.addRow(self.edges_check)
-        self.two_sided_check = QCheckBox("two-sided colours (front gold, back blue)")
-        self.two_sided_check.setToolTip("colour the two sides of the coherently oriented surface apart; "
-                                        "a non-orientable surface shows where they swap")
+        self.two_sided_check = QCheckBox("two-sided colours")
+        self.two_sided_check.setToolTip("front gold, back blue: colour the two sides of the coherently oriented "
+                                        "surface apart; a non-orientable surface shows where they swap")
         sf.addRow(self.two_sided_check)
         self.boundary_check = QCheckBox("highlight the boundary")
         sf.addRow(self.boundary_check)
-        self.grid_check = QCheckBox("show the grid cubes it passes through")
+        self.grid_check = QCheckBox("grid cubes it passes through")
         sf.addRow(self.grid_check)
         # angles (periodic axes) as the circles they are, and where the gluing is: with view state only
         self.circles_check = QCheckBox("angles as circles")

@@ -49,6 +49,7 @@ from .offscreen import render_image, warm_background
 from .overlays import PICK_COLOR, draw_overlays
 from .projection import ProjectionModel
 from .qt_drag_turn import QtDragTurn
+from .qt_linkage_inset import QtLinkageInset, linkage_of, picked_angles
 from .qt_still_picture import QtStillPicture
 from .scene import Scene, Style
 from .studio_io import apply_camera, camera_state, valid_camera
@@ -82,6 +83,7 @@ class QtViewer:
         self._resized.setSingleShot(True)
         self._resized.setInterval(60)
         self._resized.timeout.connect(self._on_resized)
+        self.linkage = QtLinkageInset(self.widget)   # the rods at a picked point of a linkage's surface
         self._drag = QtDragTurn(self)
         self.widget.installEventFilter(self._drag)
         # a see-through result's still picture is drawn in a thread and shown over the view until the
@@ -163,7 +165,8 @@ class QtViewer:
     def drawn(self) -> bool:
         """The model's result is the one drawn (a new one is drawn by :meth:`show`, not by the events that
         set up its view)."""
-        return self.scene.complex is not None and self.scene.complex is self.model.result
+        # (the scene draws a copy of a result with identified axes: its source is the model's)
+        return self.scene.complex is not None and self.scene.source is self.model.result
 
     def show(self, geometry=None, moving: bool = False) -> None:
         """Draw the model's result (its drawing arrays ``geometry`` if made beforehand), frame it, render once.
@@ -240,6 +243,7 @@ class QtViewer:
         self.render()
 
     def _on_resized(self) -> None:
+        self.linkage.place()
         if self.scene.complex is not None and not self.keep_camera():
             self.keep_in_view()
             self.render()
@@ -350,6 +354,9 @@ class QtViewer:
             raise ValueError("nothing to pick: no result yet")
         info = cell_info(cx, int(cell_id))
         self.model.set_picked(info)
+        closing = linkage_of(cx)
+        if closing is not None:   # a linkage's surface: the rods as they are held at this point
+            self.linkage.show_configuration(picked_angles(cx, info["coords"]), self.model.names, closing)
         X, E = info["lines"]
         self.scene.set_overlay("pick", X, E, PICK_COLOR, width=5.0, render=False)
         self.render()
@@ -357,6 +364,7 @@ class QtViewer:
 
     def clear_pick(self) -> None:
         self.model.set_picked(None)
+        self.linkage.hide()
         self.scene.remove_overlay("pick", render=False)
 
     def pick_at(self, display_xy):

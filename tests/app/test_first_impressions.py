@@ -1,0 +1,68 @@
+"""Issue 27 in the window: the pentagon linkage's picked point drawn as rods, the angle switches in the
+View tab, panels that fit at 1024 x 768."""
+
+import numpy as np
+import pytest
+
+from app_helpers import small_div
+
+
+def _load(qtbot, window, name, div=None):
+    from gcmh_core.examples import load_example
+
+    ex = load_example(name)
+    with qtbot.waitSignal(window.runFinished, timeout=180_000) as b:
+        assert window.load_example(name, div=div or small_div(ex))
+    assert b.args[0] == "done", window.last_status
+    return ex
+
+
+def test_picking_the_linkage_surface_shows_its_rods(qtbot, small_window):
+    w = small_window
+    _load(qtbot, w, "pentagon-linkage", div=10)
+    inset = w.viewer.linkage
+    assert not inset.isVisible()
+    info = w.viewer.pick_cell(5)
+    assert inset.isVisible()
+    J = inset.joints()
+    assert len(J) == 5
+    assert np.allclose(np.linalg.norm(np.diff(J, axis=0), axis=1), 1.0)
+    assert np.linalg.norm(J[-1] - [1.0, 0.0]) < 0.6        # the loop (nearly) closes at a point of a coarse grid
+    assert np.allclose(np.mod(inset.angles - info["coords"].mean(axis=0) + np.pi, 2 * np.pi) - np.pi, 0,
+                       atol=0.7)
+    img = inset.grab().toImage()
+    assert img.width() > 100
+    w.viewer.clear_pick()
+    assert not inset.isVisible()
+
+
+def test_the_angle_switches_follow_the_result(qtbot, small_window):
+    w = small_window
+    box = w.projection_panel.style_box
+    _load(qtbot, w, "sphere")
+    assert not box.circles_check.isEnabled()
+    _load(qtbot, w, "torus-angles")
+    assert box.circles_check.isEnabled()
+    before = np.array(w.scene.mesh.points)
+    box.circles_check.setChecked(True)
+    assert w.scene.circles_on
+    box.seam_check.setChecked(True)
+    assert w.scene._seam is not None
+    assert w.scene.colour_map("t") == "twilight_shifted"
+    box.circles_check.setChecked(False)
+    assert np.allclose(np.array(w.scene.mesh.points), before, atol=1e-5)
+
+
+@pytest.mark.parametrize("n", [3, 10])
+def test_the_view_tab_fits_a_third_of_1024_pixels(qtbot, n):
+    """The View tab's content is no wider than a side panel of a third of a 1024-pixel window, for 3 and for
+    10 variables (45 rotation planes, 7 turn pads); nothing is cut off at its right edge."""
+    from gcmh_studio.model import StudioModel
+    from gcmh_studio.qt_projection_panel import QtProjectionPanel
+
+    m = StudioModel()
+    panel = QtProjectionPanel(m)
+    qtbot.addWidget(panel)
+    m.set_view_variables([f"x{i + 1}" for i in range(n)])
+    assert len(panel.rotation.sliders) == n * (n - 1) // 2
+    assert panel.minimumSizeHint().width() <= 1024 // 3, panel.minimumSizeHint().width()
