@@ -36,6 +36,8 @@ session file stores it; in complex mode the equations as typed, not their split)
 
 from __future__ import annotations
 
+import re
+
 from qtpy.QtCore import Signal
 from qtpy.QtWidgets import (
     QWidget,
@@ -46,11 +48,12 @@ from .jobs import Job, engine_methods
 from .model import StudioModel
 from .qt_complex_box import QtComplexBox, default_real_names
 from .qt_domain_box import QtDomainBox, format_number
-from .qt_formula_checks import QtFormulaChecks
+from .qt_formula_checks import QtFormulaChecks, did_you_mean
 from .qt_formula_rows import N_MAX, QtFormulaRows
 from .qt_method_box import QtMethodBox, work_estimate
 from .qt_parameters import QtParameterPanel
 from .qt_system_shape import QtSystemShape
+from .qt_typo_prompt import QtTypoPrompt
 from .qt_widgets import group, panel_layout
 
 
@@ -92,6 +95,9 @@ class QtFormulaPanel(QWidget):
         self.vars_edit, self.vars_label, self.vars_error = sh.vars_edit, sh.vars_label, sh.vars_error
         self.formula_box = QtFormulaRows()
         sl.addWidget(self.formula_box)
+        self.typo_prompt = QtTypoPrompt()   # "did you mean y?" before a near-variable name gets a slider
+        sl.addWidget(self.typo_prompt)
+        self._kept_params: set[str] = set()  # names the user said are parameters (not typos)
         self.parameters = QtParameterPanel()
         sl.addWidget(self.parameters)
 
@@ -116,6 +122,8 @@ class QtFormulaPanel(QWidget):
         self.domain.edited.connect(self._validate)
         self.method_box.edited.connect(self._validate)
         self.parameters.changed.connect(self._on_parameters)
+        self.typo_prompt.replace.connect(self.replace_name)
+        self.typo_prompt.keep.connect(self.keep_parameter)
         self.complex_mode.toggled.connect(self._on_complex)
         self.complex_mode.edited.connect(self._validate)
         self.formula_box.edited.connect(self._validate)
@@ -319,6 +327,7 @@ class QtFormulaPanel(QWidget):
         else:
             more, wanted, found = self.formula_box.check(k, names, self.checks, "variables" not in errs)
             errs.update(more)
+            found = self._hold_typos(found, names, errs)
         self.checks.ask(wanted)
         self._building = True   # (new rows bring their values: one change, emitted below)
         try:
@@ -335,6 +344,31 @@ class QtFormulaPanel(QWidget):
         self._valid = valid
         self.changed.emit()
         return valid
+
+    # ------------------------------------------------------------ typos of variables
+    def _hold_typos(self, found, names, errs: dict) -> list:
+        """``found`` without the names that look like typos of a variable (the prompt asks about the first;
+        Run waits for the answer)."""
+        typo = next(((f, s) for f in dict.fromkeys(found) if f not in self._kept_params
+                     and (s := did_you_mean(f, names)) is not None), None)
+        self.typo_prompt.ask(*typo) if typo else self.typo_prompt.ask(None)
+        if typo is None:
+            return list(found)
+        errs["typo"] = self.typo_prompt.message()
+        return [f for f in found if f in self._kept_params or did_you_mean(f, names) is None]
+
+    def replace_name(self, name: str, variable: str) -> None:
+        """Write ``variable`` for the free name ``name`` in every formula (whole names only)."""
+        pattern = re.compile(rf"(?<![A-Za-z0-9_]){re.escape(name)}(?![A-Za-z0-9_])")
+        for ed in self.formula_edits[:self.k]:
+            new = pattern.sub(variable, ed.text())
+            if new != ed.text():
+                ed.setText(new)
+
+    def keep_parameter(self, name: str) -> None:
+        """``name`` is a parameter, not a typo: it gets its slider."""
+        self._kept_params.add(name)
+        self._validate()
 
     # ------------------------------------------------------------ formula checks, off the GUI thread
     def check_now(self) -> None:
@@ -447,6 +481,7 @@ class QtFormulaPanel(QWidget):
             params = d.get("params") or {}
             if isinstance(params, str):   # (sessions of before the sliders: "a = 0.5, b = pi/4")
                 params = inputs.check_params(params, variables)[1]
+            self._kept_params.update(params)   # (a file's or a session's parameters are no typos)
             self.parameters.set_state(dict(params))
         finally:
             self._building = False

@@ -150,3 +150,39 @@ def test_typed_values_and_ranges(qtbot, window):
     row.min_edit.setText("3")
     row.min_edit.editingFinished.emit()
     assert "min < max" in p.parameters.error.text() and row.state["min"] == -1.0
+
+
+def test_a_name_one_edit_from_a_variable_asks_before_it_becomes_a_parameter(qtbot, window):
+    p = window.formula_panel
+    p.set_state(dict(n=3, k=1, variables=["x", "y", "z"], formulas=["x^2 + y^2 + z^2 - 1"], bounds=[[-2, 2]] * 3,
+                     div=8))
+    settle(qtbot, p)
+    assert p.is_valid() and p.typo_prompt.isHidden()
+    p.formula_edits[0].setText("x^2 + yy^2 + z^2 - 1")
+    settle(qtbot, p)
+    prompt = p.typo_prompt
+    assert not prompt.isHidden() and "did you mean y?" in prompt.message()
+    assert p.parameters.names() == []                   # no slider for the typo ...
+    assert not p.is_valid() and not window.run_button.isEnabled()   # ... and no run until it is answered
+    prompt.use_button.click()
+    settle(qtbot, p)
+    assert p.formula_edits[0].text() == "x^2 + y^2 + z^2 - 1"
+    assert p.is_valid() and prompt.isHidden() and window.run_button.isEnabled()
+    # a name the user says is a parameter gets its slider
+    p.formula_edits[0].setText("x^2 + y^2 + z^2 - zz")
+    settle(qtbot, p)
+    assert "did you mean z?" in prompt.message() and not p.is_valid()
+    prompt.keep_button.click()
+    settle(qtbot, p)
+    assert p.parameters.names() == ["zz"] and p.is_valid() and prompt.isHidden()
+
+
+def test_which_names_look_like_typos():
+    from gcmh_studio.qt_formula_checks import did_you_mean, one_edit_apart
+
+    assert did_you_mean("yy", ["x", "y", "z"]) == "y"
+    assert did_you_mean("x12", ["x1", "x2"]) == "x1"
+    assert did_you_mean("sx", ["xs"]) == "xs"               # two neighbours swapped
+    assert did_you_mean("a", ["x", "y", "z"]) is None       # a one-letter parameter beside one-letter variables
+    assert did_you_mean("alpha", ["x", "y"]) is None
+    assert not one_edit_apart("ab", "ba c") and one_edit_apart("abc", "abd") and not one_edit_apart("abc", "abc")
