@@ -1,8 +1,11 @@
-"""QtSliceBox: the View tab's slice, a window ``[c - w, c + w]`` of a coordinate or of a hidden direction.
+"""QtSliceBox: the View tab's slice along a coordinate or a hidden direction, at ``c`` (a window ``[c - w, c + w]``
+for curves).
 
 The sliders set c and w as fractions of the range the 3D view reports (its readout is shown under them). The
 box writes the model's :class:`gcmh_studio.model.SliceState` and shows it (:meth:`show_slice`, on the model's
-``slice`` event).
+``slice`` event).  A result of dimension >= 2 is drawn as its exact section at c (:mod:`gcmh_studio.sections`),
+so the width is hidden and :class:`gcmh_studio.qt_section_strip.QtSectionStrip` plots the section's chi and
+pieces against c under the centre's slider.
 """
 
 from __future__ import annotations
@@ -11,6 +14,7 @@ from qtpy.QtCore import QSignalBlocker
 from qtpy.QtWidgets import QComboBox, QFormLayout, QGroupBox, QLabel
 
 from .model import StudioModel
+from .qt_section_strip import QtSectionStrip
 from .qt_widgets import blocked, connect_all, slider_row
 
 
@@ -21,12 +25,15 @@ class QtSliceBox(QGroupBox):
         slf = QFormLayout(self)
         self.setCheckable(True)
         self.setChecked(False)
-        self.setToolTip("show only the part of the complex inside a window of one direction")
+        self.setToolTip("cut the result by a hyperplane (a variable = c): a surface or a higher manifold shows its "
+                        "exact section, a curve the part inside a window")
         self.slice_combo = QComboBox()
         self.slice_combo.setToolTip("a coordinate, or a direction the current projection hides")
         slf.addRow("along", self.slice_combo)
         self.slice_c, self.slice_c_label = slider_row(slf, "centre", 0, 1000, 500,
-                                                      "centre of the window (across the whole range)")
+                                                      "where the hyperplane cuts (across the whole range)")
+        self.strip = QtSectionStrip(model)
+        slf.addRow(self.strip)
         self.slice_w, self.slice_w_label = slider_row(slf, "width", 1, 500, 40,
                                                       "half-width of the window (thousandths of the range)")
         self.slice_info = QLabel("")
@@ -35,6 +42,16 @@ class QtSliceBox(QGroupBox):
         connect_all((self.toggled, self.slice_combo.currentIndexChanged, self.slice_c.valueChanged,
                      self.slice_w.valueChanged), self._on_edit)
         model.events.slice_readout.connect(lambda text: self.slice_info.setText(text))
+        model.events.result.connect(lambda *_: self.show_kind())
+        self.show_kind()
+
+    def show_kind(self) -> None:
+        """A section (dimension >= 2: no width; the strip) or a window (a curve)."""
+        cx = self.studio.result
+        section = cx is None or getattr(cx, "dim", 0) >= 2
+        self.slice_w.setVisible(not section)
+        self.slice_w_label.setVisible(not section)
+        self.slice_c_label.setText("value" if section else "centre")
 
     def set_names(self, names) -> None:
         """The directions to slice along: the variables, then the hidden directions."""

@@ -112,10 +112,11 @@ class SectionLayer:
         projector = Projector(np.asarray(sec.vertices), center=sc.geometry.projector.center)
         projector.set_radii(sc.geometry.projector.radii())
         geo.projector = projector
+        if self.mesh is not None and self._kind != geo.kind:
+            self._remove_mesh()
         self.geometry = geo
         pts = projector.project_view(sc.view)
-        if self.mesh is None or self._kind != geo.kind:
-            self._remove_mesh()
+        if self.mesh is None:
             self.mesh = pv.PolyData(pts, lines=geo.cells) if geo.kind == "lines" else \
                 pv.PolyData(pts, faces=geo.cells)
             self._kind = geo.kind

@@ -1,0 +1,212 @@
+"""Exact sections in the view (app/sections.py) and the strip of their chi and pieces (app/qt_section_strip.py)."""
+
+import os
+
+import numpy as np
+import pytest
+
+os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+
+import pyvista as pv
+
+from gcmh_core import extract
+from gcmh_studio.projection import View
+from gcmh_studio.scene import Style
+from gcmh_studio.sections import SECTION_COLOR, SectionScene, section_text
+
+SPHERE3 = ["x**2 + y**2 + z**2 + w**2 - 1"]
+
+
+@pytest.fixture(scope="module")
+def sphere3():
+    return extract(SPHERE3, (-1.25, 1.25), 10, variables=list("xyzw"))
+
+
+@pytest.fixture
+def scene(sphere3):
+    pl = pv.Plotter(off_screen=True, window_size=(480, 360))
+    sc = SectionScene(pl, anti_aliasing=None)
+    sc.set_complex(sphere3, list("xyzw"), View(np.eye(4)[:3], "orthographic"), Style(title="3-sphere"))
+    yield sc
+    pl.close()
+
+
+def coral_pixels(img) -> int:
+    """Pixels of the section's colour, however lit: red well above blue, and bright."""
+    a = np.asarray(img, dtype=int)
+    r, g, b = a[..., 0], a[..., 1], a[..., 2]
+    return int(np.count_nonzero((r > 120) & (r - b > 50) & (r > g)))
+
+
+def test_slicing_the_three_sphere_draws_its_two_sphere(scene):
+    w = np.eye(4)[3]
+    drawn = scene.set_slice(w, 0.3, 0.05)
+    lay = scene.sections
+    assert lay.shown and drawn == lay.mesh.n_cells > 0
+    assert scene.mesh is None                                       # no slab under the section
+    assert scene.overlay_meshes.ghost is not None                   # the whole result, faint
+    assert lay.cells.complex.euler_characteristic() == 2 and lay.cells.pieces == 1
+    assert lay.text() == "w = 0.3   section: chi = 2, 1 piece"
+    # the section is placed with the whole result's centre and scales: on screen, x y z of its vertices
+    pts = np.asarray(lay.mesh.points)
+    assert np.array_equal(lay.geometry.projector.center, scene.geometry.projector.center)
+    assert np.allclose(pts, lay.geometry.projector.project_view(scene.view))
+    assert np.allclose(np.asarray(lay.cells.complex.vertices)[:, 3], 0.3)
+    r = np.linalg.norm(np.asarray(lay.cells.complex.vertices)[:, :3], axis=1)
+    assert np.allclose(r, np.sqrt(1 - 0.09), atol=0.06)
+
+
+def test_the_section_grows_and_shrinks_on_screen(scene):
+    """A flatlander's 3-sphere: the coral sphere is largest at w = 0 and a dot near w = +-1."""
+    w = np.eye(4)[3]
+    counts = []
+    for c in (-0.9, -0.5, 0.0, 0.5, 0.9):
+        scene.set_slice(w, c, 0.05)
+        counts.append(coral_pixels(scene.plotter.screenshot(None, return_img=True)))
+    assert counts[0] < counts[1] < counts[2] > counts[3] > counts[4] > 0
+
+
+def test_the_section_follows_the_projection(scene):
+    w = np.eye(4)[3]
+    scene.set_slice(w, 0.2, 0.05)
+    before = np.array(scene.sections.mesh.points)
+    t = np.radians(40)
+    P = np.eye(4)[:3].copy()
+    P[0] = [np.cos(t), 0, 0, np.sin(t)]                             # x turned towards w
+    scene.set_projection(View(P, "orthographic"))
+    after = np.asarray(scene.sections.mesh.points)
+    assert after.shape == before.shape and not np.allclose(after, before)
+    want = scene.sections.geometry.projector.project_view(scene.view)
+    assert np.allclose(after, want)
+
+
+def test_a_new_value_rewrites_the_same_actor_and_no_slice_restores_the_result(scene):
+    w = np.eye(4)[3]
+    scene.set_slice(w, 0.1, 0.05)
+    actor = scene.sections.actor
+    scene.set_slice(w, -0.6, 0.05)
+    assert scene.sections.actor is actor and scene.sections.text().startswith("w = -0.6")
+    scene.set_slice(w, 2.0, 0.05)                                    # beyond the 3-sphere: empty
+    assert scene.sections.mesh is None and scene.sections.text() == "w = 2   section: empty"
+    scene.set_slice(None)
+    assert not scene.sections.shown and scene.sections.text() == ""
+    assert scene.mesh is not None and scene.mesh.n_cells == len(scene.geometry.offsets) - 1
+
+
+def test_curves_and_seams_keep_the_window(qtbot):
+    """A curve is sliced by the window (its section would be points); a glued surface cut across its seam
+    too (the engine refuses that section)."""
+    from gcmh_core.examples import load_example
+
+    pl = pv.Plotter(off_screen=True, window_size=(320, 240))
+    sc = SectionScene(pl, anti_aliasing=None)
+    try:
+        circle = extract(["x**2 + y**2 - 1", "z"], (-1.3, 1.3), 10, variables=list("xyz"))
+        sc.set_complex(circle, list("xyz"), np.eye(3), Style())
+        assert sc.set_slice(np.eye(3)[0], 0.0, 0.2) > 0 and not sc.sections.shown and sc.mesh is not None
+        ex = load_example("torus-angles")
+        cx = extract(ex.formulas, ex.bounds, 12, variables=ex.variables, periodic=ex.periodic)
+        sc.set_complex(cx, ex.variables, np.eye(5)[:3], Style())
+        s = ex.variables.index("s")
+        assert sc.set_slice(np.eye(5)[s], 3.0, 0.2) > 0 and not sc.sections.shown
+        x = ex.variables.index("x")
+        lo, hi = cx.vertices[:, x].min(), cx.vertices[:, x].max()
+        sc.set_slice(np.eye(5)[x], 0.5 * (lo + hi) + 0.01, 0.2)
+        assert sc.sections.shown and sc.sections.cells.complex.boundary_facets().size == 0
+    finally:
+        pl.close()
+
+
+def test_a_still_picture_copy_carries_the_section(scene):
+    w = np.eye(4)[3]
+    scene.set_slice(w, 0.4, 0.05)
+    copy = scene.detached()
+    assert copy.sections.mesh is not scene.sections.mesh
+    pl = pv.Plotter(off_screen=True, window_size=(320, 240))
+    try:
+        other = SectionScene(pl, anti_aliasing=None)
+        other.adopt(copy)
+        assert other.sections.actor is not None and other.sections.text() == scene.sections.text()
+        pl.render()
+        assert coral_pixels(pl.screenshot(None, return_img=True)) > 50
+    finally:
+        pl.close()
+
+
+def test_section_text_words():
+    assert section_text("w", 0.123456, None) == "w = 0.123   section: empty"
+    assert SECTION_COLOR.startswith("#")
+
+
+# ------------------------------------------------------------------------------------- the strip
+@pytest.fixture
+def studio(qtbot, sphere3):
+    from gcmh_studio.model import StudioModel
+
+    m = StudioModel()
+    m.set_view_variables(list("xyzw"), False)
+    m.set_result(sphere3, list("xyzw"), "3-sphere")
+    return m
+
+
+def test_the_strip_plots_chi_and_pieces_of_the_three_sphere(qtbot, studio):
+    from gcmh_studio.qt_section_strip import QtSectionStrip
+
+    strip = QtSectionStrip(studio)
+    qtbot.addWidget(strip)
+    strip.resize(300, 80)
+    assert strip.isHidden()                                          # slicing is off
+    studio.set_slice(on=True, index=3, hidden=False, c=0.5)
+    assert not strip.isHidden()
+    qtbot.waitUntil(lambda: strip.profile is not None or strip.error is not None, timeout=60_000)
+    assert strip.error is None
+    prof = strip.profile
+    assert prof.values.size > 50 and np.all(prof.chi == 2) and np.all(prof.pieces == 1)
+    assert strip.value_at(0.5) == (2, 1)
+    img = strip.grab().toImage()
+    assert not img.isNull()
+    key = strip.key
+    studio.set_slice(c=0.8)                                          # the same direction: no new profile
+    assert strip.key == key and strip.profile is prof
+    # a click moves the slice
+    from qtpy.QtCore import QPoint, Qt
+
+    r = strip._plot_rect()
+    qtbot.mouseClick(strip, Qt.LeftButton, pos=QPoint(int(r.left() + 0.25 * r.width()), int(r.center().y())))
+    assert studio.slice.c == pytest.approx(0.25, abs=0.01)
+
+
+def test_the_strip_sees_the_torus_change(qtbot):
+    from gcmh_studio.model import StudioModel
+    from gcmh_studio.qt_section_strip import QtSectionStrip
+
+    torus = extract(["(x**2 + y**2 + z**2 + 0.84)**2 - 4*(x**2 + y**2)"], [(-1.6, 1.6), (-1.6, 1.6), (-0.6, 0.6)],
+                    [24, 24, 10], variables=list("xyz"))
+    m = StudioModel()
+    m.set_view_variables(list("xyz"), False)
+    m.set_result(torus, list("xyz"), "torus")
+    strip = QtSectionStrip(m)
+    qtbot.addWidget(strip)
+    m.set_slice(on=True, index=0, hidden=False, c=0.5)
+    qtbot.waitUntil(lambda: strip.profile is not None, timeout=60_000)
+    prof = strip.profile
+    assert set(prof.pieces.tolist()) == {1, 2} and np.all(prof.chi == 0)
+    # one circle, two, one: the circle splits near x = -0.6 and joins near 0.6 (the ends, x = +-1.4, are
+    # the range's own ends)
+    jumps = prof.values[prof.changes()]
+    assert len(jumps) == 2 and np.allclose(jumps, [-0.6, 0.6], atol=0.1)
+
+
+def test_the_strip_hides_for_curves_and_the_box_shows_the_width_for_them(qtbot, studio):
+    from gcmh_studio.qt_slice_box import QtSliceBox
+
+    box = QtSliceBox(studio)
+    qtbot.addWidget(box)
+    box.set_names(list("xyzw"))
+    box.show()
+    studio.set_slice(on=True, index=3, hidden=False, c=0.5)
+    assert box.strip.isVisible() and not box.slice_w.isVisible() and box.slice_c_label.text() == "value"
+    circle = extract(["x**2 + y**2 - 1", "z"], (-1.3, 1.3), 10, variables=list("xyz"))
+    studio.set_view_variables(list("xyz"), False)
+    studio.set_result(circle, list("xyz"), "circle")
+    assert not box.strip.isVisible() and box.slice_w.isVisible() and box.slice_c_label.text() == "centre"
