@@ -13,6 +13,8 @@ Examples::
     gcmh extract --example sphere -o - > sphere.npz       # the .npz on standard output
     gcmh extract --example hyperboloid --param a=-0.3     # a parameter's value (repeatable)
     gcmh extract --complex --f "z^2 = w" --vars z,w --div 16   # equations over C^m
+    gcmh extract --data scan.nii.gz --level 400 --vtu scan.vtu  # an isosurface of your own data
+    gcmh extract --data u.npy --data v.npy --level 0.5,0 # two fields: where both meet their levels
 
 Exit status: 0 on success, 2 for bad input or a run that would not fit (one line
 on stderr, nothing written; --force runs it anyway), 1 when an output file cannot
@@ -109,6 +111,20 @@ def _build_parser() -> _Parser:
     )
     src = p.add_argument_group("what to extract")
     src.add_argument("--example", metavar="NAME", help="an example name (see `gcmh examples`)")
+    src.add_argument(
+        "--data", action="append", metavar="FILE[:NAME,...]",
+        help="sampled values from a file, one component of F each (repeat for k components): .npy, "
+        "file.npz:NAME, .vti, .vtk, .nrrd, .mha, .nii, .nii.gz, file.h5:/PATH; bounds from the file",
+    )
+    src.add_argument(
+        "--level", metavar="C[,C2,...]",
+        help="with --data: M is where each component equals its level (one for all, or one per component; "
+        "default 0)",
+    )
+    src.add_argument(
+        "--components", action="store_true",
+        help="with --data: the last axis of each array holds components of F, not a grid axis",
+    )
     src.add_argument(
         "--f", "-f", "--formula", dest="formulas", action="append", metavar="EXPR",
         help="one component of F (repeat for k components), e.g. --f 'x**2 + y**2 - 1'",
@@ -315,12 +331,43 @@ def _cmd_examples(args) -> int:
     return 0
 
 
+def _data_job(args) -> dict:
+    """The job of ``--data``: the files are read when the run starts (`data_files.extract_data`)."""
+    from .data_files import parse_levels
+
+    given = [flag for flag, value in (("--example", args.example), ("--f", args.formulas), ("--n", args.n),
+                                      ("--param", args.params), ("--complex", args.complex),
+                                      ("--div", args.div), ("--periodic", args.periodic)) if value]
+    if given:
+        why = "the grid is the data's" if given[0] == "--div" else "F is the data minus the level"
+        raise InputError(f"{given[0]} does not go with --data ({why})")
+    levels = parse_levels(args.level)
+    variables = _parse_vars(args.vars) if args.vars is not None else None
+    bounds = _parse_bounds(args.bounds) if args.bounds is not None else None
+    method = args.method.strip().lower()
+    scheduler = _parse_scheduler(args.scheduler) if args.scheduler is not None else None
+    block = _parse_per_axis(args.block, "--block", None) if args.block is not None else None
+    if block is not None and scheduler is None:
+        raise InputError("--block is the block size of a cluster run: give --scheduler too")
+    start = None
+    if args.start is not None:
+        start = "auto" if args.start.strip().lower() == "auto" else args.start
+    return dict(name=None, n=None, k=None, F=None, bounds=bounds, div=None, variables=variables,
+                seed=_parse_int(args.seed, "--seed", minimum=0), method=method, start=start, scheduler=scheduler,
+                block=block, params=None, periodic=None, title=None,
+                data=dict(specs=list(args.data), levels=levels, components=True if args.components else None))
+
+
 def _job_from_args(args) -> dict:
     """Validate the extract arguments; return the keyword arguments of extract()."""
+    if args.data:
+        return _data_job(args)
+    if args.level is not None or args.components:
+        raise InputError(f"{'--level' if args.level is not None else '--components'} goes with --data FILE")
     if args.example and args.formulas:
         raise InputError("use either --example or --f, not both")
     if not args.example and not args.formulas:
-        raise InputError("nothing to extract: give --example NAME or --f EXPR (see gcmh examples)")
+        raise InputError("nothing to extract: give --example NAME, --f EXPR or --data FILE (see gcmh examples)")
 
     n_opt = _parse_int(args.n, "--n", minimum=1) if args.n is not None else None
     bounds = _parse_bounds(args.bounds) if args.bounds is not None else None
@@ -502,22 +549,25 @@ def _cmd_extract(args) -> int:
     progress = _Progress(enabled=not args.quiet and _isatty(sys.stderr))
     try:
         with notice, _signals.held_while_numba_loads():
-            cx = gcmh_core.extract(
-                job["F"],
-                job["bounds"],
-                job["div"],
-                variables=job["variables"],
-                seed=job["seed"],
-                method=job["method"],
-                start=job["start"],
-                progress=progress,
-                scheduler=job["scheduler"],
-                block=job["block"],
-                force=args.force,
-                params=job["params"],
-                periodic=job["periodic"],
-                check_cells=True if args.check_cells else None,
-            )
+            if job.get("data"):
+                cx = _extract_data(args, job, progress)
+            else:
+                cx = gcmh_core.extract(
+                    job["F"],
+                    job["bounds"],
+                    job["div"],
+                    variables=job["variables"],
+                    seed=job["seed"],
+                    method=job["method"],
+                    start=job["start"],
+                    progress=progress,
+                    scheduler=job["scheduler"],
+                    block=job["block"],
+                    force=args.force,
+                    params=job["params"],
+                    periodic=job["periodic"],
+                    check_cells=True if args.check_cells else None,
+                )
     finally:
         progress.close()
 
@@ -531,10 +581,40 @@ def _cmd_extract(args) -> int:
     return 0
 
 
+def _extract_data(args, job, progress):
+    from .data_files import extract_data
+
+    d = job["data"]
+    start = job["start"]
+    if isinstance(start, str) and start != "auto":
+        from .examples import evaluate_constant
+
+        try:
+            start = [evaluate_constant(s) for s in start.split(",")]
+        except InputError as err:
+            raise InputError(f"--start: {err}") from None
+    return extract_data(d["specs"], d["levels"], job["bounds"], components=d["components"], variables=job["variables"],
+                        seed=job["seed"], method=job["method"], start=start, progress=progress,
+                        scheduler=job["scheduler"], block=job["block"], force=args.force,
+                        check_cells=True if args.check_cells else None)
+
+
 def _dry_run(args, job) -> int:
     from .budget import estimate
     from .formula import parse_system
 
+    if job.get("data"):
+        from .data_files import estimate_data
+
+        d = job["data"]
+        cost = estimate_data(d["specs"], d["levels"], job["bounds"], components=d["components"], method=job["method"],
+                             scheduler=job["scheduler"])
+        if args.json:
+            print(json.dumps({**cost.as_dict(), "data": d["specs"]}))
+        else:
+            print(cost.describe() + " (grid: with F's values from " + ", ".join(d["specs"]) + ")"
+                  + ("" if cost.fits else "; would be refused without --force"))
+        return 0
     F = job["F"]
     if job["params"] is not None:  # (the estimate takes a System with the values in it)
         F = parse_system(F, job["variables"], params=job["params"])
@@ -644,15 +724,26 @@ def _summary(cx, job, outputs) -> dict:
         "blocks": meta.get("blocks"),
         "timings": meta.get("timings"),
         "files": {kind: str(path) for kind, path in outputs},
+        # with --data: the files, each component's level and data range, the box, axis names and units
+        "data": meta.get("data"),
     }
 
 
 _CELL_NAMES = {0: "vertices", 1: "edges", 2: "faces"}
 
 
+def _component_text(c: dict) -> str:
+    """One component of F from data: "scan.nii = 400" or "flow.vti:v[1] = 0"."""
+    part = "" if c["component"] is None else f"[{c['component']}]"
+    return f"{c['source']}{part} = {c['level']:g}"
+
+
 def _human(s: dict, job: dict) -> str:
     dim = s["n"] - s["k"]
-    what = job["name"] or job.get("title") or " ; ".join(job["F"])
+    if s.get("data"):
+        what = " ; ".join(_component_text(c) for c in s["data"]["components"])
+    else:
+        what = job["name"] or job.get("title") or " ; ".join(job["F"])
     if s["params"]:
         what += " at " + ", ".join(f"{p} = {v:g}" for p, v in s["params"].items())
     div = "x".join(str(d) for d in s["div"]) if s["div"] else "?"
@@ -665,6 +756,12 @@ def _human(s: dict, job: dict) -> str:
         f"  Euler characteristic {s['euler_characteristic']}, {s['boundary_facets']} boundary facets"
         + (f", {s['nonfinite_vertices']} non-finite vertices" if s["nonfinite_vertices"] else ""),
     ]
+    if s.get("data"):
+        d = s["data"]
+        axes = ", ".join(f"{v} in [{lo:g}, {hi:g}]" + (f" {u}" if u else "")
+                         for v, u, (lo, hi) in zip(d["variables"], d["units"], d["bounds"]))
+        lines.append(f"  grid {'x'.join(map(str, d['shape']))} samples: {axes}")
+        lines.extend(f"  note: {note}" for note in d["notes"])
     if s["degenerate"]:
         lines.append(f"  warning: {s['degenerate']} degenerate events the engine could not resolve "
                      "(cells there may be malformed): try another --seed")

@@ -127,7 +127,7 @@ class SampledData:
         return dict(files=[f.source for f in self.fields], components=comps,
                     shape=list(self.values.shape[:-1]), bounds=self.bounds.tolist(),
                     variables=list(self.variables), units=list(self.units), nonfinite_samples=self.nonfinite,
-                    notes=list(self.notes))
+                    notes=list(self.notes), values_on_disk=bool(self.on_disk))
 
 
 # ----------------------------------------------------------------------------- specs
@@ -801,12 +801,13 @@ def _fill(out: np.ndarray, fields, levels) -> tuple[list[tuple[float, float]], i
 
 # ----------------------------------------------------------------------------- the run
 def extract_data(specs, levels=None, bounds=None, *, components: bool | None = None, data: SampledData | None = None,
-                 **kwargs):
+                 variables: Sequence[str] | None = None, **kwargs):
     """`extract` on F's values from data files (`load_components`); kwargs go to `extract`
     (method, seed, scheduler, progress, force, ...).  The run is estimated from the headers first
     (`estimate_data`: a run that won't fit is refused before the data are read).  The result's meta
     names the files and levels ("data"), the axes and their units ("variables", "units").
-    ``data``: values already loaded (the app's level slider reuses them)."""
+    ``data``: values already loaded (the app's level slider reuses them); ``variables``: names for the
+    axes instead of the file's ("x", "y", "z", "t")."""
     from .budget import check_budget
     from .extract import extract
 
@@ -814,12 +815,22 @@ def extract_data(specs, levels=None, bounds=None, *, components: bool | None = N
         plan = _plan(specs, levels, bounds, components)
         check_budget(_estimate(plan, kwargs.get("method", "gcmh"), kwargs.get("scheduler")),
                      bool(kwargs.get("force", False)))
+        if variables is not None:
+            _check_names(variables, len(plan.bounds))
         data = _load(plan, None)
+    names = list(data.variables) if variables is None else _check_names(variables, data.n)
     cx = extract(data.values, data.bounds, **kwargs)
-    cx.meta["variables"] = list(data.variables)
+    cx.meta["variables"] = names
     cx.meta["units"] = list(data.units)
-    cx.meta["data"] = data.describe()
+    cx.meta["data"] = {**data.describe(), "variables": names}
     return cx
+
+
+def _check_names(names, n: int) -> list[str]:
+    names = [str(v) for v in names]
+    if len(names) != n:
+        raise InputError(f"{len(names)} axis names for data with {n} axes")
+    return names
 
 
 def _first_line(err) -> str:
