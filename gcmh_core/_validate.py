@@ -16,7 +16,7 @@ import numpy as np
 from .errors import InputError
 
 __all__ = ["per_axis_ints", "as_div", "as_bounds", "as_periodic", "describe_periodic", "glued_axes", "parse_params",
-           "infer_n", "prepare"]
+           "check_n", "infer_n", "prepare"]
 
 
 def per_axis_ints(value, n: int, what: str) -> np.ndarray:
@@ -109,7 +109,11 @@ def _periodic_entries(periodic):
             key, eq, flips = rest.partition("=")
             if key.strip() != "flip" or not eq:
                 raise InputError(f"periodic entry {item!r}: write NAME or NAME:flip=A,B")
-            items.append((name.strip(), {"flip": [f.strip() for f in flips.split(",") if f.strip()]}))
+            flipped = [f.strip() for f in flips.split(",")]
+            if not all(flipped):   # ("t:flip=" was read as "t": a seam without the reversal asked for)
+                raise InputError(f"periodic entry {item!r}: flip= needs axis names, e.g. {name.strip()}:flip=A,B "
+                                 f"(or {name.strip()} alone for a plain seam)")
+            items.append((name.strip(), {"flip": flipped}))
     else:
         raise InputError(f"{_PERIODIC_FORMS}; got {periodic!r}")
     out: list[tuple[str, bool | list[str]]] = []
@@ -217,6 +221,15 @@ def parse_params(items, option: str = "--param") -> dict[str, float] | None:
     return out
 
 
+def check_n(n) -> None:
+    """InputError unless 1 <= n <= formula.MAX_VARIABLES (checked before n of anything is made)."""
+    from .formula import MAX_VARIABLES
+
+    if not 1 <= int(n) <= MAX_VARIABLES:
+        raise InputError(f"n = {int(n):,}: the number of variables must be between 1 and {MAX_VARIABLES} "
+                         "(a grid in R^n has at least 2^n vertices)")
+
+
 def infer_n(F, variables, bounds, div, n):
     if n is not None:
         return int(n)
@@ -274,6 +287,7 @@ def prepare(F, variables, n, k, bounds, div, params=None):
         if not isinstance(F, (list, tuple)) or not all(isinstance(t, str) for t in F):
             raise InputError("F must be formula text, a list of formula texts, a System or an array of values")
         n_ = infer_n(F, variables, bounds, div, n)
+        check_n(n_)
         system = parse_system(list(F), variables, n=n_, k=k, params=params)
     if n is not None and int(n) != system.n:
         raise InputError(f"n = {n} but the formulas have {system.n} variables")

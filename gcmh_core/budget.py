@@ -229,8 +229,15 @@ def simplicial_rows(n: int, k: int) -> int:
     return rows
 
 
+def _count(x: int) -> str:
+    """A count for a message: 1,234,567, or about 10^903 when it has more than 18 digits."""
+    return f"{x:,}" if x < 10**18 else f"about 10^{int(x.bit_length() * math.log10(2))}"
+
+
 def index_room(n: int, k: int, vertices: int, simplicial: bool) -> int:
     """The largest key `runner.Grid` would form; at 2^63 the grid cannot be indexed."""
+    if vertices >= _KEY_LIMIT:   # (n = 100000: the terms below are integers of 30000 digits, n of them)
+        return vertices
     if simplicial:
         return vertices * (n + 1) ** n
     return max(vertices * comb(n, d) * comb(d, k) * 2 ** (d - k) * factorial(k) for d in range(k, n + 1))
@@ -387,7 +394,8 @@ def estimate_run(
     simplicial = method in SIMPLICIAL_METHODS
     checked = checks_cells(n, k, simplicial, check_cells)
     if index_room(n, k, vertices, simplicial) >= _KEY_LIMIT:
-        raise InputError(f"the grid is too large to index ({vertices:,} vertices in R^{n}): use a smaller div")
+        raise InputError(f"the grid is too large to index ({_count(vertices)} vertices in R^{n}): use a smaller div"
+                         + (" or fewer variables" if n > 62 else ""))
     if simplicial and n > 7:
         raise InputError(f"the simplicial baselines split an n-cube into n! simplices: n = {n} is too many (at most 7)")
     continuation = method in CONTINUATION_METHODS

@@ -46,6 +46,7 @@ MAX_CHARS = 5000  # characters in one component
 MAX_NODES = 2000  # expression nodes in one component
 MAX_DEPTH = 100  # nesting depth of one component
 MAX_EXPONENT = 64  # |constant exponent|
+MAX_VARIABLES = 62  # n: a grid has at least 2^n vertices, and its keys are int64
 _MAX_BITS = 1024  # exact rational constants larger than this are folded to float
 
 
@@ -192,6 +193,10 @@ def _check_variables(variables) -> tuple[str, ...]:
     names = tuple(variables)
     if not names:
         raise FormulaError("no variables given")
+    if len(names) > MAX_VARIABLES:
+        raise FormulaError(f"{len(names):,} variables: at most {MAX_VARIABLES} (a grid in R^n has at least 2^n "
+                           "vertices)")
+    seen: set[str] = set()   # (names[:i] made this quadratic: --n 100000 spent a minute here)
     for i, v in enumerate(names):
         if not isinstance(v, str) or not v.isidentifier() or keyword.iskeyword(v):
             raise FormulaError(f"variable {i + 1} ({v!r}) is not a valid name "
@@ -202,8 +207,9 @@ def _check_variables(variables) -> tuple[str, ...]:
         if v in _FUNCTIONS or v in _CONSTANTS:
             kind = "function" if v in _FUNCTIONS else "constant"
             raise FormulaError(f"variable name {v!r} is the name of a {kind}")
-        if v in names[:i]:
+        if v in seen:
             raise FormulaError(f"variable name {v!r} is given twice")
+        seen.add(v)
     return names
 
 
