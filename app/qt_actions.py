@@ -98,7 +98,11 @@ class StudioActions:
         w = window
         mb = w.menuBar()
         fm = mb.addMenu("&File")
-        self.open = self._add(fm, "&Open session\u2026", self.open_dialog, "Ctrl+O", "open a saved session (.json)")
+        self.open = self._add(fm, "&Open\u2026", self.open_dialog, "Ctrl+O",
+                              "open a saved session (.json) or a saved result (.npz)")
+        self.open_data = self._add(fm, "Open &data\u2026", self.open_data_dialog, "Ctrl+Shift+O",
+                                   "volumes and time series from files: .npy, .npz, .vti, .vtk, .nrrd, .mha, .nii, "
+                                   ".h5 (several files: one component of F each)")
         self.save = self._add(fm, "&Save session\u2026", self.save_dialog, "Ctrl+S", "save the session as JSON")
         fm.addSeparator()
         self.export_complex = self._add(fm, "Export &complex\u2026", self.export_complex_dialog, None,
@@ -190,9 +194,19 @@ class StudioActions:
         return p
 
     def open_dialog(self) -> None:
-        p = self._file_dialog(False, "Open session", "GCMH session (*.json);;All files (*)")
+        p = self._file_dialog(False, "Open", "GCMH session or result (*.json *.npz);;GCMH session (*.json);;"
+                                             "Cell complex (*.npz);;All files (*)")
         if p:
-            self.window.controller.open_session(p)
+            self.window.open_file(p)
+
+    def open_data_dialog(self) -> None:
+        from gcmh_core.data_files import DATA_SUFFIXES
+
+        patterns = " ".join(f"*{s}" for s in DATA_SUFFIXES)
+        paths, _ = QFileDialog.getOpenFileNames(self.window, "Open data (several files: one component each)", "",
+                                                f"Data ({patterns});;All files (*)")
+        if paths:
+            self.window.open_data(paths)
 
     def save_dialog(self) -> None:
         p = self._file_dialog(True, "Save session", "GCMH session (*.json)")

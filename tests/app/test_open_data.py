@@ -1,0 +1,135 @@
+"""Data files in the window: File -> Open data, drops, the level as a live slider (coarse while held, full
+at rest), axes named in the file's units, saved results opened again, and sessions' data sources."""
+
+import numpy as np
+import pytest
+from qtpy.QtCore import QMimeData, QPoint, Qt, QUrl
+from qtpy.QtGui import QDropEvent
+
+from gcmh_core import InputError
+
+SEMI = np.array([1.0, 0.7, 0.45])
+
+
+def ellipsoid(side=41):
+    t = np.linspace(-1.2, 1.2, side)
+    X = np.meshgrid(t, t, t, indexing="ij")
+    return sum((X[a] / SEMI[a]) ** 2 for a in range(3)).astype(np.float32)
+
+
+@pytest.fixture
+def volume(tmp_path):
+    path = tmp_path / "e.npy"
+    np.save(path, ellipsoid())
+    return str(path)
+
+
+def open_and_wait(qtbot, window, specs, levels=None):
+    with qtbot.waitSignal(window.data_panel.shown, timeout=120_000) as blocker:
+        assert window.open_data(specs, levels), window.last_status
+    return blocker.args[0]
+
+
+def test_open_data_shows_the_surface_with_a_data_tab(qtbot, window, volume):
+    assert open_and_wait(qtbot, window, [volume], levels=1.0) == "full"
+    cx = window.result
+    assert (cx.n, cx.k) == (3, 1) and cx.euler_characteristic() == 2
+    assert cx.meta["data"]["stride"] == 1 and cx.meta["data"]["files"] == [volume]
+    assert window.result_names == ["x", "y", "z"]
+    assert window.tabs.tabText(window.tabs.currentIndex()) == "Data"
+    assert "vertices" in window.last_status
+
+
+def test_level_slider_is_coarse_while_held_and_full_at_rest(qtbot, window, volume, monkeypatch):
+    monkeypatch.setattr("gcmh_studio.data_source.COARSE_SAMPLES", 20**3)   # (41^3 samples: every 2nd while held)
+    open_and_wait(qtbot, window, [volume], levels=1.0)
+    panel = window.data_panel
+    slider = panel.sliders[0]
+    r = window.data_source.ranges[0]
+    slider.setSliderDown(True)
+    with qtbot.waitSignal(panel.shown, timeout=120_000) as blocker:
+        slider.setSliderPosition(slider.value() + 40)   # (a drag: sliderMoved)
+    assert blocker.args == ["coarse"]
+    coarse = window.result
+    assert coarse.meta["data"]["stride"] > 1
+    level = window.data_source.levels[0]
+    assert level > 1.0 and abs(level - (r.lo + (r.hi - r.lo) * slider.value() / 1000)) < 1e-9
+    assert panel.boxes[0].value() == pytest.approx(level, abs=10 ** -panel.boxes[0].decimals())
+    with qtbot.waitSignal(panel.shown, timeout=120_000) as blocker:
+        slider.setSliderDown(False)   # (let go: sliderReleased)
+    assert blocker.args == ["full"]
+    full = window.result
+    assert full.meta["data"]["stride"] == 1 and full.count(0) > coarse.count(0)
+    assert full.meta["data"]["components"][0]["level"] == pytest.approx(level)
+    # the number box: an exact level
+    with qtbot.waitSignal(panel.shown, timeout=120_000):
+        panel.set_level(0, 0.5)
+    V = window.result.vertices   # (index coordinates of a plain .npy: back to [-1.2, 1.2])
+    rad = np.sqrt((((-1.2 + V * 0.06) / SEMI) ** 2).sum(axis=1))
+    assert np.abs(rad - np.sqrt(0.5)).max() < 0.02
+
+
+def drop(window, paths):
+    mime = QMimeData()
+    mime.setUrls([QUrl.fromLocalFile(str(p)) for p in paths])
+    event = QDropEvent(QPoint(10, 10), Qt.CopyAction, mime, Qt.LeftButton, Qt.NoModifier)
+    window.dropEvent(event)
+    return event
+
+
+def test_dropping_two_files_opens_two_components(qtbot, window, tmp_path, volume):
+    z = np.broadcast_to(np.linspace(-1.2, 1.2, 41)[None, None, :], (41, 41, 41)).astype(np.float32)
+    np.save(tmp_path / "z.npy", z)
+    mime = QMimeData()
+    mime.setUrls([QUrl.fromLocalFile(volume), QUrl.fromLocalFile(str(tmp_path / "z.npy"))])
+    assert window.dropped_files(mime) == [volume, str(tmp_path / "z.npy")]
+    mime.setUrls([QUrl.fromLocalFile(str(tmp_path / "notes.txt"))])
+    assert window.dropped_files(mime) == []   # (not offered: the drag is refused)
+    with qtbot.waitSignal(window.data_panel.shown, timeout=120_000):
+        event = drop(window, [volume, tmp_path / "z.npy"])
+    assert event.isAccepted()
+    cx = window.result
+    assert (cx.n, cx.k) == (3, 2) and len(window.data_panel.sliders) == 2
+
+
+def test_axes_carry_the_files_units(qtbot, window, tmp_path):
+    nib = pytest.importorskip("nibabel")
+    img = nib.Nifti1Image(ellipsoid(), np.diag([0.06, 0.06, 0.06, 1.0]))
+    img.header.set_xyzt_units("mm")
+    nib.save(img, tmp_path / "e.nii")
+    open_and_wait(qtbot, window, [str(tmp_path / "e.nii")], levels=1.0)
+    assert window.result_names == ["x [mm]", "y [mm]", "z [mm]"]
+    assert window.result.meta["units"] == ["mm"] * 3
+
+
+def test_a_bad_file_says_so_and_keeps_the_window(qtbot, window, tmp_path):
+    (tmp_path / "junk.npy").write_bytes(b"garbage")
+    assert not window.open_data([str(tmp_path / "junk.npy")])
+    assert "not a valid .npy" in window.last_status and window.result is None
+
+
+def test_open_a_saved_result_and_export_it(qtbot, window, tmp_path, volume):
+    open_and_wait(qtbot, window, [volume], levels=1.0)
+    window.export_complex(tmp_path / "saved.npz")
+    original = window.result
+    with qtbot.waitSignal(window.resultChanged, timeout=60_000):
+        assert window.open_file(str(tmp_path / "saved.npz"))
+    cx = window.result
+    assert cx is not original and cx.vertices.tobytes() == original.vertices.tobytes()
+    assert window.result_names == ["x", "y", "z"]
+    window.export_mesh(tmp_path / "again.ply")   # (the view's mesh of the reopened complex)
+    assert (tmp_path / "again.ply").stat().st_size > 1000
+    window.model.set_slice(on=True, index=2, c=0.5, w=0.1)   # (slicing works on it too)
+    assert window.result is cx and window.model.slice_readout
+
+
+def test_session_entry_and_a_moved_file(tmp_path, volume):
+    from gcmh_studio.data_source import DataSource
+
+    src = DataSource([volume], levels=1.0)
+    entry = src.session_entry()
+    again = DataSource.from_session(entry)
+    assert again.specs == [volume] and again.levels == [1.0]
+    (tmp_path / "e.npy").rename(tmp_path / "moved.npy")
+    with pytest.raises(InputError, match="is not there any more .moved or deleted.: open it again"):
+        DataSource.from_session(entry)
