@@ -8,6 +8,7 @@ They are inlined (numba, at IR level): as plain calls they doubled the kernel's 
 """
 
 import numba as nb
+import numpy as np
 
 from .._config import INLINE_JIT, JIT
 
@@ -53,32 +54,158 @@ def crossable_face(corner_signs, free, fixed, full):
     return any_pos == full and all_pos == 0
 
 
+# |lam_i| below this: the zero is on facet i up to rounding, and `_zero_side` decides symbolically
+NEAR_FACET = 1e-9
+# a determinant at most this fraction of its Hadamard bound (the product of its rows' norms) is 0
+DET_ZERO = 1e-12
+# `_sos_det` tries the perturbation's terms over the first this many entries of a facet (2^20 subsets)
+_SOS_ENTRIES = 20
+
+
+@nb.njit(**JIT)
+def _det(M, d):
+    """det of M[:d, :d] (destroyed), and 0 where it is at most DET_ZERO of its Hadamard bound.
+    Gaussian elimination with partial pivoting: the same input gives the same float everywhere."""
+    bound = 1.0
+    for j in range(d):
+        r = 0.0
+        for i in range(d):
+            r += M[j, i] * M[j, i]
+        bound *= np.sqrt(r)
+    det = 1.0
+    for c in range(d):
+        piv = c
+        best = abs(M[c, c])
+        for rr in range(c + 1, d):
+            if abs(M[rr, c]) > best:
+                best = abs(M[rr, c])
+                piv = rr
+        if best == 0.0:
+            return 0.0
+        if piv != c:
+            det = -det
+            for i in range(c, d):
+                t = M[c, i]
+                M[c, i] = M[piv, i]
+                M[piv, i] = t
+        det *= M[c, c]
+        for rr in range(c + 1, d):
+            fac = M[rr, c] / M[c, c]
+            if fac != 0.0:
+                for i in range(c, d):
+                    M[rr, i] -= fac * M[c, i]
+    if not (abs(det) > DET_ZERO * bound):  # (also NaN)
+        return 0.0
+    return det
+
+
+@nb.njit(**JIT)
+def _sos_det(P, i, k, A):
+    """The leading term of det[F(v_q) + eps_q]_{q != i} (k x k: row j, column q), F_j(v_q) moved by
+    eps^(2^(q k + j)) (simulation of simplicity, Edelsbrunner and Muecke): the smallest exponent,
+    as the bit mask of (q, j) whose perturbations the term takes (0: the determinant itself), and
+    its coefficient.  The columns' order is the corners' (chain order, the grid's global order),
+    so every simplex that has this facet gets the same sign.  (-1, 0.0): not found (k > 4 only).
+
+    The terms come in the order of their exponents (the subsets of entries as binary numbers);
+    a term's coefficient is the determinant with the term's rows replaced by unit rows."""
+    cols = np.empty(k, np.int64)
+    c = 0
+    for q in range(k + 1):
+        if q != i:
+            cols[c] = q
+            c += 1
+    n_entries = min(k * k, _SOS_ENTRIES)
+    for b in range(np.int64(1) << n_entries):
+        rows_used = 0
+        cols_used = 0
+        ok = True
+        bb = b
+        t = 0
+        while bb:
+            if bb & 1:
+                jr = t % k
+                qc = t // k
+                if (rows_used >> jr) & 1 or (cols_used >> qc) & 1:
+                    ok = False
+                    break
+                rows_used |= 1 << jr
+                cols_used |= 1 << qc
+            bb >>= 1
+            t += 1
+        if not ok:
+            continue
+        for j in range(k):
+            if (rows_used >> j) & 1:
+                for qc in range(k):
+                    A[j, qc] = 0.0
+            else:
+                for qc in range(k):
+                    A[j, qc] = P[cols[qc], j]
+        exponent = np.int64(0)
+        bb = b
+        t = 0
+        while bb:
+            if bb & 1:
+                A[t % k, t // k] = 1.0
+                exponent |= np.int64(1) << (cols[t // k] * k + t % k)
+            bb >>= 1
+            t += 1
+        d = _det(A, k)
+        if d != 0.0:
+            return exponent, d
+    return np.int64(-1), 0.0
+
+
 @nb.njit(**JIT)
 def _zero_side(vals, o, value_off, table, s, k, lam):
-    """`simplex_crosses`'s answer 2 decided: 1 if the zero is inside the simplex, else 0.
+    """`simplex_crosses`' answer 2 decided: 1 if the zero is inside the simplex, else 0, by
+    simulation of simplicity (`_sos_det`).
 
-    A value 0 counts as +epsilon (the sign prune's rule, a symbolic perturbation).  Where
-    some F_j is 0 on the whole facet opposite corner i and < 0 at i, the solve finds
-    lam_i = 0 up to rounding, and the perturbed zero lies inside: lam_i = 0+.  Any other
-    slightly negative lam_i is outside.  (Called from the kernels' own loops, rarely: as a
-    branch inside the inlined solve it slowed every cube by a fifth.)
+    A zero of F's interpolant on the simplex v_0..v_k is inside where the k + 1 determinants
+    D_i = (-1)^i det[F(v_q)]_{q != i} have one sign (lam_i = D_i / sum D); D_i depends on the
+    facet opposite v_i only, so the simplices that share that facet agree about it, and a
+    (k+1)-simplex has 0 or 2 crossed k-facets.  Every value F_j(v) is F_j(v) + eps^(2^(q k + j))
+    (q: v's place in the chain), so no D_i is 0 and a value 0 is positive (the sign prune's
+    rule).  lam receives the limit eps -> 0 of the zero: the solve's lam (negatives made 0)
+    where it solved (lam[0] is not NaN) and the simplex is not flat, else the ratio of the
+    leading terms.  (Called from the kernels' own loops, rarely: as a branch inside the
+    inlined solve it slowed every cube by a fifth.)
     """
-    for i in range(k + 1):
-        if lam[i] >= 0.0:
-            continue
-        inside = False
+    m = k + 1
+    P = np.empty((m, k))
+    for q in range(m):
+        r = o + value_off[table[s, q]]
         for j in range(k):
-            if vals[o + value_off[table[s, i]], j] < 0.0:
-                on_facet = True
-                for q in range(k + 1):
-                    if q != i and vals[o + value_off[table[s, q]], j] != 0.0:
-                        on_facet = False
-                if on_facet:
-                    inside = True
-        if not inside:
+            P[q, j] = vals[r, j]
+    A = np.empty((k, k))
+    exps = np.empty(m, np.int64)
+    coefs = np.empty(m)
+    for i in range(m):
+        e, c = _sos_det(P, i, k, A)
+        if e < 0:
             return 0
-        lam[i] = 0.0
+        exps[i] = e
+        coefs[i] = -c if i & 1 else c
+    lead = exps[0]
+    for i in range(m):
+        if (coefs[i] > 0.0) != (coefs[0] > 0.0):
+            return 0
+        if exps[i] < lead:
+            lead = exps[i]
+    if lead == 0 and lam[0] == lam[0]:
+        for i in range(m):
+            if lam[i] < 0.0:
+                lam[i] = 0.0
+        return 1
+    total = 0.0
+    for i in range(m):
+        if exps[i] == lead:
+            total += coefs[i]
+    for i in range(m):
+        lam[i] = coefs[i] / total if exps[i] == lead else 0.0
     return 1
+
 
 @nb.njit(**INLINE_JIT)
 def simplex_crosses(vals, o, value_off, table, s, k, pos_mask, full, mat, rhs, lam):
@@ -132,8 +259,9 @@ def simplex_crosses(vals, o, value_off, table, s, k, pos_mask, full, mat, rhs, l
             if a > best:
                 best = a
                 piv = rr
-        if not (best > 1e-14):  # (also NaN, from a subnormal row)
-            return 0
+        if not (best > 1e-14):  # (also NaN, from a subnormal row): flat, `_zero_side` decides
+            lam[0] = np.nan
+            return 2
         if piv != c:
             for i in range(k):
                 t = mat[c, i]
@@ -161,8 +289,8 @@ def simplex_crosses(vals, o, value_off, table, s, k, pos_mask, full, mat, rhs, l
     lam[0] = 1.0 - total
     near = False
     for i in range(m):
-        if not (lam[i] >= 0.0):
-            if not (lam[i] > -1e-9):
+        if not (lam[i] >= NEAR_FACET):
+            if not (lam[i] > -NEAR_FACET):
                 return 0
             near = True  # on a facet up to rounding: `_zero_side` decides
     return 2 if near else 1

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import itertools
 from collections import defaultdict
+from fractions import Fraction
 
 import numpy as np
 
@@ -92,15 +93,54 @@ class UnionFind:
 # the barycentric solve
 # --------------------------------------------------------------------------
 
-def simplex_lambdas(F_at_vertices, sign_shortcut=True):
-    """Barycentric coordinates of the zero of the linear interpolant.
+def _poly_mul(p, q):
+    """Product of polynomials in the symbols eps_t, {bit mask of the symbols: coefficient};
+    a monomial never has a symbol twice here (each matrix entry is used once per term)."""
+    out = defaultdict(Fraction)
+    for e1, c1 in p.items():
+        for e2, c2 in q.items():
+            assert e1 & e2 == 0
+            out[e1 | e2] += c1 * c2
+    return out
 
-    ``F_at_vertices``: (k+1, k) array, row i = F(v_i).  Solves
-        sum_i lam_i F_j(v_i) = 0   (j = 0..k-1),    sum_i lam_i = 1.
-    Returns ``lam`` (k+1,) if the system is regular and all lam_i >= 0,
-    otherwise None.  With ``sign_shortcut`` (allowed by the contract), a
-    simplex on which some component has one sign at every vertex has no
-    vertex (this only differs from the plain solve when values are exactly 0).
+
+def _perturbed_det(M):
+    """Leibniz's formula on the (d, d) matrix M of polynomials: a polynomial."""
+    d = len(M)
+    total = defaultdict(Fraction)
+    for perm in itertools.permutations(range(d)):
+        sign = 1
+        for i in range(d):
+            for j in range(i + 1, d):
+                if perm[i] > perm[j]:
+                    sign = -sign
+        term = {0: Fraction(sign)}
+        for row, col in enumerate(perm):
+            term = _poly_mul(term, M[row][col])
+        for e, c in term.items():
+            total[e] += c
+    return {e: c for e, c in total.items() if c != 0}
+
+
+def _leading(poly):
+    """The dominant term (exponent, coefficient) of a polynomial in eps_t = eps^(2^t) as eps -> 0:
+    the monomial of smallest exponent sum_t 2^t, i.e. the smallest bit mask."""
+    e = min(poly)
+    return e, poly[e]
+
+
+def simplex_lambdas(F_at_vertices, sign_shortcut=True):
+    """Barycentric coordinates of the zero of the linear interpolant, by simulation of simplicity.
+
+    ``F_at_vertices``: (k+1, k) array, row i = F(v_i), the simplex's corners in chain order (the
+    grid's global vertex order).  Each value F_j(v_i) is read as F_j(v_i) + eps^(2^(i k + j)),
+    eps -> 0 (so a value 0 is positive, and no configuration is degenerate).  Cramer's rule on
+        sum_i lam_i F_j(v_i) = 0   (j = 0..k-1),    sum_i lam_i = 1
+    in exact rational arithmetic: lam_i = D_i / D, D the determinant of the system and D_i the
+    same with column i replaced by the right-hand side, both polynomials in the eps symbols.
+    Returns the limit eps -> 0 of ``lam`` (k+1,) if every lam_i > 0 for small eps, else None.
+    With ``sign_shortcut``, a simplex on which some component has one sign at every vertex
+    (a value 0 counting as positive) is None before any solve: the answer is the same.
     """
     Fv = np.asarray(F_at_vertices, dtype=np.float64)
     m, k = Fv.shape
@@ -110,24 +150,20 @@ def simplex_lambdas(F_at_vertices, sign_shortcut=True):
             pos = [is_positive(Fv[i, j]) for i in range(m)]
             if all(pos) or not any(pos):
                 return None
-    A = np.ones((k + 1, k + 1))
-    A[:k, :] = Fv.T            # A[j, i] = F_j(v_i)
-    rhs = np.zeros(k + 1)
-    rhs[k] = 1.0
-    try:
-        lam = np.linalg.solve(A, rhs)
-    except np.linalg.LinAlgError:
-        return None
-    if not np.all(np.isfinite(lam)):
-        return None
-    for i in np.flatnonzero(lam < 0):
-        # a value 0 is +epsilon: a component 0 on the facet opposite v_i and < 0 at v_i
-        # puts the zero inside, at lam_i = 0+ (the solve gives 0 up to rounding)
-        forced = any(Fv[i, j] < 0 and all(Fv[q, j] == 0 for q in range(m) if q != i) for j in range(k))
-        if lam[i] <= -1e-9 or not forced:
+    A = [[{0: Fraction(1)} for _ in range(m)] for _ in range(m)]  # row k: the ones of sum lam = 1
+    for j in range(k):
+        for i in range(m):
+            A[j][i] = {0: Fraction(float(Fv[i, j])), 1 << (i * k + j): Fraction(1)}
+    rhs = [{} for _ in range(k)] + [{0: Fraction(1)}]
+    D = _leading(_perturbed_det(A))
+    lam = []
+    for i in range(m):
+        Ai = [[rhs[r] if c == i else A[r][c] for c in range(m)] for r in range(m)]
+        Di = _leading(_perturbed_det(Ai))
+        if (Di[1] > 0) != (D[1] > 0):
             return None
-        lam[i] = 0.0
-    return lam
+        lam.append(float(Di[1] / D[1]) if Di[0] == D[0] else 0.0)
+    return np.array(lam)
 
 
 # --------------------------------------------------------------------------
