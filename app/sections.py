@@ -31,6 +31,8 @@ TEXT_COLOR = "#ffd2c4"
 TEXT_POSITION = (0.24, 0.035)  # viewport: right of the corner axes, under the object, left of the colour bar
 GHOST_OPACITY = 0.025         # the whole result behind a section: a 2-skeleton has many layers, and a
 #                               surface's ghost at the slab's 0.07 whitened the section in front of it
+# The ghost's back faces are culled: software GL pays for every translucent layer's pixels, and the 3-sphere's
+# ghost cost 2/3 of a slice step's render (0.7 of 1.05 s, load 20); culled, half as many layers, as faint.
 
 
 def section_text(label: str, c: float, cells: SectionCells | None) -> str:
@@ -263,6 +265,7 @@ class SectionScene(Scene):
         ghost = self.overlay_meshes.ghost
         if ghost is not None and ghost[1] is not None:
             ghost[1].prop.opacity = GHOST_OPACITY
+            ghost[1].prop.culling = "back"
         if render:
             self.plotter.render()
         return drawn
