@@ -8,7 +8,8 @@ import numpy as np
 
 from .camera import screen_coordinates
 
-AXES_FONT = 13                       # the bounds axes' labels (points; times the presentation's font scale)
+AXES_FONT = 14                       # the bounds axes' labels (pixels; times the presentation's font scale)
+TICKS = 4                            # about this many steps along a long side (round steps: 1, 2, 2.5, 5 x 10^k)
 # where the axes' box may lie (-1..1 across the picture, as gcmh_studio.camera.screen_coordinates): clear of the
 # colour bar (right), the title (top) and the card (bottom right), with room for the tick labels outside it
 AXES_X, AXES_TOP, AXES_BOTTOM = 0.70, 0.66, 0.56
@@ -26,6 +27,41 @@ def axis_titles(scene) -> list[str]:
     return titles
 
 
+def nice_range(lo: float, hi: float, steps: int = TICKS) -> tuple[float, float, int]:
+    """(lo', hi', labels): ``[lo, hi]`` widened to multiples of a round step (1, 2, 2.5 or 5 times a power of
+    ten) cut into ``steps - 1`` to ``steps + 2`` parts, the one that widens it least; and the number of ticks."""
+    span = hi - lo
+    if not (span > 0 and np.isfinite(span)):
+        return float(np.floor(lo)), float(np.floor(lo)) + 1.0, 2
+    decade = 10.0 ** np.floor(np.log10(span / steps))
+    best = None
+    for step in (m * decade * f for f in (0.1, 1.0, 10.0) for m in (1.0, 2.0, 2.5, 5.0)):
+        # (an end a fiftieth of a step past a round value stays at it: -1.0015 is drawn from -1)
+        a, b = np.floor(lo / step + 0.02) * step, np.ceil(hi / step - 0.02) * step
+        parts = int(round((b - a) / step))
+        key = (round((b - a) / span, 2), abs(parts - steps))   # the least widening, then the nearest count
+        if max(1, steps - 1) <= parts <= steps + 2 and (best is None or key < best[0]):
+            best = (key, float(a), float(b), parts + 1)
+    return best[1:] if best is not None else (float(lo), float(hi), 2)
+
+
+class TickFormat(str):
+    """A tick label format that writes a round value with the decimals its step needs, never "-0" or
+    "-0.0" (pyvista formats every tick with ``fmt.format(value)``; the float noise of a linspace went
+    through as "-0.0" and "5.6e-17")."""
+
+    def __new__(cls, step: float):
+        obj = super().__new__(cls, "{0}")
+        power = int(np.floor(np.log10(step) + 1e-9))
+        quarter = round(step / 10.0 ** power, 6) == 2.5      # (2.5, 0.25: one decimal more)
+        obj.decimals = max(0, -power + (1 if quarter else 0))
+        return obj
+
+    def format(self, *args, **kwargs) -> str:
+        text = f"{float(args[0]):.{self.decimals}f}"
+        return "0" if float(text) == 0.0 else text
+
+
 def add_axes(plotter, key: tuple):
     """pyvista's bounds axes on ``plotter`` for ``key`` = (bounds, titles, shown ranges, font size, label
     counts), remembered on the actor as ``_gcmh_key``."""
@@ -34,8 +70,17 @@ def add_axes(plotter, key: tuple):
                                 ztitle=titles[2], location="outer", ticks="outside", font_size=font,
                                 color="#e6e9f0", bold=False, n_xlabels=counts[0], n_ylabels=counts[1],
                                 n_zlabels=counts[2], fmt="{0:.2g}", use_3d_text=False, render=False)
+    set_tick_formats(actor, ranges, counts)
     actor._gcmh_key = key
     return actor
+
+
+def set_tick_formats(actor, ranges, counts) -> None:
+    """Each axis' ticks written with the decimals of its step (:class:`TickFormat`)."""
+    for a, name in enumerate("xyz"):
+        lo, hi = ranges[2 * a], ranges[2 * a + 1]
+        step = (hi - lo) / max(counts[a] - 1, 1) if hi > lo else 1.0
+        setattr(actor, f"{name}_label_format", TickFormat(step))
 
 
 def axis_offsets(scene) -> np.ndarray:
@@ -54,17 +99,19 @@ def update_axes(plotter, scene, font_scale: float = 1.0) -> None:
     mesh = scene.mesh
     if mesh is None:
         return
-    bounds = tuple(float(b) for b in mesh.bounds)
+    drawn = np.reshape([float(b) for b in mesh.bounds], (3, 2))
     titles = tuple(axis_titles(scene))
-    shown = np.reshape(bounds, (3, 2)) + axis_offsets(scene)[:, None]
-    # the ends to a thousandth of the side: float32 noise makes no "-8.2e-06" tick where 0 is meant
-    q = 10.0 ** (np.floor(np.log10(np.maximum(np.ptp(shown, axis=1, keepdims=True), 1e-300))) - 3)
-    shown = np.round(shown / q) * q + 0.0
-    ranges = tuple(float(r) for r in shown.ravel())
+    offsets = axis_offsets(scene)
+    shown = drawn + offsets[:, None]
+    # the box widened to round values, ticked at a round step (a short side: about two steps, five
+    # labels would overlap there)
+    sides = np.diff(drawn, axis=1).ravel()
+    nice = [nice_range(lo, hi, TICKS if side >= 0.5 * sides.max() else 2)
+            for (lo, hi), side in zip(shown, sides)]
+    ranges = tuple(float(v) for a, b, _ in nice for v in (a, b))
+    counts = tuple(c for _, _, c in nice)
+    bounds = tuple(float(v) for (a, b, _), off in zip(nice, offsets) for v in (a - off, b - off))
     font = int(round(AXES_FONT * font_scale))
-    # a short side gets three labels (five would overlap there)
-    sides = np.diff(np.reshape(bounds, (3, 2)), axis=1).ravel()
-    counts = tuple(5 if r >= 0.5 * sides.max() else 3 for r in sides)
     actor = getattr(pl.renderer, "cube_axes_actor", None)
     key = getattr(actor, "_gcmh_key", None)
     if actor is not None and key is not None and key[3:] == (font, counts):
@@ -74,6 +121,7 @@ def update_axes(plotter, scene, font_scale: float = 1.0) -> None:
             actor.SetXTitle(titles[0])
             actor.SetYTitle(titles[1])
             actor.SetZTitle(titles[2])
+            set_tick_formats(actor, ranges, counts)
             actor._gcmh_key = (bounds, titles, ranges, font, counts)
         return
     add_axes(pl, (bounds, titles, ranges, font, counts))

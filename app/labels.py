@@ -127,6 +127,16 @@ def font_size(plotter, size: float) -> int:
     return max(6, int(round(size * min(1.5, max(0.55, ref / 1200)))))
 
 
+MIN_TEXT_PX = 14       # no word over the picture smaller (a projector at 1280x720 shows 7 px as a smudge)
+MIN_TITLE_PX = 20
+AXES_LABEL_PX = 24     # the orientation widget's axis names, at 1600x1200
+
+
+def readable(plotter, size: float, least: int = MIN_TEXT_PX) -> int:
+    """:func:`font_size`, but never under ``least`` pixels."""
+    return max(int(least), font_size(plotter, size))
+
+
 def axes_labels(P, names) -> list[str]:
     """The screen axes' names for the view matrix ``P`` (3, n): "x", or a mixture "0.71 x + 0.71 w"."""
     if P is None:
@@ -155,15 +165,16 @@ class SceneTexts:
         self.title_actor = self.subtitle_actor = None
         if title:
             self.title_actor = pl.add_text(title, position=(0.02, TITLE_Y), viewport=True,
-                                           font_size=font_size(pl, 18), color="white", name="gcmh-title")
+                                           font_size=readable(pl, 18, MIN_TITLE_PX), color="white",
+                                           name="gcmh-title")
         if subtitle:
             self.subtitle_actor = pl.add_text(subtitle, position=(0.02, SUBTITLE_Y), viewport=True,
-                                              font_size=font_size(pl, 11), color="#c8cfdc", name="gcmh-subtitle")
+                                              font_size=readable(pl, 11), color="#c8cfdc", name="gcmh-subtitle")
 
     def bar_args(self, title: str) -> dict:
         """pyvista's ``scalar_bar_args`` for the colour bar titled ``title``."""
-        return dict(title=title, vertical=True, title_font_size=font_size(self.plotter, 36),
-                    label_font_size=font_size(self.plotter, 26), n_labels=5, fmt="%.2f",
+        return dict(title=title, vertical=True, title_font_size=readable(self.plotter, 36, MIN_TITLE_PX),
+                    label_font_size=readable(self.plotter, 26), n_labels=5, fmt="%.2f",
                     position_x=0.9, position_y=0.2, width=0.045, height=0.6, color="white", bold=False,
                     unconstrained_font_size=True)
 
@@ -201,9 +212,10 @@ class SceneTexts:
                 continue
             i = int(np.argmax(np.abs(row)))
             pure = abs(abs(row[i]) - 1.0) < 1e-6
-            # ~x: "mostly x" (the legend has the mix)
-            short.append(style.label(full[r]) if pure else "~" + names[i])
-        mixed = any(lab.startswith("~") for lab in short)
+            # a mixture is named by its screen axis, X, Y or Z, as the View tab names them; the legend
+            # says what it mixes
+            short.append(style.label(full[r]) if pure else "XYZ"[r])
+        mixed = any(lab in "XYZ" for lab in short)
         legend = "\n".join(f"{'XYZ'[r]} = {full[r]}" for r in range(3) if full[r]) if mixed else ""
         if self.axes_actor is None:
             try:
@@ -218,9 +230,29 @@ class SceneTexts:
             a.SetXAxisLabelText(short[0])
             a.SetYAxisLabelText(short[1])
             a.SetZAxisLabelText(short[2])
+            set_caption_size(a, readable(self.plotter, AXES_LABEL_PX))
         if self.legend_actor is None:
             self.legend_actor = self.plotter.add_text(legend, position=(0.02, LEGEND_Y), viewport=True,
-                                                      font_size=font_size(self.plotter, 11), color="#dfe4ee",
+                                                      font_size=readable(self.plotter, 11), color="#dfe4ee",
                                                       name="gcmh-legend")
         else:
             self.legend_actor.SetInput(legend)
+
+
+def set_caption_size(axes_actor, px: int) -> None:
+    """The orientation widget's axis names at ``px`` pixels, whatever the size of its corner (VTK scales
+    a caption to its actor's box: about 7 px at 1280x720)."""
+    for cap in (axes_actor.GetXAxisCaptionActor2D(), axes_actor.GetYAxisCaptionActor2D(),
+                axes_actor.GetZAxisCaptionActor2D()):
+        cap.GetTextActor().SetTextScaleModeToNone()
+        prop = cap.GetCaptionTextProperty()
+        prop.SetFontSize(int(px))
+        prop.SetBold(True)
+        prop.SetShadow(True)
+
+
+def caption_sizes(axes_actor) -> list[int]:
+    """The orientation widget's axis names' font sizes (pixels), as drawn."""
+    return [int(c.GetCaptionTextProperty().GetFontSize()) for c in (
+        axes_actor.GetXAxisCaptionActor2D(), axes_actor.GetYAxisCaptionActor2D(),
+        axes_actor.GetZAxisCaptionActor2D())]

@@ -318,6 +318,21 @@ def axis_label(row: np.ndarray, names, tol: float = 1e-6, terms: int = 2) -> str
     return "".join(parts)
 
 
+def varying_colour(names, vertices) -> str | None:
+    """The last of ``names`` whose coordinate varies on ``vertices`` (V, n): a colour that says something
+    (the last coordinate of a torus in R^10 is 0 on all of it: one flat colour, a bar "0.00 ... -0.00")."""
+    X = np.asarray(vertices, dtype=float)
+    if X.ndim != 2 or not len(X) or X.shape[1] != len(names):
+        return names[-1] if len(names) else None
+    with np.errstate(invalid="ignore"):
+        spread = np.nanmax(X, axis=0) - np.nanmin(X, axis=0)
+    scale = max(float(np.nanmax(np.abs(spread))) if np.isfinite(spread).any() else 0.0, 1e-300)
+    for i in range(len(names) - 1, -1, -1):
+        if np.isfinite(spread[i]) and spread[i] > 1e-6 * scale:
+            return names[i]
+    return names[-1]
+
+
 @dataclass
 class ProjectionModel:
     """The state of the view projection: kind, base parameters and the plane angles.

@@ -70,6 +70,15 @@ def colour_range(values) -> list[float]:
     return [lo, hi]
 
 
+def bar_format(limits) -> str:
+    """printf format for the colour bar's five labels over ``limits`` (lo, hi): as many decimals as a
+    quarter of the range needs, at least two."""
+    step = (float(limits[1]) - float(limits[0])) / 4.0
+    if not (step > 0 and np.isfinite(step)):
+        return "%.2f"
+    return f"%.{int(min(8, max(2, 1 - np.floor(np.log10(step)))))}f"
+
+
 @dataclass
 class Style:
     """How the mesh is drawn; everything a user can change without a new run."""
@@ -430,6 +439,8 @@ class Scene:
                 kw["clim"] = clim
             kw.update(scalars=color_by, cmap=self.colour_map(color_by), show_scalar_bar=st.scalar_bar,
                       scalar_bar_args=self.texts.bar_args(st.label(color_by)))
+            if clim is not None:   # the bar's labels with the decimals its range needs ("0.0015", not "0.00")
+                kw["scalar_bar_args"]["fmt"] = bar_format(clim)
         self.look.drop_coarse()
         self.actor_kw = {k: v for k, v in kw.items() if k not in ("show_scalar_bar", "scalar_bar_args", "name")}
         self.actor = self.plotter.add_mesh(self.mesh, **kw)
