@@ -14,6 +14,7 @@ Run rarely waits; a run started meanwhile waits for it (:class:`WarmUp`).
 
 from __future__ import annotations
 
+import os
 import threading
 import time
 import traceback
@@ -25,9 +26,53 @@ from typing import Any
 COMPILE_NOTE = "about 20 seconds"
 # phases of a run (the worker's progress) whose fraction means nothing: shown without a percentage
 COMPILING = "compiling kernels (once per install)"
+LOADING = "loading the compiled kernels"
 STOPPING = "stopping the cancelled run"
 ENGINE = "starting the engine"
-WAITING_PHASES = ("starting", "estimating", COMPILING, STOPPING, ENGINE, "preparing the view")
+WAITING_PHASES = ("starting", "estimating", COMPILING, LOADING, STOPPING, ENGINE, "preparing the view")
+
+# The kernels a run may compile the first time it needs them, by module: what the family is called, and its
+# first compile in seconds on 2 quiet cores (NUMBA_CACHE_DIR empty, python /tmp/gcmh-measure/measure.py;
+# measured with the machine's load average beside, and scaled to a quiet machine).
+KERNEL_FAMILIES = {
+    "gcmh_core.kernels.gcmh": ("the cube kernels", 20.0),
+    "gcmh_core.kernels.tables": ("the cube kernels", 20.0),
+    "gcmh_core.kernels.records": ("the cube kernels", 20.0),
+    "gcmh_core.kernels.marching3": ("the surface kernels for n = 3", 6.0),
+    "gcmh_core.kernels.lazy": ("the kernels for n >= 8", 15.0),
+    "gcmh_core.kernels.cell_check": ("the cell check", 10.0),
+    "gcmh_core.kernels.cms": ("the CMS kernels", 10.0),
+    "gcmh_core.identify": ("the kernels of glued axes", 8.0),
+}
+WARM_UP_SECONDS = 25.0    # the whole warm-up's first compile, 2 quiet cores (the same measurement)
+
+
+def busy_factor() -> float:
+    """How much slower than on quiet cores a compile runs now: the load average per core (at least 1)."""
+    try:
+        load = os.getloadavg()[0]
+    except (OSError, AttributeError):
+        return 1.0
+    return max(1.0, load / max(1, os.cpu_count() or 1))
+
+
+def kernel_family(module: str) -> tuple[str, float]:
+    """(what the family of kernels in ``module`` is called, its first compile in seconds now)."""
+    name, quiet = KERNEL_FAMILIES.get(module, ("the numerical kernels", 10.0))
+    return name, quiet * busy_factor()
+
+
+def compile_phase(module: str) -> str:
+    """The progress phase while ``module``'s kernels compile: which, and a measured estimate."""
+    name, seconds = kernel_family(module)
+    return f"{COMPILING}: {name}, about {about_seconds(seconds)}"
+
+
+def about_seconds(seconds: float) -> str:
+    """"12 s", "2 min": a wait as a person reads it (rounded up to a round value)."""
+    if seconds < 60:
+        return f"{max(1, int(5 * -(-seconds // 5)))} s"
+    return f"{int(-(-seconds // 60))} min"
 
 
 def continuation_methods() -> tuple[str, ...]:
@@ -93,6 +138,17 @@ def run_job(job: Job, progress=None, cancel=None):
     """Run one job synchronously (the headless path and the worker share this)."""
     import gcmh_core
 
+    def announce(module: str) -> None:   # a family of kernels compiles for the first time: say so, and how long
+        if progress is not None:
+            progress(compile_phase(module), 0.0)
+
+    with gcmh_core.compile_notice(announce, each_module=True):
+        return _run_job(job, progress, cancel)
+
+
+def _run_job(job: Job, progress=None, cancel=None):
+    import gcmh_core
+
     kw = job.kwargs()
     previous = hasattr(kw.get("start"), "vertices")
     try:
@@ -153,6 +209,8 @@ class WarmUp:
 
     def __init__(self, methods) -> None:
         self.methods = tuple(methods)
+        self.compiling = False         # numba really compiles (not a load from its cache): the window says so
+        self.modules: list[str] = []   # the modules whose kernels compiled
         self.seconds: float | None = None
         self.error: str | None = None
         self.ready: set[str] = set()   # the methods whose kernels are ready
@@ -166,15 +224,39 @@ class WarmUp:
         return self
 
     def _run(self) -> None:
+        import gcmh_core
+
         try:
-            warm_up_kernels(self.methods, cancel=self._stop.is_set, ready=self.ready.add)
+            with gcmh_core.compile_notice(self._compiles, each_module=True):
+                warm_up_kernels(self.methods, cancel=self._stop.is_set, ready=self.ready.add)
         except Exception as e:  # noqa: BLE001 - a failed warm-up only means the first run compiles
             self.error = f"{type(e).__name__}: {e}"
         self.seconds = time.perf_counter() - self._t0
         self._done.set()
 
+    def _compiles(self, module: str) -> None:
+        self.modules.append(module)
+        self.compiling = True
+
     def running(self) -> bool:
         return not self._done.is_set()
+
+    def phase(self) -> str:
+        """What a run waiting for the warm-up waits for: kernels compiling, or loading from numba's cache."""
+        return COMPILING if self.compiling else LOADING
+
+    def seconds_left(self) -> float:
+        """A measured estimate of the warm-up's compile still to come (the quiet machine's, times the load)."""
+        return max(0.0, WARM_UP_SECONDS * busy_factor() - self.elapsed())
+
+    def notice(self) -> str:
+        """The window's word while the kernels compile ("" while they only load)."""
+        if not (self.running() and self.compiling):
+            return ""
+        left = self.seconds_left()
+        more = f"about {about_seconds(left)} left" if left >= 1 else "nearly done"
+        return (f"Compiling the numerical kernels: once per install, {self.elapsed():.0f} s so far, {more}; "
+                "later runs start at once.")
 
     def waits_for(self, method: str) -> bool:
         """Would a run of ``method`` wait for kernels still being compiled here?"""

@@ -12,8 +12,6 @@ from __future__ import annotations
 from qtpy.QtCore import QObject, Qt, QTimer
 from qtpy.QtWidgets import QGroupBox, QHBoxLayout, QLabel, QProgressBar, QPushButton, QVBoxLayout
 
-from .jobs import COMPILE_NOTE
-
 RUN_TIP = "extract the manifold (Ctrl+R)"
 
 
@@ -36,14 +34,12 @@ class QtWarmUpLabel(QLabel):
     def _show(self) -> None:
         warm = self.warm_up
         if warm.running():
-            if warm.elapsed() > 1.0:
-                self.setText(f"Compiling the numerical kernels: once per install, {COMPILE_NOTE} "
-                             f"({warm.elapsed():.0f} s so far); later runs start at once.")
+            self.setText(warm.notice())   # (only while numba really compiles: a cache load says nothing)
             return
         self._timer.stop()
         if warm.error:
             self.setText(f"Kernel warm-up failed ({warm.error}); the first run compiles them.")
-        elif warm.seconds is not None and warm.seconds > 3.0:
+        elif warm.compiling and warm.seconds is not None:
             self.setText(f"Kernels compiled in {warm.seconds:.0f} s; they are kept for later runs.")
             clear = QTimer(self)   # (owned by the label: it dies with the window instead of firing on it)
             clear.setSingleShot(True)

@@ -51,6 +51,7 @@ from .projection import ProjectionModel
 from .qt_drag_turn import QtDragTurn
 from .qt_linkage_inset import QtLinkageInset, linkage_of, picked_angles
 from .qt_still_picture import QtStillPicture
+from .qt_waiting_picture import QtWaitingPicture
 from .scene import Scene, Style
 from .studio_io import apply_camera, camera_state, valid_camera
 
@@ -84,6 +85,13 @@ class QtViewer:
         self._resized.setInterval(60)
         self._resized.timeout.connect(self._on_resized)
         self.linkage = QtLinkageInset(self.widget)   # the rods at a picked point of a linkage's surface
+        # the example's picture (and the wait's word) until its first result is drawn: never a blank view
+        self.waiting = QtWaitingPicture(self)
+        model.events.system.connect(self.waiting.on_system)
+        self._wait_note = QTimer(self.widget)
+        self._wait_note.setInterval(500)
+        self._wait_note.timeout.connect(self._show_wait_note)
+        self._wait_note.start()
         self._drag = QtDragTurn(self)
         self.widget.installEventFilter(self._drag)
         # a see-through result's still picture is drawn in a thread and shown over the view until the
@@ -175,6 +183,7 @@ class QtViewer:
         (and, with "keep camera", the whole camera). ``moving``: one of a stream of results (a parameter
         slider held): drawn with the moving look, the still one coming back when the stream rests."""
         first = self.scene.mesh is None and self._mapping is None
+        self.waiting.hide()
         held = None if first or not self.keep_camera() else camera_state(self.plotter.camera)
         with self.scene.held_render(render=False):
             self.scene.set_complex(self.model.result, self.model.names, self.model.projection.view(), self.style(),
@@ -242,8 +251,19 @@ class QtViewer:
             self.plotter.renderer.ResetCameraClippingRange()
         self.render()
 
+    def _show_wait_note(self) -> None:
+        """The warm-up's notice under the waiting picture (nothing once the kernels are ready)."""
+        from .jobs import current_warm_up
+
+        warm = current_warm_up()
+        self.waiting.set_note(warm.notice() if warm is not None else "")
+        if warm is None or not warm.running():
+            self._wait_note.stop()
+
     def _on_resized(self) -> None:
         self.linkage.place()
+        if self.waiting.shown():
+            self.waiting.show()
         if self.scene.complex is not None and not self.keep_camera():
             self.keep_in_view()
             self.render()

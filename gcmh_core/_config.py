@@ -56,18 +56,33 @@ def numba_events(kind: str, on_start: Callable, on_end: Callable | None = None) 
 
 
 @contextlib.contextmanager
-def compile_notice(callback: Callable[[], None]) -> Iterator[None]:
+def compile_notice(callback: Callable[..., None], each_module: bool = False) -> Iterator[None]:
     """Within the block, call `callback()` once when a kernel of this package starts to
     compile: numba misses it in its on-disk cache (a new install, or a kernel no run has
-    needed yet).  Loading a cached kernel says nothing.  Which kernels a run needs
-    depends on the run (n = 3 sweeps take their own), so this asks numba rather than
-    looking for cache files.  The callback may run on a kernel thread."""
-    told = threading.Event()
+    needed yet).  Loading a cached kernel says nothing (numba's "numba:compile" event
+    comes after its cache lookup failed).  Which kernels a run needs depends on the run
+    (n = 3 sweeps, n >= 8, the cell check, glued axes take their own), so this asks numba
+    rather than looking for cache files.  The callback may run on a kernel thread.
+
+    ``each_module``: call ``callback(module)`` instead, once for each module of this
+    package whose kernels start to compile ("gcmh_core.kernels.lazy", ...): a caller can
+    say which family of kernels a run waits for."""
+    told: set[str] = set()
+    lock = threading.Lock()
 
     def started(ev) -> None:
         func = getattr(ev.data.get("dispatcher"), "py_func", None)
-        if not told.is_set() and getattr(func, "__module__", "").startswith(__package__ + "."):
-            told.set()
+        module = getattr(func, "__module__", "") or ""
+        if not module.startswith(__package__ + "."):
+            return
+        key = module if each_module else ""
+        with lock:
+            if key in told:
+                return
+            told.add(key)
+        if each_module:
+            callback(module)
+        else:
             callback()
 
     with numba_events("numba:compile", started):
