@@ -35,6 +35,7 @@ KINDS = ("rotate", "tour", "slice", "param")
 ROTATE_PERIOD = 12.0
 TOUR_PERIOD = 60.0
 SLICE_PERIOD = 10.0
+PARAM_PERIOD = 16.0   # there and back: every value is an extraction (coarse while playing)
 
 
 @dataclass
@@ -247,9 +248,10 @@ class Clock:
         self.t += dt / TOUR_PERIOD
         return tour_angles(self.angles0, self.t)
 
-    def sweep_step(self, dt: float) -> float:
-        """The slice centre as a fraction of its range (cosine ease, as :func:`slice_frames`)."""
-        self.t += dt / SLICE_PERIOD
+    def sweep_step(self, dt: float, period: float = SLICE_PERIOD) -> float:
+        """The slice centre (or a swept parameter) as a fraction of its range (cosine ease, as
+        :func:`slice_frames`), there and back once per ``period`` seconds."""
+        self.t += dt / period
         return float(0.5 * (1 - np.cos(2 * np.pi * self.t)))
 
 

@@ -14,7 +14,8 @@ tested without a display (tests/app/test_controller.py, with a synchronous runne
   Redo step through :class:`gcmh_studio.model.History`; a session is opened
   (its view restored once its run is done) and saved;
 - refinements, and the Animate tab's live play (the clock moves the model's angles
-  or slice).
+  or slice, or a parameter: ``events.sweep`` asks for its coarse steps while it plays and
+  the full one when it stops).
 
 It talks to a *runner* (:class:`Runner`: the window's
 :class:`gcmh_studio.qt_run_controller.QtRunController`, or a fake) and to a *view*
@@ -32,6 +33,7 @@ import numpy as np
 from psygnal import Signal, SignalGroup
 
 from . import studio_io
+from .animation import PARAM_PERIOD
 from .jobs import COMPILE_NOTE, COMPILING, WAITING_PHASES, continuation_methods, current_warm_up
 from .model import EMPTY_RESULT, StudioModel, animation_frames, slice_params
 from .steps import CoarseAim, critical_notice, step_key
@@ -68,6 +70,8 @@ class ControllerEvents(SignalGroup):
     progress = Signal(object, str)   # (fraction in [0, 1] or None to keep, text): the progress bar
     described = Signal(str, str)     # (title, description) of the example on show ("", "": none)
     busy = Signal()                  # Run's state changed (running, waiting for checks): the buttons
+    sweep = Signal(str, float, bool)  # a playing parameter sweep: (parameter, value, final): the parameter's
+    #                                   input sets it; not final: a coarse step follows, final: the full one
 
 
 def example_state(ex, div=None, method: str = "gcmh") -> dict:
@@ -112,6 +116,7 @@ class StudioController:
         self.last_step_seconds: float | None = None   # from a slider's change to the result drawn (the benchmark)
         self.last_moved: str | None = None            # the parameter the user moved last
         self.playing = False                          # the Animate tab plays (its frames are not steps to undo)
+        self._sweeping: tuple[str, float] | None = None   # a playing parameter sweep's last value
         model.events.checks.connect(self._on_checks)
 
     # ------------------------------------------------------------ runs
@@ -424,6 +429,10 @@ class StudioController:
         if not on:
             if self.playing:   # its end is a step to undo (not its frames)
                 self.playing, m.recording = False, True
+                if self._sweeping is not None:   # at rest: the full grid at the value reached
+                    name, value = self._sweeping
+                    self._sweeping = None
+                    self.events.sweep.emit(name, value, True)
                 m.record()
             return False, ""
         if m.animation.mode == "slice" and not m.slice.on:
@@ -432,6 +441,12 @@ class StudioController:
             return False, "Nothing to animate yet: run first."
         if m.animation.mode == "slice":   # start the sweep where the slider is
             m.clock.start(m.projection.angles, slice_centre=m.slice.c)
+        if m.animation.mode == "param":
+            sweep = self._sweep()
+            if sweep is None:
+                return False, "A parameter sweep needs a run of a system with parameters: run first."
+            name, lo, hi, value = sweep   # start where the parameter is (within the sweep's range)
+            m.clock.start(m.projection.angles, slice_centre=min(max((value - lo) / (hi - lo), 0.0), 1.0))
         self.playing, m.recording = True, False
         return True, ("Both axes of this plane are hidden: turning it moves nothing on screen. "
                       "Pick a plane with a shown axis." if self.still_plane() else "")
@@ -458,6 +473,24 @@ class StudioController:
             m.set_angles(clock.tour_step(dt))
         elif mode == "slice":
             m.set_slice(c=min(max(clock.sweep_step(dt), 0.0), 1.0))
+        elif mode == "param":
+            sweep = self._sweep()
+            if sweep is not None:   # there and back, eased as the slice sweep; each value a coarse step
+                name, lo, hi, _ = sweep
+                value = lo + (hi - lo) * min(max(clock.sweep_step(dt, PARAM_PERIOD), 0.0), 1.0)
+                self._sweeping = (name, value)
+                self.events.sweep.emit(name, value, False)
+
+    def _sweep(self) -> tuple[str, float, float, float] | None:
+        """(parameter, from, to, its value now) of the Animate tab's sweep, or None: no parameter of the
+        system on show to sweep, or an empty range."""
+        m = self.model
+        sweep = m.animation.sweep
+        params = (m.system.get("params") or {}) if m.job is not None else {}
+        if sweep is None or sweep[0] not in params or sweep[1] == sweep[2]:
+            return None
+        name, lo, hi = sweep
+        return name, float(lo), float(hi), float(params[name].get("value", lo))
 
     def animation_frames(self, n_frames: int, projection=None):
         """Frames of the Animate tab's animation (from the current view) and the slice window to use."""

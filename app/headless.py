@@ -436,6 +436,7 @@ def sweep_images(scene, names, view, complexes, spec, style, mapping: str = "ort
 
     from .animation import CRITICAL_COLOUR, critical_note, param_caption
     from .camera import copy_camera, default_camera, refit_camera
+    from .framing import fit_animation, hull_points
     from .geometry import Geometry
     from .labels import font_size, view_subtitle
     from .overlays import draw_overlays
@@ -448,14 +449,15 @@ def sweep_images(scene, names, view, complexes, spec, style, mapping: str = "ort
     radii = Projector(sample, center=center).radii()
     probe = Projector(sample, center=center)
     probe.set_radii(radii)
-    extent = pl.add_mesh(pv.PolyData(np.asarray(probe.project_view(view), dtype=float)), render=False,
-                         reset_camera=False, name="gcmh-sweep-extent")
+    shown = np.asarray(probe.project_view(view), dtype=float)
+    extent = pl.add_mesh(pv.PolyData(shown), render=False, reset_camera=False, name="gcmh-sweep-extent")
     if camera is not None:
         copy_camera(camera, pl.camera)
         refit_camera(pl)
     else:
         default_camera(pl)
     pl.remove_actor(extent, render=False)
+    fit_animation(pl, hull_points(shown[np.all(np.isfinite(shown), axis=1)]))   # (the animations' band)
     camera = pv.Camera()
     copy_camera(pl.camera, camera)
     clim = None

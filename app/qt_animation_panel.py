@@ -12,8 +12,10 @@ Modes (:data:`MODES`; the periods are in :mod:`gcmh_studio.animation`): ``rotate
 ``SLICE_PERIOD`` seconds; needs the slice turned on in the View tab).
 
 ``param`` (:data:`PARAM_MODE`): a parameter of the formulas sweeps from one value to another, one
-extraction per frame; it is exported (``spec_text()`` gives ``param:a=-1:1`` for
-:func:`gcmh_studio.headless.export_param_sweep`), not played.  The mode is offered only once the window has
+extraction per frame.  Played, it goes there and back (``PARAM_PERIOD``), each value a coarse step and
+the full grid where it stops (:meth:`gcmh_studio.controller.StudioController.tick`); exported, it is
+``frames`` extractions from one end to the other (``spec_text()`` gives ``param:a=-1:1`` for
+:func:`gcmh_studio.headless.export_param_sweep`).  The mode is offered only once the window has
 given the formulas' parameters with :meth:`QtAnimationPanel.set_parameters`.
 """
 
@@ -38,7 +40,7 @@ from .qt_widgets import connect_all, error_label, group, labelled_row, panel_lay
 
 MODES = {"rotate": "Rotate in a plane", "tour": "Grand tour (smooth path through projections)",
          "slice": "Sweep the slice window"}
-PARAM_MODE = ("param", "Sweep a parameter (export: one extraction per frame)")
+PARAM_MODE = ("param", "Sweep a parameter (one extraction per frame)")
 TICK_MS = 33
 
 
@@ -64,7 +66,8 @@ class QtAnimationPanel(QWidget):
         self.plane_combo.setToolTip("the plane of the rotation")
         self.plane_label = labelled_row(pf, "plane", self.plane_combo)
         self.param_combo = QComboBox()
-        self.param_combo.setToolTip("the parameter of the formulas that the exported animation sweeps")
+        self.param_combo.setToolTip("the parameter of the formulas that the animation sweeps (coarse while "
+                                    "playing, the full grid where it stops)")
         self.param_label = labelled_row(pf, "parameter", self.param_combo)
         self.from_spin, self.to_spin = QDoubleSpinBox(), QDoubleSpinBox()
         for sp, tip in ((self.from_spin, "its value in the first frame"),
@@ -240,10 +243,6 @@ class QtAnimationPanel(QWidget):
 
     def set_playing(self, on: bool) -> None:
         on = bool(on)
-        if on and self.mode() == PARAM_MODE[0]:   # (Space too): every frame is an extraction
-            on = False
-            self.show_message("A parameter sweep is exported, not played: use Export below "
-                              "(or the parameter's slider in the Manifold tab).")
         if self.play_button.isChecked() != on:
             with QSignalBlocker(self.play_button):
                 self.play_button.setChecked(on)
@@ -268,7 +267,6 @@ class QtAnimationPanel(QWidget):
         par = self.mode() == PARAM_MODE[0]
         for w in (self.param_combo, self.param_label, self.from_spin, self.from_label, self.to_spin, self.to_label):
             w.setVisible(par)
-        self.play_button.setEnabled(not par)
         self.show_message("")
         self.modeChanged.emit(self.mode())
 

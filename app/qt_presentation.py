@@ -10,6 +10,12 @@ second one replaces the first, so installing is idempotent), it adds:
   matplotlib's mathtext into an image drawn by VTK inside the render window, so the
   view's own pixels carry it: :mod:`gcmh_studio.formula_card`). Leaving restores the
   layout as it was (:mod:`gcmh_studio.qt_view_alone`).
+* **The control strip** (:mod:`gcmh_studio.qt_presentation_strip`; H while presenting hides it and brings
+  it back): beside the view, in large type, the parameters' sliders, the slice, the turn of a plane and
+  the animation to play; Space plays it live in the view (a rotation, a tour, a slice sweep or a
+  parameter sweep: coarse steps while it moves, the full grid where it stops).  A parameter set here, or
+  by a playing sweep (the controller's ``events.sweep``), goes through the formula panel's own parameter
+  input, as a hand on its slider would.
 * **Axes with ticks** (View menu; key A while presenting): pyvista's bounds axes
   around the object, titled with the projection's axes ("y = Im z", or a mixture such
   as "0.71 x + 0.71 w" while a hidden direction is turned in): :mod:`gcmh_studio.bounds_axes`.
@@ -26,12 +32,13 @@ from __future__ import annotations
 
 from qtpy.QtCore import QEvent, QObject, Qt, QTimer
 from qtpy.QtGui import QKeySequence
-from qtpy.QtWidgets import QAction, QApplication, QWidget
+from qtpy.QtWidgets import QAction, QApplication, QSplitter, QWidget
 
 from .bounds_axes import add_axes, frame_axes, update_axes
 from .formula_card import card_actor, place_card
 from .labels import example_for
 from .qt_gallery_walk import QtGalleryWalk
+from .qt_presentation_strip import QtPresentationStrip
 from .qt_view_alone import restore_layout, view_alone
 
 FORMULA_ACTOR = "gcmh-formula"       # the typeset system, bottom right
@@ -101,8 +108,14 @@ class QtPresentation(QObject):
                                         "the gallery's next example (Page Down while presenting)")
         self.previous_action = self._action("P&revious example", None, self.previous_example,
                                             "the gallery's previous example (Page Up while presenting)")
+        self.strip_action = self._action("Control &strip", None, self.set_strip_shown,
+                                         "the parameters, the slice, a turn and Play beside the view while "
+                                         "presenting (H while presenting)")
+        self.strip_action.setCheckable(True)
+        self.strip_action.setChecked(True)
         self._menu_entries = []
-        self._add_to_menu("View", [self.present_action, self.formula_action, self.axes_action])
+        self._add_to_menu("View", [self.present_action, self.formula_action, self.axes_action, self.strip_action])
+        self.strip = self._make_strip()
         self._add_to_menu("Examples", [self.next_action, self.previous_action])
 
         events = window.model.events   # the model's, not the View tab's: undo, sessions and animation turn it too
@@ -141,7 +154,62 @@ class QtPresentation(QObject):
                 return
 
     def actions(self) -> list[QAction]:
-        return [self.present_action, self.formula_action, self.axes_action, self.next_action, self.previous_action]
+        return [self.present_action, self.formula_action, self.axes_action, self.next_action, self.previous_action,
+                self.strip_action]
+
+    def _make_strip(self) -> QtPresentationStrip:
+        """The control strip, hidden, beside the view in its splitter (or over it, in another layout); its
+        signals to the formula panel's parameters and the Animate tab, and a playing sweep's to the
+        parameters too."""
+        w = self.window
+        strip = QtPresentationStrip(w.model)
+        split = w.viewer.widget.parentWidget()
+        if isinstance(split, QSplitter):
+            split.addWidget(strip)
+            split.setCollapsible(split.indexOf(strip), False)
+        else:
+            strip.setParent(w)
+        strip.hide()
+        ap = w.animation_panel
+        strip.paramMoved.connect(self.set_parameter)
+        strip.modeRequested.connect(ap.set_mode)
+        strip.playRequested.connect(ap.toggle_play)
+        self._strip_connections = [(ap.playingChanged, strip.set_playing), (ap.modeChanged, self._show_modes),
+                                   (w.controller.events.sweep, self.set_parameter)]
+        for signal, slot in self._strip_connections:
+            signal.connect(slot)
+        self.strip = strip
+        self._show_modes()
+        return strip
+
+    def _show_modes(self, *_) -> None:
+        ap = self.window.animation_panel
+        modes = [ap.mode_combo.itemData(i) for i in range(ap.mode_combo.count())]
+        self.strip.set_modes(modes, ap.mode())
+
+    def set_parameter(self, name: str, value: float, final: bool = True) -> None:
+        """Parameter ``name`` to ``value`` through the formula panel's own input, as a hand on its slider:
+        not ``final`` (held, or a sweep playing) a coarse step, ``final`` the full grid."""
+        w = self.window
+        params = w.formula_panel.parameters
+        if name not in params.rows:
+            return
+        params.set_value(name, value, commit=bool(final))   # (final: "committed", the full step)
+        if not final:
+            w.controller.parameter_step(True, moved=name)
+
+    def set_strip_shown(self, on: bool) -> None:
+        """The control strip on or off (it is shown only while presenting)."""
+        if self.strip_action.isChecked() != bool(on):
+            self.strip_action.setChecked(bool(on))
+        if on and self.presenting:
+            handle = self.window.windowHandle()
+            screen = handle.screen() if handle is not None else None
+            self.strip.fit_width(screen.geometry().width() if screen is not None else self.window.width())
+            self.strip.refresh()
+            self._show_modes()
+            self.strip.set_playing(self.window.animation_panel.is_playing())
+        self.strip.setVisible(bool(on) and self.presenting)
 
     def uninstall(self) -> None:
         """Take this controller's actions, menu entries, overlays and hooks off the window."""
@@ -161,6 +229,14 @@ class QtPresentation(QObject):
                 pass
         self.window.viewer.widget.removeEventFilter(self._keys)
         self.window.removeEventFilter(self._keys)
+        for signal, slot in self._strip_connections:
+            try:
+                signal.disconnect(slot)
+            except (TypeError, RuntimeError):
+                pass
+        self.strip.disconnect_model()
+        self.strip.hide()
+        self.strip.deleteLater()
         if self.decorate in self.window.viewer.picture_decorators:
             self.window.viewer.picture_decorators.remove(self.decorate)
         try:
@@ -196,6 +272,7 @@ class QtPresentation(QObject):
         QApplication.instance().installEventFilter(self._keys)
         self.axes_action.setShortcut(QKeySequence("A"))
         self.formula_action.setShortcut(QKeySequence("F"))
+        self.strip_action.setShortcut(QKeySequence("H"))
         self.next_action.setShortcuts([QKeySequence(Qt.Key_PageDown)])
         self.previous_action.setShortcuts([QKeySequence(Qt.Key_PageUp)])
         self.present_action.setChecked(True)
@@ -203,6 +280,7 @@ class QtPresentation(QObject):
         if screen is not None:   # the screen's size first: without a window manager nobody else sets it
             w.setGeometry(screen.geometry())
         w.showFullScreen()
+        self.set_strip_shown(self.strip_action.isChecked())
         w.viewer.widget.setFocus()
         self.update_formula()
         self._relayout.start()     # again once the full-screen size has arrived
@@ -214,8 +292,9 @@ class QtPresentation(QObject):
             return
         self.presenting = False
         QApplication.instance().removeEventFilter(self._keys)
-        for a in (self.formula_action, self.axes_action, self.next_action, self.previous_action):
+        for a in (self.formula_action, self.axes_action, self.next_action, self.previous_action, self.strip_action):
             a.setShortcuts([])
+        self.strip.hide()
         self.present_action.setChecked(False)
         self._remove_actor(FORMULA_ACTOR)
         self._formula = None

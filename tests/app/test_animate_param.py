@@ -172,7 +172,8 @@ def test_bad_sweeps_are_one_line_and_exit_2(tmp_path, args, message, capsys, mon
 
 def test_the_animate_tab_offers_a_parameter_sweep_and_exports_it(qtbot, tmp_path):
     """The panel's "param" mode (offered once the formulas' parameters are given) says the sweep in
-    --animate syntax, is exported rather than played, and its spec drives the headless export."""
+    --animate syntax, plays (the window's live sweep: tests/app/test_presentation.py) and its spec drives
+    the headless export."""
     from gcmh_core.examples import load_example
     from gcmh_studio.animation import parse_spec
     from gcmh_studio.headless import export_param_sweep
@@ -188,9 +189,12 @@ def test_the_animate_tab_offers_a_parameter_sweep_and_exports_it(qtbot, tmp_path
     panel.set_parameters(ex.params)
     panel.set_mode(PARAM_MODE[0])
     assert panel.spec_text() == "param:a=-1:1"                     # the example's range by default
-    assert not panel.play_button.isEnabled()
-    panel.set_playing(True)                                       # (Space)
-    assert not panel.is_playing() and "exported, not played" in panel.message.text()
+    assert panel.play_button.isEnabled()
+    with qtbot.waitSignal(panel.tick):                            # (Space): it plays, ticking
+        panel.set_playing(True)
+    assert panel.is_playing() and panel.play_button.text() == "Pause"
+    panel.set_playing(False)
+    assert not panel.is_playing()
     panel.set_param_sweep("a", 0.5, -0.5)
     assert panel.spec_text() == "param:a=0.5:-0.5"
     panel.set_parameters(ex.params)                               # the same parameters again: the ends stay

@@ -260,6 +260,35 @@ def test_live_play_turns_the_model(studio):
     assert studio.play(True) == (False, "Turn the slice on in the View tab first.")
 
 
+def test_live_play_sweeps_a_parameter_coarse_then_full_at_rest(studio):
+    """A playing parameter sweep asks for its values (each a coarse step) there and back from where the
+    parameter is, and when it stops for the full grid at the value it reached."""
+    from gcmh_studio.animation import PARAM_PERIOD
+
+    m = studio.model
+    asked = []
+    studio.events.sweep.connect(lambda name, v, final: asked.append((name, v, final)))
+    assert studio.load_example("hyperboloid", div=8)
+    m.animation.mode, m.animation.sweep = "param", ("a", -1.0, 1.0)
+    m.set_system(dict(m.system, params={"a": {"value": 0.0, "min": -1.0, "max": 1.0}}))
+    assert studio.play(True) == (True, "")
+    studio.tick(PARAM_PERIOD / 8)            # from the middle, an eighth of the way there and back
+    studio.tick(PARAM_PERIOD / 8)
+    assert [a[0] for a in asked] == ["a", "a"] and not any(a[2] for a in asked)
+    v1, v2 = asked[0][1], asked[1][1]
+    assert 0.0 < v1 < v2 <= 1.0 and v2 == pytest.approx(1.0)   # a quarter period from the middle: the top
+    studio.tick(PARAM_PERIOD / 4)
+    assert asked[-1][1] == pytest.approx(0.0, abs=1e-9)        # and back through the middle
+    assert not m.recording
+    studio.play(False)
+    assert asked[-1] == ("a", pytest.approx(0.0, abs=1e-9), True) and m.recording
+    n = len(asked)
+    studio.play(False)                       # stopped already: nothing more asked
+    assert len(asked) == n
+    m.animation.sweep = ("b", -1.0, 1.0)     # a parameter the system does not have
+    assert studio.play(True)[0] is False
+
+
 def test_example_state_keeps_complex_equations():
     from gcmh_core.examples import load_example
 

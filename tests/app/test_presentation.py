@@ -289,3 +289,98 @@ def test_a_step_during_a_run_cancels_it_and_opens_the_example_when_it_has_stoppe
     window.runFinished.emit("cancelled")
     qtbot.waitUntil(lambda: opened == [names[start + 2]], timeout=2000)
     p.leave()
+
+
+# ---------------------------------------------------------------- the control strip and live play
+
+
+def _result_a(window):
+    return window.result.meta.get("params", {}).get("a")
+
+
+def test_the_strip_sets_a_parameter_and_the_result_follows(qtbot, presenting):
+    """F11 keeps a strip beside the view: its parameter slider held gives coarse steps, let go the full
+    grid, and the result follows (the hyperboloid: two sheets at a < 0, one at a > 0); H hides it."""
+    from qtpy.QtCore import Qt
+
+    from gcmh_studio.qt_parameters import STEPS
+
+    window, p = presenting
+    strip = p.strip
+    assert not strip.isVisible()
+    _key(qtbot, window, Qt.Key_F11)
+    qtbot.waitUntil(lambda: p.presenting and strip.isVisible(), timeout=5000)
+    assert list(strip.param_rows) == ["a"] and strip.width() <= window.width() // 4
+    label, slider = strip.param_rows["a"]
+    assert label.font().pixelSize() >= 18 or label.fontInfo().pixelSize() >= 18   # large type
+    # held: a coarse step at each value, the picture following
+    slider.setSliderDown(True)
+    with qtbot.waitSignal(window.runFinished, timeout=120_000):
+        slider.setValue(STEPS // 8)                        # a = -0.75
+    assert window.model.job.step == "coarse" and _result_a(window) == pytest.approx(-0.75)
+    # let go: the full grid at the value reached; two sheets
+    with qtbot.waitSignal(window.runFinished, timeout=120_000) as b:
+        slider.setSliderDown(False)
+    qtbot.waitUntil(lambda: window.model.job.step == "full" and not window.controller.is_running(), timeout=120_000)
+    assert b.args[0] in ("done", "cancelled")
+    assert _result_a(window) == pytest.approx(-0.75) and window.result.euler_characteristic() == 2
+    assert window.formula_panel.parameters.values()["a"] == pytest.approx(-0.75)
+    assert label.text() == "a = -0.75"
+    # a value set in the side panel shows on the strip
+    with qtbot.waitSignal(window.runFinished, timeout=120_000):
+        strip.set_param_position("a", STEPS * 7 // 8)       # a = 0.75: one sheet
+    qtbot.waitUntil(lambda: not window.controller.is_running(), timeout=120_000)
+    assert _result_a(window) == pytest.approx(0.75) and window.result.euler_characteristic() == 0
+    # the slice and the turn
+    strip.slice_check.setChecked(True)
+    assert window.model.slice.on and strip.slice_slider.isEnabled()
+    strip.slice_slider.setValue(250)
+    assert window.model.slice.c == pytest.approx(0.25)
+    row = window.model.projection.planes.index(tuple(window.model.animation.plane))
+    strip.turn_slider.setValue(40)
+    assert window.model.projection.angles[row] == pytest.approx(40.0)
+    window.model.set_slice(c=0.6)                            # (the View tab, undo): the strip follows
+    assert strip.slice_slider.value() == 600
+    # H hides the strip and brings it back; leaving hides it
+    _key(qtbot, window, Qt.Key_H)
+    qtbot.waitUntil(lambda: not strip.isVisible(), timeout=5000)
+    _key(qtbot, window, Qt.Key_H)
+    qtbot.waitUntil(lambda: strip.isVisible(), timeout=5000)
+    _key(qtbot, window, Qt.Key_Escape)
+    qtbot.waitUntil(lambda: not p.presenting and not strip.isVisible(), timeout=5000)
+
+
+def test_space_plays_a_rotation_and_a_parameter_sweep_live(qtbot, presenting):
+    """Space in presentation mode plays the chosen animation in the window and stops it: a rotation turns
+    the view; a parameter sweep re-extracts coarse while it plays and on the full grid where it stops."""
+    from qtpy.QtCore import Qt
+
+    window, p = presenting
+    ap, strip = window.animation_panel, p.strip
+    _key(qtbot, window, Qt.Key_F11)
+    qtbot.waitUntil(lambda: p.presenting and strip.isVisible(), timeout=5000)
+    ap.set_mode("rotate")
+    angles = window.model.projection.angles.copy()
+    _key(qtbot, window, Qt.Key_Space)
+    assert ap.is_playing() and "Pause" in strip.play_button.text()
+    qtbot.waitUntil(lambda: not np.allclose(window.model.projection.angles, angles), timeout=10_000)
+    _key(qtbot, window, Qt.Key_Space)
+    assert not ap.is_playing() and "Play" in strip.play_button.text()
+    # the parameter sweep, chosen on the strip
+    i = strip.mode_combo.findData("param")
+    assert i >= 0
+    strip.mode_combo.setCurrentIndex(i)
+    strip.mode_combo.activated.emit(i)
+    assert ap.mode() == "param"
+    a0 = _result_a(window)
+    steps = []
+    window.runFinished.connect(lambda how: steps.append((window.model.job.step, _result_a(window))))
+    _key(qtbot, window, Qt.Key_Space)
+    assert ap.is_playing()
+    qtbot.waitUntil(lambda: any(s == "coarse" and a != a0 for s, a in steps), timeout=120_000)
+    _key(qtbot, window, Qt.Key_Space)
+    assert not ap.is_playing()
+    reached = window.formula_panel.parameters.values()["a"]
+    qtbot.waitUntil(lambda: window.model.job.step == "full" and not window.controller.is_running(), timeout=120_000)
+    assert _result_a(window) == pytest.approx(reached)
+    p.leave()
