@@ -424,7 +424,7 @@ def _run_blocks(session, grid, method, div, block, system, sampled, progress, ca
             data = shared
         futures.append(client.submit(
             _block_task, grid.n, grid.k, method, grid.axes, formula, data, lo, hi, threads, ident,
-            check_cells=grid.check_cells, key=session.key("block"), pure=False,
+            check_cells=grid.check_request, key=session.key("block"), pure=False,
         ))
     if progress is not None:
         progress(f"extracting: 0/{len(futures)} blocks", 0.0)
@@ -458,7 +458,7 @@ def _process_wave(session, method, system, sampled, cancel, ident, grid, origins
     chunks = client.scatter(np.array_split(origins, nchunks), hash=False)
     futures = [
         client.submit(_cubes_task, grid.n, grid.k, method, grid.axes, formula, data, chunk, threads, ident,
-                      check_cells=grid.check_cells, key=session.key("wave"), pure=False)
+                      check_cells=grid.check_request, key=session.key("wave"), pure=False)
         for chunk in chunks
     ]
     masks, nonfinite = [], []

@@ -16,6 +16,8 @@ cluster, records merged with `Grid.add_records`).
 from __future__ import annotations
 
 import copy
+import functools
+import itertools
 import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
@@ -31,6 +33,7 @@ from ._regular import collapse_lenses, subdivide_double_edges
 from .complex import CellComplex
 from .errors import Cancelled, InputError
 from .grid import candidate_corner_sets, candidate_scan
+from .kernels.cell_check import graph_certified_chunk
 from .kernels.cms import simplices_chunk
 from .kernels.gcmh import cubes_chunk
 from .kernels.records import CELL_COLS, EDGE_COLS, INC_COLS
@@ -75,8 +78,9 @@ class Grid:
     cancel: callable() -> bool, polled between kernel batches; True raises `Cancelled`.
     progress: callable(phase, fraction), told how the cube tables' build goes (k >= 8 takes seconds);
     cancel is polled there too.
-    check_cells: check the cells against CMS's Euler characteristic (`_cubes_off_euler`);
-    None: where it is cheap (n <= 5).  Not in R^3 (nor for curves), the baselines or n >= 8.
+    check_cells: check the cells against CMS's Euler characteristic (`_cubes_off_euler`): True, every
+    cube's; None (default), the cubes where they can be wrong (`graph_certified` can't vouch for
+    them); False, none.  Not in R^3 (nor for curves), the baselines or n >= 8 (`unchecked_reason`).
     """
 
     def __init__(self, n, k, axes, method="gcmh", cancel=None, progress=None, check_cells=None):
@@ -100,15 +104,17 @@ class Grid:
             key_room = max(total * int(self.tab.n_subsets[d]) * int(self.tab.n_codes[d]) for d in range(k, n + 1))
         if key_room >= 2**63:
             raise InputError(f"the grid is too large to index ({total:,} vertices in R^{n}): use a smaller div")
-        # cells are checked against CMS's Euler characteristic face by face (`_cost.checks_cells`: by
-        # default for solids where a cube's Kuhn simplices are few, n <= 5)
-        self.check_cells = checks_cells(n, k, self.simplicial, check_cells)
+        # cells are checked against CMS's Euler characteristic face by face where they can be wrong:
+        # by default every cube the certificate can't vouch for (`graph_certified`), asked for: all
+        self.check_request = check_cells  # (what the caller asked: a distributed run's tasks get it)
+        self.check_cells = checks_cells(n, k, self.simplicial, True if check_cells is None else check_cells)
+        self.check_all = bool(check_cells)
         self.axes_arr = np.zeros((n, int(self.dims.max())))
         for a in range(n):
             self.axes_arr[a, : self.dims[a]] = axes[a]
         self.timings = dict(evaluate=0.0, candidates=0.0, kernel=0.0, assemble=0.0)
         self.stats = dict(candidate_cubes=0, cubes=int(np.prod(self.dims - 1)), nonfinite_vertices=0, degenerate=0,
-                          non_ball_cells=0, non_ball_split=0)
+                          non_ball_cells=0, non_ball_split=0, checked_cubes=0)
         self.parts: dict[str, list[np.ndarray]] = dict(vk=[], vp=[], e=[], c=[], i=[])
         # the kernel's tables, one named tuple (`kernels.tables.CubeTables` or `SimplexTables`)
         self.kernel_tables = self.stab if self.simplicial else self.tab
@@ -135,7 +141,7 @@ class Grid:
 
         def run(lo, hi):
             result = chunk(lo, hi, *common)
-            return result, (self._cubes_off_euler(result[0], common, lo, hi) if self.check_cells else None)
+            return result, (self._cubes_off_euler(result[0], common, lo, hi) if self.check_cells else (None, 0))
 
         threads = numba.get_num_threads()
         pieces = 1 if m < _SERIAL_CUBES or threads == 1 else min(m, _CHUNKS_PER_THREAD * threads)
@@ -145,7 +151,7 @@ class Grid:
         else:
             both = list(_kernel_pool().map(run, cuts[:-1], cuts[1:]))
         results = [result for result, _ in both]
-        for lo, ((records, _, degenerate, non_ball), off_euler) in zip(cuts, both):
+        for lo, ((records, _, degenerate, non_ball), (off_euler, checked)) in zip(cuts, both):
             # cubes with cells that are not balls, once per such cell: pieces of G_H that M_A joins
             # (the kernel); cubes where GCMH's count differs from CMS's or M_A hides in a face (the check)
             cubes = np.repeat(non_ball[:, 0] + lo, non_ball[:, 2])
@@ -158,20 +164,28 @@ class Grid:
             for key, arr in zip(self.parts, records):
                 self.parts[key].append(arr)
             self.stats["degenerate"] += int(degenerate)
+            self.stats["checked_cubes"] = self.stats.get("checked_cubes", 0) + checked
         self.stats["candidate_cubes"] += m
         self.timings["kernel"] += time.perf_counter() - t
         return results[0][1] if pieces == 1 else np.concatenate([result[1] for result in results])
 
-    def _cubes_off_euler(self, records, common, lo, hi) -> np.ndarray:
-        """The cubes lo..hi-1 of a kernel run (a kernel thread's piece) where GCMH's cells count
-        another Euler characteristic than CMS's in some open face of the cube: a cell there is not
+    def _cubes_off_euler(self, records, common, lo, hi) -> tuple[np.ndarray, int]:
+        """The cubes lo..hi-1 of a kernel run (a kernel thread's piece), of those checked (every one
+        when asked, else those `graph_certified` can't vouch for; also returned: how many), where
+        GCMH's cells count another Euler characteristic than CMS's in some open face of the cube: a cell there is not
         a ball (a solid torus, a disc with a handle), though no two pieces of G_H need be joined;
         and those with a piece of M_A hidden inside a face (a loop inside a (k+1)-face: no GCMH
         vertex, chi 0), which every cube on that face finds alike, so all of them are refined."""
         values, cube_lin, origin, _, _, value_off, _, _ = common
-        cms, hidden = _balls.cms_cube_euler(self.tab, values, cube_lin, value_off, lo, hi)
-        gcmh = _balls.cube_euler(self.tab, records, origin[lo:hi], self.strides, self.dims)
-        return lo + np.flatnonzero((cms != gcmh).any(axis=1) | hidden.any(axis=1))
+        if self.check_all:
+            cubes = np.arange(lo, hi)
+        else:  # only the cubes whose piece of M_A the certificate can't show to be a graph over a face
+            cubes = lo + np.flatnonzero(~graph_certified(values, cube_lin[lo:hi], value_off, self.k))
+        if len(cubes) == 0:
+            return cubes, 0
+        cms, hidden = _balls.cms_cube_euler(self.tab, values, cube_lin[cubes], value_off, 0, len(cubes))
+        gcmh = _balls.cube_euler(self.tab, records, origin[cubes], self.strides, self.dims)
+        return cubes[(cms != gcmh).any(axis=1) | hidden.any(axis=1)], len(cubes)
 
     def process_block(self, values, lo, hi, first_layer=None) -> np.ndarray:
         """The candidate cubes of the block of cubes lo..hi-1 (per axis, global indices).
@@ -259,6 +273,9 @@ class Grid:
         cx.meta.update(self.stats)
         cx.meta["non_ball_left"] = non_ball_left(self.stats)
         cx.meta["cells_checked"] = bool(self.check_cells)
+        reason = unchecked_reason(n, k, self.simplicial, self.check_request)
+        if reason:
+            cx.meta["topology_unchecked"] = reason
         cx.meta["timings"] = self.timings
         return cx
 
@@ -287,6 +304,48 @@ class Grid:
                 self.stats[key] = self.stats.get(key, 0) + value
         for key, value in packed["timings"].items():
             self.timings[key] = self.timings.get(key, 0.0) + value
+
+
+@functools.lru_cache(maxsize=16)
+def _axis_subsets(n: int, k: int) -> np.ndarray:
+    """The k-subsets of the n axes, (comb(n, k), k) int64 (`graph_certified` tries each)."""
+    return np.array(list(itertools.combinations(range(n), k)), np.int64).reshape(-1, k)
+
+
+def graph_certified(values, cube_row, corner_row, k) -> np.ndarray:
+    """(m,) bool: cubes whose piece of M_A is, for sure, a graph over a face of the cube, so that
+    their cells need no check (`kernels.cell_check.graph_certified_chunk`).
+
+    M_A in a cube is F's interpolant on the cube's Kuhn simplices (paper Section 4).  Along a Kuhn
+    simplex's chain each step crosses one axis a, so the interpolant's partial derivative along a
+    is F(c + e_a) - F(c) on one of the cube's 2^(n-1) edges along a (grid steps as units): the
+    Jacobians of all its affine pieces lie in the interval matrix A whose column a is the hull of
+    those differences.  Where some k columns S make a regular interval matrix (every member
+    invertible), the map x_S -> F(x_S, y) is one to one for each value y of the other axes (its
+    mean Jacobian between two points lies in A_S), so M_A is a graph x_S = g(y) over a face of
+    dimension n - k, and so is its piece in every face holding the axes S.  Row scales cancel in
+    the test: no component's numbers are compared with another's.  Only F's values are used, so
+    formulas and sampled data are certified alike (noise, whose differences change sign, is not).
+
+    values (NV, k); corner c of cube i is row cube_row[i] + corner_row[c].
+    """
+    n = int(np.log2(len(corner_row)))
+    return graph_certified_chunk(values, np.ascontiguousarray(cube_row, np.int64),
+                                 np.ascontiguousarray(corner_row, np.int64), k, _axis_subsets(n, k))
+
+
+def unchecked_reason(n: int, k: int, simplicial: bool, check_request: bool | None) -> str | None:
+    """Why GCMH's cells were not checked against CMS's where they can be wrong (a piece of M in a
+    cube that is not a ball gives a wrong chi or count of pieces), or None: they were, or can't be
+    wrong (curves; the simplicial baselines, whose cells are convex)."""
+    if simplicial or n - k < 2 or n <= 3 or checks_cells(n, k, simplicial, True if check_request is None
+                                                          else check_request):
+        return None
+    if check_request is False:
+        return "the cell check was turned off (check_cells=False)"
+    return (f"no cell check exists in R^{n} with k = {k} (the check compares with CMS's Kuhn simplices, "
+            "tabled up to n = 7): where M bends inside a cube a cell may not be a ball, and chi and the "
+            "pieces may be wrong; compare with --method cms or a finer --div")
 
 
 def non_ball_left(stats: dict) -> int:

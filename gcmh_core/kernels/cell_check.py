@@ -171,3 +171,100 @@ def records_cube_euler(keys, offsets, cube_keys, strides, dims, n_codes, n_subse
                 if j < m and sorted_keys[j] == key:  # in that cube the face is fixed at 1 along `step`
                     chi[order[j], face_row[free, step]] += sign
     return chi
+
+
+@nb.njit(**JIT)
+def graph_certified_chunk(values, cube_row, corner_row, k, subsets):
+    """For each cube i: whether its piece of M_A is, for sure, a graph over a face of the cube
+    (`runner.graph_certified` says why that holds).  The interval matrix A (k, n): column a is
+    the hull of F(c + e_a) - F(c) over the cube's edges along a; the cube is certified when for
+    one row of subsets (k axes S) A_S is regular: with P the inverse of its midpoint,
+    max_i sum_j |I - P mid|_ij + (|P| rad)_ij < 1.  A non-finite value certifies nothing.
+
+    values (NV, k); corner c of cube i is row cube_row[i] + corner_row[c]; subsets (S, k) int64.
+    Returns (m,) bool.
+    """
+    n = 0
+    while (1 << n) < corner_row.shape[0]:
+        n += 1
+    m = cube_row.shape[0]
+    out = np.zeros(m, np.bool_)
+    lo = np.empty((k, n), np.float64)
+    hi = np.empty((k, n), np.float64)
+    mid = np.empty((k, k), np.float64)
+    rad = np.empty((k, k), np.float64)
+    aug = np.empty((k, 2 * k), np.float64)
+    for i in range(m):
+        o = cube_row[i]
+        finite = True
+        for j in range(k):
+            for a in range(n):
+                lo[j, a] = np.inf
+                hi[j, a] = -np.inf
+        for a in range(n):
+            bit = 1 << a
+            for c in range(1 << n):
+                if c & bit:
+                    continue
+                for j in range(k):
+                    d = values[o + corner_row[c | bit], j] - values[o + corner_row[c], j]
+                    if not np.isfinite(d):
+                        finite = False
+                    if d < lo[j, a]:
+                        lo[j, a] = d
+                    if d > hi[j, a]:
+                        hi[j, a] = d
+        if not finite:
+            continue
+        for q in range(subsets.shape[0]):
+            for r in range(k):
+                for s in range(k):
+                    a = subsets[q, s]
+                    mid[r, s] = 0.5 * (lo[r, a] + hi[r, a])
+                    rad[r, s] = 0.5 * (hi[r, a] - lo[r, a])
+                    aug[r, s] = mid[r, s]
+                    aug[r, k + s] = 1.0 if r == s else 0.0
+            # P = mid^-1 by Gauss-Jordan with partial pivoting; a pivot below 1e-12 of its row's
+            # scale: mid is (nearly) singular, no certificate from these axes
+            usable = True
+            for col in range(k):
+                best = col
+                for r in range(col + 1, k):
+                    if abs(aug[r, col]) > abs(aug[best, col]):
+                        best = r
+                scale = 0.0
+                for s in range(k):
+                    scale = max(scale, abs(aug[best, s]))
+                if not abs(aug[best, col]) > 1e-12 * scale:
+                    usable = False
+                    break
+                if best != col:
+                    for s in range(2 * k):
+                        aug[col, s], aug[best, s] = aug[best, s], aug[col, s]
+                piv = aug[col, col]
+                for s in range(2 * k):
+                    aug[col, s] /= piv
+                for r in range(k):
+                    if r != col:
+                        f = aug[r, col]
+                        if f != 0.0:
+                            for s in range(2 * k):
+                                aug[r, s] -= f * aug[col, s]
+            if not usable:
+                continue
+            worst = 0.0
+            for r in range(k):
+                row = 0.0
+                for s in range(k):
+                    pm = 0.0
+                    pr = 0.0
+                    for t in range(k):
+                        p = aug[r, k + t]
+                        pm += p * mid[t, s]
+                        pr += abs(p) * rad[t, s]
+                    row += abs((1.0 if r == s else 0.0) - pm) + pr
+                worst = max(worst, row)
+            if worst < 1.0:
+                out[i] = True
+                break
+    return out
