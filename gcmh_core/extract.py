@@ -98,9 +98,11 @@ def extract(
     params : values of the formulas' parameters, {name: number or constant text}: any
         name in the formulas that is not a variable, constant or function (see
         `formula.find_parameters`); each value is used as if written in the text.
-        The result's meta holds them ("params") and, with parameters, the number of
-        vertices where F's Jacobian nearly loses rank ("singular_vertices": the
-        parameter is at or near a critical value).
+        The result's meta holds them ("params") and, with parameters, the critical
+        points of M found ("critical_points": [{"x": point, "rank": rank of J}], solved for
+        from the cubes M crosses, `critical`) and the number of vertices where F's Jacobian
+        nearly loses rank or that lie within a cube of a critical point ("singular_vertices":
+        the parameter is at or near a critical value).
     periodic : identified axes (`identify`): {"t": True, "s": {"flip": ["t"]}} or
         ["t", "s:flip=t"]: each named axis is periodic (its lo and hi are one point), and
         crossing its seam reverses the axes in "flip" (x_b -> lo_b + hi_b - x_b).  F must be
@@ -203,24 +205,19 @@ def extract(
     if spec:
         result.meta["periodic"] = describe_periodic(spec, names)
     if system is not None and system.params:
-        result.meta["singular_vertices"] = singular_vertices(system, result.vertices)
+        from .critical import singular_report
+
+        # critical points solved for from the cubes M crosses, not only where vertices land
+        result.meta["singular_vertices"], result.meta["critical_points"] = singular_report(
+            system, result.vertices, bounds_, div_)
     result.meta["seconds"] = time.perf_counter() - t0
     return result
 
 
-# a vertex is singular when F's Jacobian there has a smallest singular value below this
-# fraction of the median over all vertices (the cone's apex at a grid spacing h: about h)
-SINGULAR_RATIO = 0.1
-
-
 def singular_vertices(system: System, X: np.ndarray) -> int:
     """How many of the points X (m, n) have a nearly rank-deficient exact Jacobian
-    (smallest singular value below `SINGULAR_RATIO` of the median): M is near a
-    singular point there, so the parameter is at or near a critical value."""
-    if len(X) == 0:
-        return 0
-    J = system.jacobian_points(X)
-    with np.errstate(all="ignore"):
-        sigma = np.linalg.svd(np.nan_to_num(J, nan=0.0, posinf=0.0, neginf=0.0), compute_uv=False)[:, -1]
-    median = float(np.median(sigma))
-    return int(np.count_nonzero(sigma < SINGULAR_RATIO * median)) if median > 0 else 0
+    (`critical.singular_vertices`; a run's meta counts also the vertices near a critical point
+    found, `critical.singular_report`)."""
+    from .critical import singular_vertices as count
+
+    return count(system, X)
