@@ -11,8 +11,9 @@ critical.  The pairs form an acyclic matching (discrete Morse theory), the criti
 cells span the *Morse complex*, whose boundary follows the gradient paths
 (:func:`_flow`).  On a surface the vertex pairs are a spanning tree and the face pairs a
 spanning tree of the dual graph: the tree-cotree decomposition, so the critical
-edges are few and the cycles lifted from them are short.  Smith normal form (exact,
-Python ints) runs only on the Morse complex.
+edges are few, and a generator of H1 is a critical edge closed through the tree; it is
+then straightened across 2-cells while that shortens it (:func:`_shorten`).  Smith
+normal form (exact, Python ints) runs only on the Morse complex.
 
 Example
 -------
@@ -28,10 +29,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
-from ._config import JIT
-from .analysis import _bfs_flips, graph_components, orient_2cells
+from ._homology_kernels import _LIMIT, _coreduce, _flow, _orient_faces
+from .analysis import orient_2cells
 from .complex import CellComplex
 from .errors import InputError
 
@@ -77,8 +77,10 @@ class Homology:
         then the torsion summands.  None when computed with ``generators=False``.
     orientation_cycle : (m,) int64 edge ids, or None
         For a surface that is not orientable: the edges across which the normals of
-        :func:`~gcmh_core.analysis.orient_2cells` flip (a Z/2 cycle, Poincare dual to
-        the first Stiefel-Whitney class w1).  None otherwise.
+        :func:`~gcmh_core.analysis.orient_2cells` flip (a Z/2 cycle, relative to the
+        boundary when there is one, Poincare dual to the first Stiefel-Whitney class
+        w1: a loop on the Klein bottle, an arc across the Moebius band).  None otherwise,
+        and None when computed with ``generators=False``.
     critical : list of int
         Critical cells per dimension after the coreductions (the Morse complex's size).
     """
@@ -151,53 +153,28 @@ def _incidences(cx):
         signs.append(s.ravel())
     for r in range(2, cx.dim + 1):
         signs.append(_orient_cells(cx, r, signs[r - 1]))
-    signs[1] = signs[1].reshape(-1, 2) if cx.dim >= 1 else signs[1]
+    if cx.dim >= 1:
+        signs[1] = signs[1].reshape(-1, 2)
     return signs
 
 
 def _orient_cells(cx, r, below):
     """Signs of the r-cells' face entries such that each cell's faces cancel on every
-    (r-2)-cell they share: [c:f1][f1:g] + [c:f2][f2:g] = 0."""
-    owner, fac = _faces(cx, r)
-    m = fac.size
-    if m == 0:
-        return np.zeros(0, dtype=np.int64)
+    (r-2)-cell they share: [c:f1][f1:g] + [c:f2][f2:g] = 0 (kernel: _orient_faces)."""
+    off, fac = cx.cells[r]
     sub_owner, sub_face = _faces(cx, r - 1)
-    below = np.asarray(below).ravel()
-    sub_off = np.zeros(cx.count(r - 1) + 1, dtype=np.int64)
-    np.cumsum(np.bincount(sub_owner, minlength=cx.count(r - 1)), out=sub_off[1:])
-    # triples (entry j, (r-2)-cell g, [f_j : g])
-    starts, counts = sub_off[fac], sub_off[fac + 1] - sub_off[fac]
-    rep = np.repeat(np.arange(m, dtype=np.int64), counts)
-    idx = starts[rep] + np.arange(rep.size) - np.repeat(np.cumsum(counts) - counts, counts)
-    g, sg = sub_face[idx], below[idx]
-    nz = sg != 0
-    rep, g, sg = rep[nz], g[nz], sg[nz]
-    order = np.lexsort((g, owner[rep]))
-    rep, g, sg = rep[order], g[order], sg[order]
-    cell = owner[rep]
-    new = np.ones(rep.size, dtype=bool)
-    new[1:] = (cell[1:] != cell[:-1]) | (g[1:] != g[:-1])
-    start = np.flatnonzero(new)
-    size = np.diff(np.append(start, rep.size))
-    if np.any(size != 2):
-        bad = int(cell[start[np.flatnonzero(size != 2)[0]]])
-        raise InputError(f"{r}-cell {bad} is not a ball: one of its {r - 2}-faces lies on "
-                         f"{int(size[size != 2][0])} of its {r - 1}-faces, not 2")
-    p, q = rep[start], rep[start + 1]
-    same = sg[start] == sg[start + 1]
-    comp, n_comp = graph_components(m, p, q)
-    flipped = _bfs_flips(m, p, q, same, comp, n_comp)
-    sign = np.where(flipped, -1, 1).astype(np.int64)
-    bad = (sign[p] * sg[start] + sign[q] * sg[start + 1]) != 0
-    if bad.any():
-        c = int(owner[p[np.flatnonzero(bad)[0]]])
-        raise InputError(f"{r}-cell {c} is not a ball: its boundary cannot be oriented")
-    # one sphere per cell (for r >= 2 the boundary is connected): else it is no ball
-    per_cell = np.bincount(owner[np.unique(comp, return_index=True)[1]], minlength=cx.count(r))
-    if np.any(per_cell > 1):
-        c = int(np.flatnonzero(per_cell > 1)[0])
-        raise InputError(f"{r}-cell {c} is not a ball: its boundary has {int(per_cell[c])} pieces")
+    n_below = cx.count(r - 1)
+    sub_off = np.zeros(n_below + 1, dtype=np.int64)
+    np.cumsum(np.bincount(sub_owner, minlength=n_below), out=sub_off[1:])
+    sign, error, cell, count = _orient_faces(np.asarray(off), np.asarray(fac), sub_off, np.asarray(sub_face),
+                                             np.ascontiguousarray(np.asarray(below).ravel()), cx.count(r - 2))
+    if error == 1:
+        raise InputError(f"{r}-cell {cell} is not a ball: one of its {r - 2}-faces lies on "
+                         f"{count} of its {r - 1}-faces, not 2")
+    if error == 2:
+        raise InputError(f"{r}-cell {cell} is not a ball: its boundary cannot be oriented")
+    if error == 3:
+        raise InputError(f"{r}-cell {cell} is not a ball: its boundary has {count} pieces")
     return sign
 
 
@@ -234,291 +211,6 @@ def _chain_complex(cx, signs):
     np.cumsum(np.bincount(face, minlength=n), out=cb_off[1:])
     dims = np.repeat(np.arange(len(counts), dtype=np.int64), counts)
     return base, dims, bd_off, face, val, cb_off, owner[order]
-
-
-# ----------------------------------------------------------------------------
-# kernels: coreductions, and the flow along the matching
-# ----------------------------------------------------------------------------
-
-@njit(**JIT)
-def _coreduce(dims, top, bd_off, bd, cb_off, cb):
-    """Coreduction Morse matching.
-
-    Returns (partner, time, critical): partner[x] is the cell x is paired with (-1 for
-    a critical cell), time[x] the step at which x left; critical lists the critical
-    cells in the order they were chosen.  A pair (a, b) leaves when b's only face left
-    is a; when no cell has exactly one face left, a cell of lowest dimension with no
-    face left becomes critical.
-    """
-    n = dims.size
-    left = np.empty(n, dtype=np.int64)
-    for x in range(n):
-        left[x] = bd_off[x + 1] - bd_off[x]
-    removed = np.zeros(n, dtype=np.bool_)
-    partner = np.full(n, -1, dtype=np.int64)
-    time = np.zeros(n, dtype=np.int64)
-    queue = np.empty(n + 1, dtype=np.int64)   # cells that have one face left
-    qhead = 0
-    qtail = 0
-    # per dimension, a stack of cells that have no face left (each pushed once)
-    zstack = np.empty(n, dtype=np.int64)
-    zoff = np.zeros(top + 2, dtype=np.int64)
-    for x in range(n):
-        zoff[dims[x] + 1] += 1
-    for d in range(top + 1):
-        zoff[d + 1] += zoff[d]
-    ztop = zoff[:-1].copy()
-    for x in range(n):
-        if left[x] == 0:
-            zstack[ztop[dims[x]]] = x
-            ztop[dims[x]] += 1
-    critical = np.empty(n, dtype=np.int64)
-    n_crit = 0
-    clock = 0
-    done = 0
-    while done < n:
-        # coreductions while some cell has one face left
-        while qhead < qtail:
-            b = queue[qhead]
-            qhead += 1
-            if removed[b] or left[b] != 1:
-                continue
-            a = -1
-            for j in range(bd_off[b], bd_off[b + 1]):
-                if not removed[bd[j]]:
-                    a = bd[j]
-                    break
-            partner[a] = b
-            partner[b] = a
-            for x in (a, b):
-                removed[x] = True
-                time[x] = clock
-                clock += 1
-                done += 1
-                for j in range(cb_off[x], cb_off[x + 1]):
-                    y = cb[j]
-                    if removed[y]:
-                        continue
-                    left[y] -= 1
-                    if left[y] == 1:
-                        queue[qtail] = y
-                        qtail += 1
-                    elif left[y] == 0:
-                        zstack[ztop[dims[y]]] = y
-                        ztop[dims[y]] += 1
-            qhead = min(qhead, qtail)
-            if qhead == qtail:
-                qhead = 0
-                qtail = 0
-        if done == n:
-            break
-        # stuck: the lowest-dimensional cell with no face left becomes critical
-        c = -1
-        for d in range(top + 1):
-            while ztop[d] > zoff[d]:
-                ztop[d] -= 1
-                x = zstack[ztop[d]]
-                if not removed[x]:
-                    c = x
-                    break
-            if c >= 0:
-                break
-        if c < 0:
-            break  # cannot happen: a cell of lowest dimension left has no face left
-        removed[c] = True
-        time[c] = clock
-        clock += 1
-        done += 1
-        critical[n_crit] = c
-        n_crit += 1
-        for j in range(cb_off[c], cb_off[c + 1]):
-            y = cb[j]
-            if removed[y]:
-                continue
-            left[y] -= 1
-            if left[y] == 1:
-                queue[qtail] = y
-                qtail += 1
-            elif left[y] == 0:
-                zstack[ztop[dims[y]]] = y
-                ztop[dims[y]] += 1
-    return partner, time, critical[:n_crit]
-
-
-@njit(**JIT)
-def _heap_push(heap, size, key, x):
-    heap[size, 0] = key
-    heap[size, 1] = x
-    i = size
-    while i > 0:
-        p = (i - 1) // 2
-        if heap[p, 0] >= heap[i, 0]:
-            break
-        for c in range(2):
-            t = heap[p, c]
-            heap[p, c] = heap[i, c]
-            heap[i, c] = t
-        i = p
-    return size + 1
-
-
-@njit(**JIT)
-def _heap_pop(heap, size):
-    x = heap[0, 1]
-    size -= 1
-    heap[0, 0] = heap[size, 0]
-    heap[0, 1] = heap[size, 1]
-    i = 0
-    while True:
-        big = i
-        for c in (2 * i + 1, 2 * i + 2):
-            if c < size and heap[c, 0] > heap[big, 0]:
-                big = c
-        if big == i:
-            break
-        for c in range(2):
-            t = heap[big, c]
-            heap[big, c] = heap[i, c]
-            heap[i, c] = t
-        i = big
-    return x, size
-
-
-_LIMIT = 1 << 60  # coefficients past this would overflow int64 in the next step
-
-
-@njit(**JIT)
-def _flow(chain_off, chain_cells, chain_coefs, dims, partner, time, bd_off, bd, bdv, want_lift):
-    """Follow the gradient paths from each chain (CSR over chains; cells of one
-    dimension q, integer coefficients).
-
-    For a chain x: every (q-1)-cell a of its boundary that is paired with a q-cell b
-    is cancelled by x -= ([dx : a] / [b : a]) b, latest-paired first (b's other faces
-    left before a, so each is cancelled once).  What stays of dx is on critical cells
-    and cells paired downwards: its critical part is the Morse boundary.
-
-    Returns (bd_off, bd_cells, bd_coefs) of the Morse boundaries, the lifted chains x
-    (CSR, when want_lift) and an overflow flag.
-    """
-    n = dims.size
-    n_chains = chain_off.size - 1
-    bx = np.zeros(n, dtype=np.int64)
-    xx = np.zeros(n, dtype=np.int64)
-    in_heap = np.zeros(n, dtype=np.bool_)
-    touched_b = np.empty(n, dtype=np.int64)
-    touched_x = np.empty(n, dtype=np.int64)
-    in_x = np.zeros(n, dtype=np.bool_)
-    in_b = np.zeros(n, dtype=np.bool_)
-    heap = np.empty((n + 1, 2), dtype=np.int64)
-    out_off = np.zeros(n_chains + 1, dtype=np.int64)
-    out_cells = np.empty(16, dtype=np.int64)
-    out_coefs = np.empty(16, dtype=np.int64)
-    lift_off = np.zeros(n_chains + 1, dtype=np.int64)
-    lift_cells = np.empty(16, dtype=np.int64)
-    lift_coefs = np.empty(16, dtype=np.int64)
-    overflow = False
-    for k in range(n_chains):
-        nb = 0
-        nx = 0
-        hs = 0
-        for i in range(chain_off[k], chain_off[k + 1]):
-            c = chain_cells[i]
-            v = chain_coefs[i]
-            if not in_x[c]:
-                in_x[c] = True
-                touched_x[nx] = c
-                nx += 1
-            xx[c] += v
-            for j in range(bd_off[c], bd_off[c + 1]):
-                a = bd[j]
-                bx[a] += v * bdv[j]
-                if not in_b[a]:
-                    in_b[a] = True
-                    touched_b[nb] = a
-                    nb += 1
-                p = partner[a]
-                if p >= 0 and dims[p] > dims[a] and not in_heap[a]:
-                    in_heap[a] = True
-                    hs = _heap_push(heap, hs, time[a], a)
-        while hs > 0:
-            a, hs = _heap_pop(heap, hs)
-            in_heap[a] = False
-            ca = bx[a]
-            if ca == 0:
-                continue
-            b = partner[a]
-            s = 0
-            for j in range(bd_off[b], bd_off[b + 1]):
-                if bd[j] == a:
-                    s = bdv[j]
-            t = ca * s  # s = +-1: ca / s
-            if not in_x[b]:
-                in_x[b] = True
-                touched_x[nx] = b
-                nx += 1
-            xx[b] -= t
-            if abs(xx[b]) > _LIMIT:
-                overflow = True
-            for j in range(bd_off[b], bd_off[b + 1]):
-                g = bd[j]
-                bx[g] -= t * bdv[j]
-                if abs(bx[g]) > _LIMIT:
-                    overflow = True
-                if not in_b[g]:
-                    in_b[g] = True
-                    touched_b[nb] = g
-                    nb += 1
-                p = partner[g]
-                if p >= 0 and dims[p] > dims[g] and not in_heap[g] and bx[g] != 0:
-                    in_heap[g] = True
-                    hs = _heap_push(heap, hs, time[g], g)
-        # collect the critical part of dx and the lifted chain, and clear
-        cnt = 0
-        for i in range(nb):
-            a = touched_b[i]
-            if bx[a] != 0 and partner[a] < 0:
-                cnt += 1
-        start = out_off[k]
-        if start + cnt > out_cells.size:
-            size = max(2 * out_cells.size, start + cnt)
-            grown = np.empty(size, dtype=np.int64)
-            grown[:start] = out_cells[:start]
-            out_cells = grown
-            grown = np.empty(size, dtype=np.int64)
-            grown[:start] = out_coefs[:start]
-            out_coefs = grown
-        w = start
-        for i in range(nb):
-            a = touched_b[i]
-            if bx[a] != 0 and partner[a] < 0:
-                out_cells[w] = a
-                out_coefs[w] = bx[a]
-                w += 1
-            bx[a] = 0
-            in_b[a] = False
-        out_off[k + 1] = w
-        start = lift_off[k]
-        w = start
-        if want_lift:
-            if start + nx > lift_cells.size:
-                size = max(2 * lift_cells.size, start + nx)
-                grown = np.empty(size, dtype=np.int64)
-                grown[:start] = lift_cells[:start]
-                lift_cells = grown
-                grown = np.empty(size, dtype=np.int64)
-                grown[:start] = lift_coefs[:start]
-                lift_coefs = grown
-        for i in range(nx):
-            c = touched_x[i]
-            if want_lift and xx[c] != 0:
-                lift_cells[w] = c
-                lift_coefs[w] = xx[c]
-                w += 1
-            xx[c] = 0
-            in_x[c] = False
-        lift_off[k + 1] = w
-    return (out_off, out_cells[:out_off[-1]], out_coefs[:out_off[-1]],
-            lift_off, lift_cells[:lift_off[-1]], lift_coefs[:lift_off[-1]], overflow)
 
 
 # ----------------------------------------------------------------------------
@@ -667,7 +359,8 @@ def homology(cx: CellComplex, generators: bool = True) -> Homology:
     ------
     InputError
         If `cx` is not a CellComplex, `generators` is not a bool, or a cell is not a
-        ball (its boundary is no orientable sphere).
+        ball (its boundary is no orientable sphere, or the extraction reported pieces
+        left unsplit in ``meta["non_ball_left"]``).
 
     Examples
     --------
@@ -680,6 +373,11 @@ def homology(cx: CellComplex, generators: bool = True) -> Homology:
     _check(cx)
     if not isinstance(generators, (bool, np.bool_)):
         raise InputError(f"generators must be True or False, got {generators!r}")
+    left = cx.meta.get("non_ball_left", 0)
+    if isinstance(left, (int, np.integer)) and left > 0:
+        # such a cell's own topology would be counted as the manifold's
+        raise InputError(f"homology: the extraction left {int(left)} piece(s) that are not balls "
+                         f"(meta['non_ball_left']); the cell complex is not regular there")
     return _homology(cx, bool(generators))
 
 
@@ -741,7 +439,7 @@ def _homology(cx, want_generators):
         if want_generators:
             gens.append(_generators(q, top, size, r_q, D, Rs, Rinvs, crit, chain, partner, time))
     orientation = None
-    if top == 2 and cx.count(2):
+    if want_generators and top == 2 and cx.count(2):
         o = orient_2cells(cx)
         if not o.consistent:
             orientation = np.array(o.conflict_edges, dtype=np.int64)
@@ -783,11 +481,42 @@ def _generators(q, top, size, r_q, D, Rs, Rinvs, crit, chain, partner, time):
         raise InputError("homology: a generator's coefficient passed 2^60 (int64 would overflow)")
     cycles = []
     for k, (_, order) in enumerate(wanted):
-        cells = lift_cells[lift_off[k]:lift_off[k + 1]] - base[q]
+        cells = lift_cells[lift_off[k]:lift_off[k + 1]]
         coefs = lift_coefs[lift_off[k]:lift_off[k + 1]]
+        if q == 1 and top >= 2:
+            cells, coefs = _shorten(cells, coefs, chain)
+        cells = cells - base[q]
         o = np.argsort(cells)
         cycles.append(Cycle(q, _ro(cells[o]), _ro(coefs[o]), int(order)))
     return tuple(cycles)
+
+
+def _shorten(cells, coefs, chain):
+    """A shorter cycle in the same class: z -> z - t d(f) for a 2-cell f and t = +-1 while
+    that lowers sum |z_e| (z straightens across f: more than half of f's edges were in z).
+
+    cells: global ids of edges, coefs their coefficients.  Each step shortens z, so it ends.
+    """
+    base, dims, bd_off, bd, bdv, cb_off, cb = chain
+    z = dict(zip(cells.tolist(), coefs.tolist()))
+    todo = {int(f) for e in z for f in cb[cb_off[e]:cb_off[e + 1]].tolist()}
+    while todo:
+        f = todo.pop()
+        edges = bd[bd_off[f]:bd_off[f + 1]].tolist()
+        signs = bdv[bd_off[f]:bd_off[f + 1]].tolist()
+        for t in (1, -1):
+            delta = sum(abs(z.get(e, 0) - t * se) - abs(z.get(e, 0)) for e, se in zip(edges, signs))
+            if delta < 0:
+                for e, se in zip(edges, signs):
+                    v = z.get(e, 0) - t * se
+                    if v:
+                        z[e] = v
+                    else:
+                        z.pop(e, None)
+                    todo.update(int(g) for g in cb[cb_off[e]:cb_off[e + 1]].tolist())
+                break
+    out = np.array(sorted(z), dtype=np.int64)
+    return out, np.array([z[e] for e in out.tolist()], dtype=np.int64)
 
 
 def _ro(arr):

@@ -1,0 +1,391 @@
+"""numba kernels of :mod:`gcmh_core.homology`: the coreduction Morse matching and the flow
+along it (their slow twin: tests/core/naive_homology.py, compared on random complexes in
+tests/core/test_homology.py).  A module of their own: numba's cache is keyed on the file,
+so editing the Python around them does not recompile them."""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ._config import JIT
+
+# ----------------------------------------------------------------------------
+# kernels: coreductions, and the flow along the matching
+# ----------------------------------------------------------------------------
+
+@njit(**JIT)
+def _coreduce(dims, top, bd_off, bd, cb_off, cb):
+    """Coreduction Morse matching.
+
+    Returns (partner, time, critical): partner[x] is the cell x is paired with (-1 for
+    a critical cell), time[x] the step at which x left; critical lists the critical
+    cells in the order they were chosen.  A pair (a, b) leaves when b's only face left
+    is a; when no cell has exactly one face left, a cell of lowest dimension with no
+    face left becomes critical.
+    """
+    n = dims.size
+    left = np.empty(n, dtype=np.int64)
+    for x in range(n):
+        left[x] = bd_off[x + 1] - bd_off[x]
+    removed = np.zeros(n, dtype=np.bool_)
+    partner = np.full(n, -1, dtype=np.int64)
+    time = np.zeros(n, dtype=np.int64)
+    queue = np.empty(n + 1, dtype=np.int64)   # cells that have one face left
+    qhead = 0
+    qtail = 0
+    # per dimension, a stack of cells that have no face left (each pushed once)
+    zstack = np.empty(n, dtype=np.int64)
+    zoff = np.zeros(top + 2, dtype=np.int64)
+    for x in range(n):
+        zoff[dims[x] + 1] += 1
+    for d in range(top + 1):
+        zoff[d + 1] += zoff[d]
+    ztop = zoff[:-1].copy()
+    for x in range(n):
+        if left[x] == 0:
+            zstack[ztop[dims[x]]] = x
+            ztop[dims[x]] += 1
+    critical = np.empty(n, dtype=np.int64)
+    n_crit = 0
+    clock = 0
+    done = 0
+    while done < n:
+        # coreductions while some cell has one face left
+        while qhead < qtail:
+            b = queue[qhead]
+            qhead += 1
+            if removed[b] or left[b] != 1:
+                continue
+            a = -1
+            for j in range(bd_off[b], bd_off[b + 1]):
+                if not removed[bd[j]]:
+                    a = bd[j]
+                    break
+            partner[a] = b
+            partner[b] = a
+            for x in (a, b):
+                removed[x] = True
+                time[x] = clock
+                clock += 1
+                done += 1
+                for j in range(cb_off[x], cb_off[x + 1]):
+                    y = cb[j]
+                    if removed[y]:
+                        continue
+                    left[y] -= 1
+                    if left[y] == 1:
+                        queue[qtail] = y
+                        qtail += 1
+                    elif left[y] == 0:
+                        zstack[ztop[dims[y]]] = y
+                        ztop[dims[y]] += 1
+            qhead = min(qhead, qtail)
+            if qhead == qtail:
+                qhead = 0
+                qtail = 0
+        if done == n:
+            break
+        # stuck: the lowest-dimensional cell with no face left becomes critical
+        c = -1
+        for d in range(top + 1):
+            while ztop[d] > zoff[d]:
+                ztop[d] -= 1
+                x = zstack[ztop[d]]
+                if not removed[x]:
+                    c = x
+                    break
+            if c >= 0:
+                break
+        if c < 0:
+            break  # cannot happen: a cell of lowest dimension left has no face left
+        removed[c] = True
+        time[c] = clock
+        clock += 1
+        done += 1
+        critical[n_crit] = c
+        n_crit += 1
+        for j in range(cb_off[c], cb_off[c + 1]):
+            y = cb[j]
+            if removed[y]:
+                continue
+            left[y] -= 1
+            if left[y] == 1:
+                queue[qtail] = y
+                qtail += 1
+            elif left[y] == 0:
+                zstack[ztop[dims[y]]] = y
+                ztop[dims[y]] += 1
+    return partner, time, critical[:n_crit]
+
+
+@njit(**JIT)
+def _heap_push(heap, size, key, x):
+    heap[size, 0] = key
+    heap[size, 1] = x
+    i = size
+    while i > 0:
+        p = (i - 1) // 2
+        if heap[p, 0] >= heap[i, 0]:
+            break
+        for c in range(2):
+            t = heap[p, c]
+            heap[p, c] = heap[i, c]
+            heap[i, c] = t
+        i = p
+    return size + 1
+
+
+@njit(**JIT)
+def _heap_pop(heap, size):
+    x = heap[0, 1]
+    size -= 1
+    heap[0, 0] = heap[size, 0]
+    heap[0, 1] = heap[size, 1]
+    i = 0
+    while True:
+        big = i
+        for c in (2 * i + 1, 2 * i + 2):
+            if c < size and heap[c, 0] > heap[big, 0]:
+                big = c
+        if big == i:
+            break
+        for c in range(2):
+            t = heap[big, c]
+            heap[big, c] = heap[i, c]
+            heap[i, c] = t
+        i = big
+    return x, size
+
+
+_LIMIT = 1 << 60  # coefficients past this would overflow int64 in the next step
+
+
+@njit(**JIT)
+def _flow(chain_off, chain_cells, chain_coefs, dims, partner, time, bd_off, bd, bdv, want_lift):
+    """Follow the gradient paths from each chain (CSR over chains; cells of one
+    dimension q, integer coefficients).
+
+    For a chain x: every (q-1)-cell a of its boundary that is paired with a q-cell b
+    is cancelled by x -= ([dx : a] / [b : a]) b, latest-paired first (b's other faces
+    left before a, so each is cancelled once).  What stays of dx is on critical cells
+    and cells paired downwards: its critical part is the Morse boundary.
+
+    Returns (bd_off, bd_cells, bd_coefs) of the Morse boundaries, the lifted chains x
+    (CSR, when want_lift) and an overflow flag.
+    """
+    n = dims.size
+    n_chains = chain_off.size - 1
+    bx = np.zeros(n, dtype=np.int64)
+    xx = np.zeros(n, dtype=np.int64)
+    in_heap = np.zeros(n, dtype=np.bool_)
+    touched_b = np.empty(n, dtype=np.int64)
+    touched_x = np.empty(n, dtype=np.int64)
+    in_x = np.zeros(n, dtype=np.bool_)
+    in_b = np.zeros(n, dtype=np.bool_)
+    heap = np.empty((n + 1, 2), dtype=np.int64)
+    out_off = np.zeros(n_chains + 1, dtype=np.int64)
+    out_cells = np.empty(16, dtype=np.int64)
+    out_coefs = np.empty(16, dtype=np.int64)
+    lift_off = np.zeros(n_chains + 1, dtype=np.int64)
+    lift_cells = np.empty(16, dtype=np.int64)
+    lift_coefs = np.empty(16, dtype=np.int64)
+    overflow = False
+    for k in range(n_chains):
+        nb = 0
+        nx = 0
+        hs = 0
+        for i in range(chain_off[k], chain_off[k + 1]):
+            c = chain_cells[i]
+            v = chain_coefs[i]
+            if not in_x[c]:
+                in_x[c] = True
+                touched_x[nx] = c
+                nx += 1
+            xx[c] += v
+            for j in range(bd_off[c], bd_off[c + 1]):
+                a = bd[j]
+                bx[a] += v * bdv[j]
+                if not in_b[a]:
+                    in_b[a] = True
+                    touched_b[nb] = a
+                    nb += 1
+                p = partner[a]
+                if p >= 0 and dims[p] > dims[a] and not in_heap[a]:
+                    in_heap[a] = True
+                    hs = _heap_push(heap, hs, time[a], a)
+        while hs > 0:
+            a, hs = _heap_pop(heap, hs)
+            in_heap[a] = False
+            ca = bx[a]
+            if ca == 0:
+                continue
+            b = partner[a]
+            s = 0
+            for j in range(bd_off[b], bd_off[b + 1]):
+                if bd[j] == a:
+                    s = bdv[j]
+            t = ca * s  # s = +-1: ca / s
+            if not in_x[b]:
+                in_x[b] = True
+                touched_x[nx] = b
+                nx += 1
+            xx[b] -= t
+            if abs(xx[b]) > _LIMIT:
+                overflow = True
+            for j in range(bd_off[b], bd_off[b + 1]):
+                g = bd[j]
+                bx[g] -= t * bdv[j]
+                if abs(bx[g]) > _LIMIT:
+                    overflow = True
+                if not in_b[g]:
+                    in_b[g] = True
+                    touched_b[nb] = g
+                    nb += 1
+                p = partner[g]
+                if p >= 0 and dims[p] > dims[g] and not in_heap[g] and bx[g] != 0:
+                    in_heap[g] = True
+                    hs = _heap_push(heap, hs, time[g], g)
+        # collect the critical part of dx and the lifted chain, and clear
+        cnt = 0
+        for i in range(nb):
+            a = touched_b[i]
+            if bx[a] != 0 and partner[a] < 0:
+                cnt += 1
+        start = out_off[k]
+        if start + cnt > out_cells.size:
+            size = max(2 * out_cells.size, start + cnt)
+            grown = np.empty(size, dtype=np.int64)
+            grown[:start] = out_cells[:start]
+            out_cells = grown
+            grown = np.empty(size, dtype=np.int64)
+            grown[:start] = out_coefs[:start]
+            out_coefs = grown
+        w = start
+        for i in range(nb):
+            a = touched_b[i]
+            if bx[a] != 0 and partner[a] < 0:
+                out_cells[w] = a
+                out_coefs[w] = bx[a]
+                w += 1
+            bx[a] = 0
+            in_b[a] = False
+        out_off[k + 1] = w
+        start = lift_off[k]
+        w = start
+        if want_lift:
+            if start + nx > lift_cells.size:
+                size = max(2 * lift_cells.size, start + nx)
+                grown = np.empty(size, dtype=np.int64)
+                grown[:start] = lift_cells[:start]
+                lift_cells = grown
+                grown = np.empty(size, dtype=np.int64)
+                grown[:start] = lift_coefs[:start]
+                lift_coefs = grown
+        for i in range(nx):
+            c = touched_x[i]
+            if want_lift and xx[c] != 0:
+                lift_cells[w] = c
+                lift_coefs[w] = xx[c]
+                w += 1
+            xx[c] = 0
+            in_x[c] = False
+        lift_off[k + 1] = w
+    return (out_off, out_cells[:out_off[-1]], out_coefs[:out_off[-1]],
+            lift_off, lift_cells[:lift_off[-1]], lift_coefs[:lift_off[-1]], overflow)
+
+
+@njit(**JIT)
+def _orient_faces(off, fac, sub_off, sub_face, sub_sign, n_sub):
+    """Signs [c : f] of every face entry of the r-cells (CSR off, fac) such that each
+    cell's faces cancel on each (r-2)-cell g they share: [c:f1][f1:g] + [c:f2][f2:g] = 0,
+    from the faces' own signs (CSR sub_off, sub_face, sub_sign; 0 = no incidence).
+
+    A breadth-first walk over each cell's faces, joined through the (r-2)-cells two of them
+    share.  Returns (sign, error, cell, count): error 0 = fine; 1 = an (r-2)-cell lies on
+    `count` faces of `cell`, not 2; 2 = the faces cannot be oriented; 3 = the faces fall
+    into `count` pieces (the boundary is not one sphere).  A face with no incidence of its
+    own (an edge whose two ends are one vertex) gets +1.
+    """
+    n_cells = off.size - 1
+    m = fac.size
+    sign = np.zeros(m, dtype=np.int64)
+    count = np.zeros(n_sub, dtype=np.int64)
+    first = np.zeros(n_sub, dtype=np.int64)
+    first_s = np.zeros(n_sub, dtype=np.int64)
+    widest = 0
+    for c in range(n_cells):
+        t = 0
+        for j in range(off[c], off[c + 1]):
+            t += sub_off[fac[j] + 1] - sub_off[fac[j]]
+        widest = max(widest, t)
+    ea = np.empty(widest, dtype=np.int64)
+    eb = np.empty(widest, dtype=np.int64)
+    es = np.empty(widest, dtype=np.bool_)
+    for c in range(n_cells):
+        ne = 0
+        for j in range(off[c], off[c + 1]):
+            f = fac[j]
+            for t in range(sub_off[f], sub_off[f + 1]):
+                s = sub_sign[t]
+                if s == 0:
+                    continue
+                g = sub_face[t]
+                count[g] += 1
+                if count[g] == 1:
+                    first[g] = j
+                    first_s[g] = s
+                elif count[g] == 2:
+                    ea[ne] = first[g]
+                    eb[ne] = j
+                    es[ne] = first_s[g] == s
+                    ne += 1
+        bad = 0
+        for j in range(off[c], off[c + 1]):
+            f = fac[j]
+            for t in range(sub_off[f], sub_off[f + 1]):
+                g = sub_face[t]
+                if sub_sign[t] != 0 and count[g] != 2 and bad == 0:
+                    bad = count[g]
+        for j in range(off[c], off[c + 1]):
+            f = fac[j]
+            for t in range(sub_off[f], sub_off[f + 1]):
+                count[sub_face[t]] = 0
+        if bad:
+            return sign, 1, c, bad
+        if ne == 0:
+            for j in range(off[c], off[c + 1]):
+                sign[j] = 1
+            continue
+        # walk the faces from each one not reached yet; more than one start: pieces
+        pieces = 0
+        for j0 in range(off[c], off[c + 1]):
+            if sign[j0] != 0:
+                continue
+            lonely = True
+            f = fac[j0]
+            for t in range(sub_off[f], sub_off[f + 1]):
+                if sub_sign[t] != 0:
+                    lonely = False
+            sign[j0] = 1
+            if lonely:
+                continue
+            pieces += 1
+            changed = True
+            while changed:   # cells have few faces: sweep the pairs until nothing changes
+                changed = False
+                for e in range(ne):
+                    a, b = ea[e], eb[e]
+                    if sign[a] != 0 and sign[b] == 0:
+                        sign[b] = -sign[a] if es[e] else sign[a]
+                        changed = True
+                    elif sign[b] != 0 and sign[a] == 0:
+                        sign[a] = -sign[b] if es[e] else sign[b]
+                        changed = True
+        if pieces > 1:
+            return sign, 3, c, pieces
+        for e in range(ne):
+            want = -sign[ea[e]] if es[e] else sign[ea[e]]
+            if sign[eb[e]] != want:
+                return sign, 2, c, 0
+    return sign, 0, -1, 0
