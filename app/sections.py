@@ -35,9 +35,13 @@ GHOST_OPACITY = 0.025         # the whole result behind a section: a 2-skeleton 
 # ghost cost 2/3 of a slice step's render (0.7 of 1.05 s, load 20); culled, half as many layers, as faint.
 
 
-def section_text(label: str, c: float, cells: SectionCells | None) -> str:
-    """What the picture says of a section: ``w = 0.3   section: chi = 2, 1 piece`` (VTK's font has no Greek)."""
-    head = f"{label} = {c:.3g}"
+def section_text(label: str, c: float, cells: SectionCells | None, scale: float = 1.0) -> str:
+    """What the picture says of a section: ``w = 0.3   section: chi = 2, 1 piece`` (VTK's font has no Greek).
+    ``scale``: the size of the values' range; a value within a billionth of it from 0 is written 0 (a sweep's
+    middle frame said "w = -2.22e-16")."""
+    if abs(c) <= 1e-9 * abs(scale):
+        c = 0.0
+    head = f"{label} = {c + 0.0:.3g}"
     if cells is None or cells.complex.count(0) == 0:
         return f"{head}   section: empty"
     pieces = cells.pieces
@@ -164,10 +168,12 @@ class SectionLayer:
 
     def _write_text(self) -> None:
         pl = self.scene.plotter
-        text = section_text(self.label, self.value if self.value is not None else 0.0, self.cells)
+        lo, hi = self._cutter.range() if self._cutter is not None else (0.0, 1.0)
+        text = section_text(self.label, self.value if self.value is not None else 0.0, self.cells, hi - lo)
         if self.text_actor is None:
+            # (named apart from "gcmh-section": adding an actor by name removes those named "<name>-...")
             self.text_actor = pl.add_text(text, position=TEXT_POSITION, viewport=True,
-                                          font_size=font_size(pl, 16), color=TEXT_COLOR, name="gcmh-section-text")
+                                          font_size=font_size(pl, 21), color=TEXT_COLOR, name="gcmh-text-section")
         else:
             self.text_actor.SetInput(text)
 

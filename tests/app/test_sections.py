@@ -88,6 +88,9 @@ def test_a_new_value_rewrites_the_same_actor_and_no_slice_restores_the_result(sc
     assert scene.sections.actor is actor and scene.sections.text().startswith("w = -0.6")
     scene.set_slice(w, 2.0, 0.05)                                    # beyond the 3-sphere: empty
     assert scene.sections.mesh is None and scene.sections.text() == "w = 2   section: empty"
+    scene.set_slice(w, 0.2, 0.05)                                    # and back: the words stay in the picture
+    assert scene.plotter.renderer.HasViewProp(scene.sections.text_actor)
+    assert scene.plotter.renderer.HasViewProp(scene.sections.actor)
     scene.set_slice(None)
     assert not scene.sections.shown and scene.sections.text() == ""
     assert scene.mesh is not None and scene.mesh.n_cells == len(scene.geometry.offsets) - 1
@@ -133,8 +136,30 @@ def test_a_still_picture_copy_carries_the_section(scene):
         pl.close()
 
 
+def test_every_frame_of_a_slice_sweep_says_its_value_and_chi(scene):
+    """The slice animation's frames (gcmh_studio.offscreen.animation_images on a SectionScene, as the
+    headless --animate slice path draws them): each carries the words, with its own value."""
+    from gcmh_studio.animation import slice_frames
+    from gcmh_studio.offscreen import animation_images
+    from gcmh_studio.projection import ProjectionModel
+    from gcmh_studio.slicing import SliceWindow
+
+    model = ProjectionModel(n=4)
+    window = SliceWindow(3, c=0.0, w=0.05)
+    said = []
+    for img in animation_images(scene, model, slice_frames(-1.02, 1.02, 8), window):
+        said.append(scene.sections.text())
+        band = np.asarray(img)[-45:, int(0.2 * img.shape[1]):int(0.8 * img.shape[1])]
+        assert np.count_nonzero(band.sum(-1) > 500) > 50              # the words are drawn
+    assert len(set(said)) == len(said) - 3                           # one value each (the sweep comes back)
+    assert said[0] == "w = -1.02   section: empty"
+    assert all("chi = 2, 1 piece" in t for t in said if "empty" not in t)
+    assert said[2] == "w = 0   section: chi = 2, 1 piece" and said[4] == "w = 1.02   section: empty"
+
+
 def test_section_text_words():
     assert section_text("w", 0.123456, None) == "w = 0.123   section: empty"
+    assert section_text("w", -2.2e-16, None, 2.0) == section_text("w", -0.0, None) == "w = 0   section: empty"
     assert SECTION_COLOR.startswith("#")
 
 
