@@ -32,19 +32,20 @@ ENGINE = "starting the engine"
 WAITING_PHASES = ("starting", "estimating", COMPILING, LOADING, STOPPING, ENGINE, "preparing the view")
 
 # The kernels a run may compile the first time it needs them, by module: what the family is called, and its
-# first compile in seconds on 2 quiet cores (NUMBA_CACHE_DIR empty, python /tmp/gcmh-measure/measure.py;
-# measured with the machine's load average beside, and scaled to a quiet machine).
+# first compile in seconds on 2 quiet cores.  Measured with an empty cache (NUMBA_CACHE_DIR=<new folder>
+# python /tmp/gcmh-measure/measure.py, which times numba's "numba:compile" events per module) at a load
+# average of 15.5 on 2 cores, then divided by that load per core (7.8): the warm-up of the four methods took
+# 567 s there, gcmh 381 s of it, cms 53, candidates 43, the cell check 42, marching3 37, the hash table 4.
 KERNEL_FAMILIES = {
-    "gcmh_core.kernels.gcmh": ("the cube kernels", 20.0),
-    "gcmh_core.kernels.tables": ("the cube kernels", 20.0),
-    "gcmh_core.kernels.records": ("the cube kernels", 20.0),
-    "gcmh_core.kernels.marching3": ("the surface kernels for n = 3", 6.0),
-    "gcmh_core.kernels.lazy": ("the kernels for n >= 8", 15.0),
-    "gcmh_core.kernels.cell_check": ("the cell check", 10.0),
-    "gcmh_core.kernels.cms": ("the CMS kernels", 10.0),
-    "gcmh_core.identify": ("the kernels of glued axes", 8.0),
+    "gcmh_core.kernels.gcmh": ("the cube kernels", 49.0),
+    "gcmh_core.kernels.cms": ("the CMS kernels", 6.9),
+    "gcmh_core.kernels.candidates": ("the candidate test", 5.5),
+    "gcmh_core.kernels.cell_check": ("the cell check", 5.5),
+    "gcmh_core.kernels.marching3": ("the surface kernels for n = 3", 4.7),
+    "gcmh_core._hashtable": ("the hash table", 0.5),
+    "gcmh_core.kernels.lazy": ("the kernels for n >= 8", 10.0),
 }
-WARM_UP_SECONDS = 25.0    # the whole warm-up's first compile, 2 quiet cores (the same measurement)
+WARM_UP_SECONDS = 73.0    # the whole warm-up's first compile (the sum above), 2 quiet cores
 
 
 def busy_factor() -> float:
@@ -175,11 +176,18 @@ def _run_job(job: Job, progress=None, cancel=None):
 def estimate_job(job: Job):
     """What ``job`` will cost (a gcmh_core.budget.Estimate: peak memory, seconds, ``fits``), without
     running it. Bad input raises the InputError the run would."""
+    import inspect
+
     from gcmh_core.budget import estimate
 
     F = system_of(job) if job.params else list(job.formulas)   # (the estimate takes parameters as a System)
+    kw = {}
+    if job.periodic and "periodic" in inspect.signature(estimate).parameters:
+        # glued axes: the identified grid's sweep is never pruned and evaluates F at every vertex (the closed
+        # Klein bottle: 0.66 s estimated as if cut open and pruned; 18-21 s at a load of 13-16 on 2 cores)
+        kw["periodic"] = list(job.periodic)
     return estimate(F, [tuple(b) for b in job.bounds], job.div, variables=list(job.variables),
-                    method=job.method, scheduler=job.scheduler or None)
+                    method=job.method, scheduler=job.scheduler or None, **kw)
 
 
 def warm_up_kernels(methods, cancel=None, ready=None) -> None:
@@ -211,6 +219,7 @@ class WarmUp:
         self.methods = tuple(methods)
         self.compiling = False         # numba really compiles (not a load from its cache): the window says so
         self.modules: list[str] = []   # the modules whose kernels compiled
+        self.compiled: dict[str, float] = {}   # seconds each module's kernels took to compile, as they end
         self.seconds: float | None = None
         self.error: str | None = None
         self.ready: set[str] = set()   # the methods whose kernels are ready
@@ -225,9 +234,24 @@ class WarmUp:
 
     def _run(self) -> None:
         import gcmh_core
+        from gcmh_core._config import numba_events
+
+        starts: dict = {}
+
+        def began(ev):   # (numba compiles one kernel at a time, under its lock: the outermost call is the kernel)
+            f = getattr(ev.data.get("dispatcher"), "py_func", None)
+            starts.setdefault(threading.get_ident(), []).append((getattr(f, "__module__", ""), time.perf_counter()))
+
+        def ended(ev):
+            stack = starts.get(threading.get_ident())
+            if stack:
+                module, t0 = stack.pop()
+                if not stack:
+                    self.compiled[module] = self.compiled.get(module, 0.0) + time.perf_counter() - t0
 
         try:
-            with gcmh_core.compile_notice(self._compiles, each_module=True):
+            with gcmh_core.compile_notice(self._compiles, each_module=True), \
+                    numba_events("numba:compile", began, ended):
                 warm_up_kernels(self.methods, cancel=self._stop.is_set, ready=self.ready.add)
         except Exception as e:  # noqa: BLE001 - a failed warm-up only means the first run compiles
             self.error = f"{type(e).__name__}: {e}"
@@ -246,8 +270,16 @@ class WarmUp:
         return COMPILING if self.compiling else LOADING
 
     def seconds_left(self) -> float:
-        """A measured estimate of the warm-up's compile still to come (the quiet machine's, times the load)."""
-        return max(0.0, WARM_UP_SECONDS * busy_factor() - self.elapsed())
+        """A measured estimate of the warm-up's compile still to come: once a tenth of it has compiled, what
+        that part took here scaled to the whole (by the parts' shares in KERNEL_FAMILIES); before, the
+        quiet machine's time times the load now."""
+        done = dict(self.compiled)
+        share = sum(KERNEL_FAMILIES.get(m, ("", 0.0))[1] for m in done) / WARM_UP_SECONDS
+        if share >= 0.1:
+            total = self.elapsed() * min(1.0 / share, 20.0)
+        else:
+            total = WARM_UP_SECONDS * busy_factor()
+        return max(0.0, total - self.elapsed())
 
     def notice(self) -> str:
         """The window's word while the kernels compile ("" while they only load)."""

@@ -142,13 +142,24 @@ def test_the_estimate_is_shown_before_the_run(qtbot, window):
 # --------------------------------------------------------------------------- the kernels' first compile
 @pytest.fixture
 def slow_warm_up(monkeypatch):
-    """A warm-up that lasts until released (a new install's compile), instead of the real one."""
+    """A warm-up that lasts until released (a new install's compile: numba's "numba:compile" event for a kernel
+    of gcmh_core, open until then), instead of the real one."""
+    from types import SimpleNamespace
+
+    from numba.core import event
+
     import gcmh_studio.jobs
 
     release = threading.Event()
 
+    def kernel():
+        pass
+
+    kernel.__module__ = "gcmh_core.kernels.gcmh"
+
     def fake(methods, cancel=None, ready=None):
-        release.wait(60)
+        with event.trigger_event("numba:compile", data={"dispatcher": SimpleNamespace(py_func=kernel)}):
+            release.wait(60)
 
     monkeypatch.setattr(gcmh_studio.jobs, "_WARM_UP", None)
     monkeypatch.setattr(gcmh_studio.jobs, "warm_up_kernels", fake)

@@ -49,7 +49,7 @@ def test_a_warm_up_that_compiles_says_so_with_an_estimate(monkeypatch, fake_noti
     fired, go = threading.Event(), threading.Event()
 
     def body():
-        fake_notice("gcmh_core.kernels.gcmh")
+        fake_notice("gcmh_core._hashtable")     # (a small part: the estimate is still the quiet one times the load)
         fired.set()
         go.wait(30)
 
@@ -61,7 +61,13 @@ def test_a_warm_up_that_compiles_says_so_with_an_estimate(monkeypatch, fake_noti
         assert warm.phase() == jobs.COMPILING
         assert text.startswith("Compiling the numerical kernels") and "left" in text
         assert 0 < warm.seconds_left() <= 2.0 * jobs.WARM_UP_SECONDS
-        assert warm.modules == ["gcmh_core.kernels.gcmh"]
+        assert warm.modules == ["gcmh_core._hashtable"]
+        assert set(warm.compiled) == {"gcmh_core._hashtable"}    # (its compile's start and end were heard)
+        # once a tenth has compiled, what it took here is scaled to the whole
+        monkeypatch.setattr(warm, "elapsed", lambda: 30.0)
+        warm.compiled = {"gcmh_core.kernels.gcmh": 30.0}
+        share = jobs.KERNEL_FAMILIES["gcmh_core.kernels.gcmh"][1] / jobs.WARM_UP_SECONDS
+        assert warm.seconds_left() == pytest.approx(30.0 / share - 30.0)
     finally:
         go.set()
     assert warm.wait(30) and warm.notice() == ""                # done: nothing more to say
@@ -118,3 +124,20 @@ def test_the_view_shows_the_examples_picture_until_its_first_result(qtbot, small
     assert not waiting.shown()
     img = w.viewer.waiting.card(400, 300).toImage()
     assert img.width() == 400
+
+
+def test_the_estimate_of_a_glued_run_is_told_of_its_glued_axes(monkeypatch):
+    import gcmh_core.budget
+
+    seen = {}
+
+    def estimate(F, bounds=None, div=None, *, variables=None, method="gcmh", scheduler=None, periodic=None):
+        seen["periodic"] = periodic
+        return "estimate"
+
+    monkeypatch.setattr(gcmh_core.budget, "estimate", estimate)
+    job = jobs.Job(["x^2 + y^2 + z^2 - 1"], ["x", "y", "z"], [(-1.5, 1.5)] * 3, div=4, periodic=["x"])
+    assert jobs.estimate_job(job) == "estimate" and seen["periodic"] == ["x"]
+    job.periodic = None
+    jobs.estimate_job(job)
+    assert seen["periodic"] is None
