@@ -109,11 +109,15 @@ def extract(
         invariant under each identification (checked at a few hundred random points); a
         flipped axis needs an even div.  With s periodic reversing t and t periodic, the
         paper's Klein bottle is closed (chi 0, non-orientable) instead of cut open.
-    check_cells : check every cube's cells against CMS's Euler characteristic face by face and
-        refine the cubes where a cell is not a ball (`_balls`), for n = 4..7.  None (default):
-        for solids (n - k >= 3) with n <= 5 (1.3 to 2.7 times the run); True: also surfaces
-        (about 2 to 3 times) and n = 6, 7 (7 to 11 times); False: only the pieces of G_H that
-        M_A joins are found.  meta["cells_checked"] says whether it ran.
+    check_cells : check the cubes' cells against CMS's Euler characteristic face by face and
+        refine the cubes where a cell is not a ball (`_balls`), for surfaces and solids with
+        n = 4..7.  None (default): the cubes where a cell can be wrong, those whose values do not
+        certify M_A a graph over a face (`runner.graph_certified`; formulas and sampled data
+        alike): on smooth inputs few cubes, on noise most; True: every cube (2 to 3 times the
+        run for surfaces, 7 to 11 at n = 6); False: none, only the pieces of G_H that M_A joins
+        are found.  meta["cells_checked"] says whether the check ran, meta["checked_cubes"] on
+        how many cubes, and meta["topology_unchecked"] why a run's topology is not checked (n >= 8,
+        where no check exists, or check_cells=False).
     force : run even when `budget.estimate_run` says the run needs more memory than is
         available or more than the time limit; by default that raises `budget.TooLargeError`
         (an InputError naming the estimate) before any work.
