@@ -98,6 +98,42 @@ def example_for(title: str, names) -> Example | None:
     return _EXAMPLES[key]
 
 
+def _gluing(periodic, variables) -> tuple:
+    """Glued axes in one spelling (the engine's own reading; a grid of 8 cubes an axis passes its checks)."""
+    from gcmh_core._validate import as_periodic
+    from gcmh_core.errors import InputError
+
+    try:
+        return as_periodic(periodic or None, list(variables), [8] * len(variables))
+    except InputError:
+        return ("?",)
+
+
+def gluing_title(title: str, formulas, variables, periodic) -> tuple[str, str | None]:
+    """(title, story) of a run of the example called ``title`` with the glued axes ``periodic``: the example
+    itself when they are its own ((title, None): its story stays); else the example with these equations
+    glued so (the cut-open Klein bottle glued by hand is the closed one: its title and story); else the
+    title saying how it is glued, and no story ("": the example's no longer applies)."""
+    ex = example_for(title, variables)
+    if ex is None:
+        return title, None
+    glued = _gluing(periodic, variables)
+    if glued == _gluing(ex.periodic, variables):
+        return title, None
+    from gcmh_core.examples import list_examples
+
+    same = [str(f).strip() for f in formulas]
+    for other in list_examples(on_error=lambda *a: None):
+        if (list(other.variables) == list(variables) and [str(f).strip() for f in other.formulas] == same
+                and _gluing(other.periodic, variables) == glued):
+            return other.title, " ".join(str(other.description).split())
+    base = title.split(",")[0].strip()
+    if not glued:
+        return f"{base}, cut open", ""
+    text = "  ".join(periodic) if isinstance(periodic, (list, tuple)) else str(periodic)
+    return f"{base}, glued ({text})", ""
+
+
 def labels_for(title: str, names) -> dict:
     """The labels of the example with this title and these variables, else {} (a system the user typed)."""
     ex = example_for(title, names)

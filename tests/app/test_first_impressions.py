@@ -66,3 +66,27 @@ def test_the_view_tab_fits_a_third_of_1024_pixels(qtbot, n):
     m.set_view_variables([f"x{i + 1}" for i in range(n)])
     assert len(panel.rotation.sliders) == n * (n - 1) // 2
     assert panel.minimumSizeHint().width() <= 1024 // 3, panel.minimumSizeHint().width()
+
+
+def test_the_title_and_story_follow_the_gluing():
+    from gcmh_core.examples import load_example
+    from gcmh_studio.labels import gluing_title
+
+    kb, closed, torus = load_example("klein-bottle"), load_example("klein-bottle-closed"), load_example("torus-angles")
+    # the cut-open Klein bottle glued by hand is the closed one: its title and its story
+    title, story = gluing_title(kb.title, kb.formulas, kb.variables, ["t", "s:flip=t"])
+    assert title == closed.title and "Euler characteristic 0" in story
+    assert gluing_title(kb.title, kb.formulas, kb.variables, None) == (kb.title, None)       # as it is: unchanged
+    assert gluing_title(closed.title, closed.formulas, closed.variables, [])[0] == kb.title
+    # no example glued so: the title says how, the old story goes
+    assert gluing_title(torus.title, torus.formulas, torus.variables, None) == (f"{torus.title}, cut open", "")
+    assert gluing_title(torus.title, torus.formulas, torus.variables, ["s"])[0].endswith("glued (s)")
+    assert gluing_title("", torus.formulas, torus.variables, ["s"]) == ("", None)          # a system typed in
+
+
+def test_the_stories_speak_of_the_apps_fields_not_files():
+    from gcmh_core.examples import list_examples
+
+    for ex in list_examples():
+        text = " ".join(str(ex.description).split())
+        assert "from the file" not in text and "the line" not in text, ex.name
