@@ -66,11 +66,90 @@ def render_image(scene: Scene, path=None, size=(1600, 1200), transparent: bool =
             decorate(pl)
         if transparent:
             pl.renderer.GradientBackgroundOff()   # a gradient would paint every pixel opaque
-        pl.render()
-        img = pl.screenshot(str(path) if path is not None else None, transparent_background=transparent,
-                            return_img=True, window_size=[int(size[0]), int(size[1])])
+        img = checked_screenshot(other, transparent)
+        if path is not None:
+            from PIL import Image
+
+            from gcmh_core.safe_io import atomic_write
+
+            atomic_write(path, lambda temp: Image.fromarray(np.asarray(img)).save(temp, format="PNG"), ".png",
+                         what=str(path))
     finally:
         pl.close()
+    return img
+
+
+# ------------------------------------------------------------------ pictures that are never black
+class RenderError(RuntimeError):
+    """The renderer could not draw a picture of this size (its frame buffer could not be made)."""
+
+
+def gl_limits(plotter) -> dict:
+    """{"texture", "renderbuffer", "viewport"}: the largest side the plotter's OpenGL context takes
+    (GL_MAX_TEXTURE_SIZE, GL_MAX_RENDERBUFFER_SIZE, the smaller of GL_MAX_VIEWPORT_DIMS); {} before its first
+    render or where VTK does not say. (Not the whole truth: Mesa's llvmpipe says 16384 and fails at
+    16384 x 8192 super-sampled, a float frame buffer of 2 GB; :func:`checked_screenshot` looks at the result.)"""
+    out: dict = {}
+    try:
+        rw = plotter.ren_win
+        rw.MakeCurrent()
+        state = rw.GetState()
+        for key, enum in (("texture", 0x0D33), ("renderbuffer", 0x84E8), ("viewport", 0x0D3A)):
+            v = [0, 0]
+            state.vtkglGetIntegerv(enum, v)
+            side = min(v) if key == "viewport" else v[0]
+            if side > 0:
+                out[key] = int(side)
+    except Exception:  # noqa: BLE001 - a render window without a GL state: nothing known
+        pass
+    return out
+
+
+_FRAMEBUFFER_ERRORS = ("framebuffer", "frame buffer", "glframebuffer", "out of memory")
+
+
+def _attempt(plotter, transparent: bool):
+    """(image, failed): one render and its pixels; failed when VTK reported a frame buffer it could not make
+    or the picture came out black where the background should be."""
+    import pyvista as pv
+
+    with pv.VtkErrorCatcher(send_to_logging=False) as caught:
+        plotter.render()
+        img = plotter.screenshot(None, transparent_background=transparent, return_img=True)
+    errors = " ".join(str(getattr(e, "message", e)).lower() for e in caught.error_events)
+    failed = any(word in errors for word in _FRAMEBUFFER_ERRORS) or _blank(plotter, img, transparent)
+    return img, failed
+
+
+def _blank(plotter, img, transparent: bool) -> bool:
+    """The four corners black (and opaque) where the renderer's background is not black: nothing was drawn."""
+    img = np.asarray(img)
+    if img.ndim != 3 or img.size == 0:
+        return True
+    ren = plotter.renderer
+    backgrounds = [ren.GetBackground()] + ([ren.GetBackground2()] if ren.GetGradientBackground() else [])
+    if transparent or all(max(c) < 0.05 for c in backgrounds):
+        return not img.any()
+    corners = img[[0, 0, -1, -1], [0, -1, 0, -1], :3]
+    return not corners.any()
+
+
+def checked_screenshot(scene: Scene, transparent: bool = False) -> np.ndarray:
+    """Render ``scene``'s off-screen plotter and return its (h, w, 3 or 4) picture, never a black one.
+
+    Super-sampling draws four times the pixels into a float frame buffer, which the renderer may not be able to
+    make for a large picture (8192 x 4096 under Xvfb: a black picture, exit 0): then the picture is drawn again
+    with FXAA at its own size; if that cannot be drawn either, :class:`RenderError` says so with the GL limits."""
+    pl = scene.plotter
+    img, failed = _attempt(pl, transparent)
+    if failed and scene.anti_aliasing == "ssaa":
+        scene.set_anti_aliasing("fxaa")
+        img, failed = _attempt(pl, transparent)
+    if failed:
+        w, h = (int(s) for s in pl.window_size)
+        limits = gl_limits(pl)
+        said = f" (its OpenGL takes at most {min(limits.values())} pixels a side)" if limits else ""
+        raise RenderError(f"the renderer could not draw a {w}x{h} picture{said}: use a smaller size")
     return img
 
 

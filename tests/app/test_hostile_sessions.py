@@ -12,6 +12,7 @@ import os
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from gcmh_studio import studio_io
@@ -182,3 +183,53 @@ def test_the_window_says_why_a_session_cannot_open_and_keeps_its_system(qtbot, s
     assert not w.controller.open_session(p)
     assert "system.n" in w.last_status and w.model.system == before
     assert w.isVisible()
+
+
+# ---------------------------------------------------------------- pictures that are never black (item 5)
+def _scene(size=(160, 120)):
+    from gcmh_core import extract
+    from gcmh_studio.headless import offscreen_scene
+    from gcmh_studio.projection import ProjectionModel
+    from gcmh_studio.scene import Style
+
+    cx = extract(["x^2 + y^2 + z^2 - 1"], variables="x,y,z", bounds=[-1.5, 1.5], div=6)
+    m = ProjectionModel(n=3)
+    m.set_vertices(cx.vertices)
+    ctx = offscreen_scene(size, anti_aliasing="ssaa")
+    sc = ctx.__enter__()
+    sc.set_complex(cx, ["x", "y", "z"], m.view(), Style(title="t"))
+    return ctx, sc
+
+
+def test_a_picture_the_renderer_cannot_make_super_sampled_is_drawn_again_with_fxaa(monkeypatch):
+    from gcmh_studio import offscreen
+
+    ctx, sc = _scene()
+    try:
+        real, tries = offscreen._attempt, []
+
+        def attempt(pl, transparent):   # the super-sampled frame buffer cannot be made (as at 8192 x 4096)
+            img, failed = real(pl, transparent)
+            tries.append(sc.anti_aliasing)
+            return (np.zeros_like(img), True) if sc.anti_aliasing == "ssaa" else (img, failed)
+
+        monkeypatch.setattr(offscreen, "_attempt", attempt)
+        img = offscreen.checked_screenshot(sc)
+        assert tries == ["ssaa", "fxaa"] and img.any() and not offscreen._blank(sc.plotter, img, False)
+    finally:
+        ctx.__exit__(None, None, None)
+
+
+def test_a_picture_that_cannot_be_drawn_at_all_is_refused_not_written_black(monkeypatch, tmp_path):
+    from gcmh_studio import offscreen
+
+    ctx, sc = _scene()
+    try:
+        monkeypatch.setattr(offscreen, "_attempt", lambda pl, t: (np.zeros((120, 160, 3), np.uint8), True))
+        with pytest.raises(offscreen.RenderError, match="could not draw a"):
+            offscreen.render_image(sc, tmp_path / "x.png", size=(160, 120))
+        assert list(tmp_path.iterdir()) == []
+        black = np.zeros((120, 160, 3), np.uint8)
+        assert offscreen._blank(sc.plotter, black, False) and offscreen._blank(sc.plotter, black, True)
+    finally:
+        ctx.__exit__(None, None, None)
