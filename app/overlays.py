@@ -155,3 +155,75 @@ def draw_overlays(scene, cx, boundary: bool = False, grid: bool = False, picked:
         X, E = picked["lines"]
         scene.set_overlay("pick", X, E, PICK_COLOR, width=5.0, render=False)
     return problem
+
+
+HOMOLOGY_PREFIX = "homology-"
+
+
+def draw_homology(scene, specs: dict, render: bool = True) -> None:
+    """Show exactly the homology overlays ``specs`` (name -> (vertices (m, n), edges (E, 2), colour, width),
+    from :class:`gcmh_studio.qt_homology_box.QtHomologyBox`): others named ``homology-*`` go."""
+    for name in [n for n in list(scene.overlay_meshes._src) if n.startswith(HOMOLOGY_PREFIX) and n not in specs]:
+        scene.remove_overlay(name, render=False)
+    for name, (X, E, color, width) in specs.items():
+        scene.set_overlay(name, X, E, color, width=width, render=False)
+    if render:
+        scene.plotter.render()
+
+
+CURVATURE_CMAP = "coolwarm"
+
+
+def _drawn_values(scene, cx, values):
+    """``values`` (V,) at the vertices of ``cx``, for the points of the mesh on show (a surface on
+    identified axes is drawn with its seam cells' low vertices moved a period up: those take their
+    vertex's value); None when the mesh is not the whole result (a slice)."""
+    mesh = scene.mesh
+    V = np.asarray(cx.vertices)
+    m = mesh.n_points
+    if m < len(V):
+        return None
+    names = scene.names
+    drawn = np.column_stack([np.asarray(mesh.point_data[name]) for name in names])
+    if not np.array_equal(drawn[:len(V)], V):
+        return None
+    out = np.empty(m, dtype=np.float64)
+    out[:len(V)] = values
+    if m > len(V):
+        from .geometry import seam_spec
+
+        extra = drawn[len(V):].copy()
+        for p, period, lo, flips, mirror in seam_spec(cx):   # undo each move up a period
+            up = extra[:, p] >= lo + period
+            extra[up, p] -= period
+            for b, mm in zip(flips, mirror):
+                extra[up, b] = mm - extra[up, b]
+        key = {tuple(np.round(v, 9)): i for i, v in enumerate(V)}
+        out[len(V):] = [values[key.get(tuple(np.round(v, 9)), 0)] for v in extra]
+    return out
+
+
+def colour_by_values(scene, cx, values, cmap: str = CURVATURE_CMAP, name: str = "curvature") -> bool:
+    """Colour the result on ``scene`` by per-vertex ``values`` (V,) of ``cx`` (a symmetric range: the sign of
+    the curvature is the colour), or back to the style's colours when ``values`` is None.  False when the
+    mesh on show is not the whole result (a slice), which is then left as it is."""
+    if scene.mesh is None or scene.actor is None:
+        return False
+    if values is None:
+        scene._add_actor()   # the style's colours again
+        scene.plotter.render()
+        return True
+    drawn = _drawn_values(scene, cx, np.asarray(values, dtype=np.float64))
+    if drawn is None:
+        return False
+    scene.mesh.point_data[name] = drawn
+    top = float(np.abs(drawn).max()) or 1.0
+    mapper = scene.actor.mapper
+    mapper.lookup_table = pv.LookupTable(cmap=cmap)
+    mapper.array_name = name
+    mapper.scalar_map_mode = "point"
+    mapper.scalar_range = (-top, top)
+    mapper.scalar_visibility = True
+    scene.mesh.set_active_scalars(name)
+    scene.plotter.render()
+    return True

@@ -2,10 +2,12 @@
 
 The panel shows :func:`gcmh_core.analysis.topology_report` of the current
 result (cells by dimension, Euler characteristic, components, boundary,
-orientation of a surface, max |F| at a vertex, the time of each phase), a
-"Refine onto M" button and three switches of the view (the boundary, the
-processed cubes, two-sided colours), which are the model's: it never touches the
-scene.
+orientation of a surface, max |F| at a vertex, the time of each phase), its
+homology (:class:`gcmh_studio.qt_homology_box.QtHomologyBox`, computed in a worker:
+Betti numbers over Q and Z/2, torsion, generators to highlight, the w1 loop,
+curvature and the Gauss-Bonnet sum), a "Refine onto M" button and three switches
+of the view (the boundary, the processed cubes, two-sided colours), which are the
+model's: it never touches the scene.
 
     panel = QtTopologyPanel(model)
     panel.set_result(cx, system)              # or panel.set_report(report) from a worker
@@ -27,6 +29,7 @@ from qtpy.QtWidgets import (
 )
 
 from .model import StudioModel
+from .qt_homology_box import QtHomologyBox
 
 DIM_NAMES = {0: "points", 1: "curve", 2: "surface"}
 CELL_LETTERS = ("V", "E", "F")
@@ -123,6 +126,8 @@ class QtTopologyPanel(QWidget):
             self.values[key] = value
             self.form.addRow(label + ":", value)
         layout.addWidget(box)
+        self.homology_box = QtHomologyBox(self.studio)
+        layout.addWidget(self.homology_box)
 
         refine_box = QGroupBox("Refinement")
         rl = QVBoxLayout(refine_box)
@@ -180,6 +185,8 @@ class QtTopologyPanel(QWidget):
 
         report = topology_report(cx, system)
         self.set_report(report, has_system=system is not None)
+        if self.studio.result is not cx:   # (a result on show has its homology under way already)
+            self.homology_box.set_result(cx)
         return report
 
     def set_report(self, report: dict, has_system: bool | None = None) -> None:
@@ -215,6 +222,7 @@ class QtTopologyPanel(QWidget):
             label.setText("—")
             label.setStyleSheet("")
         self.refine_label.setText("")
+        self.homology_box.set_result(None)
         self._update_enabled()
 
     def show_refinement(self, before: float, after: float) -> None:

@@ -35,7 +35,7 @@ from .analysis import orient_2cells
 from .complex import CellComplex
 from .errors import InputError
 
-__all__ = ["Cycle", "Homology", "homology", "incidences", "summary"]
+__all__ = ["Cycle", "Homology", "homology", "incidences", "summary", "summary_line"]
 
 
 # ----------------------------------------------------------------------------
@@ -104,16 +104,23 @@ class Homology:
 
     def group(self, q: int) -> str:
         """H_q as text: ``"Z^2 + Z/2"``, ``"0"``."""
-        parts = []
-        b = self.betti[q]
-        if b:
-            parts.append("Z" if b == 1 else f"Z^{b}")
-        parts += [f"Z/{t}" for t in self.torsion[q]]
-        return " + ".join(parts) if parts else "0"
+        return _group_text(self.betti[q], self.torsion[q])
 
     def describe(self) -> str:
         """One line: ``"H0 = Z, H1 = Z + Z/2, H2 = 0"``."""
-        return ", ".join(f"H{q} = {self.group(q)}" for q in range(len(self.betti)))
+        return _describe(self.betti, self.torsion)
+
+
+def _group_text(b, torsion):
+    parts = []
+    if b:
+        parts.append("Z" if b == 1 else f"Z^{b}")
+    parts += [f"Z/{t}" for t in torsion]
+    return " + ".join(parts) if parts else "0"
+
+
+def _describe(betti, torsion):
+    return ", ".join(f"H{q} = {_group_text(b, t)}" for q, (b, t) in enumerate(zip(betti, torsion)))
 
 
 # ----------------------------------------------------------------------------
@@ -533,6 +540,10 @@ def summary(cx: CellComplex) -> tuple[dict, str]:
     >>> summary(cx)[1]
     'homology: H0 = Z, H1 = 0, H2 = Z (mod 2 Betti 1, 0, 1)'
     """
-    h = homology(cx, generators=False)
-    line = f"homology: {h.describe()} (mod 2 Betti {', '.join(str(b) for b in h.betti_mod2)})"
-    return h.as_dict(), line
+    d = homology(cx, generators=False).as_dict()
+    return d, summary_line(d)
+
+
+def summary_line(d: dict) -> str:
+    """The summary line of a ``"homology"`` object (:meth:`Homology.as_dict`)."""
+    return f"homology: {_describe(d['betti'], d['torsion'])} (mod 2 Betti {', '.join(str(b) for b in d['betti_mod2'])})"

@@ -1,0 +1,200 @@
+"""Homology generators, the w1 loop and curvature as things to draw, without Qt.
+
+Everything here is line segments in R^n (vertices (m, n), edges (E, 2)), the form the
+scene's overlays take (:meth:`gcmh_studio.scene.Scene.set_overlay`): they are projected
+with the same view as the result and clipped by the same slice, so they follow every
+rotation.  A generator of H1 is its edges; of H0 its component's edges; of H2 the edges
+of its 2-cells.  The w1 loop comes with small oriented loops, one in each polygon beside
+it: coherent polygons turn the same way seen from one side, and across the w1 loop the
+sense of turning flips.
+
+    from gcmh_core.homology import homology
+    h = homology(cx)
+    X, E = generator_lines(cx, h.generators[1][0])
+    scene.set_overlay("homology-1-0", X, E, cycle_color(0), width=6.0)
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+# distinct from the overlays' red boundary, green pick and the colour maps' extremes
+CYCLE_COLORS = ("#ffb000", "#00c2ff", "#ff4fd8", "#7cff4f", "#ff7a1a", "#b58cff", "#00e0b0", "#ffe14d",
+                "#ff5a5a", "#4f7cff")
+W1_COLOR = "#ff2d2d"
+ARROW_COLOR = "#ffffff"
+
+
+def cycle_color(i: int) -> str:
+    """The colour of the i-th generator drawn (repeats after ten)."""
+    return CYCLE_COLORS[int(i) % len(CYCLE_COLORS)]
+
+
+def unwrap_segments(cx, X, E) -> tuple[np.ndarray, np.ndarray]:
+    """Segments (X (m, n), E (k, 2)) of a result on identified axes, as the result is drawn
+    (:func:`gcmh_studio.geometry.display_complex`): a segment that crosses a seam gets its
+    low end moved up a period (reflected across a flipped seam), not a line across the box."""
+    from .geometry import seam_spec
+
+    spec = seam_spec(cx)
+    X = np.asarray(X, dtype=np.float64)
+    E = np.asarray(E, dtype=np.int64).reshape(-1, 2)
+    if not spec or E.size == 0:
+        return X, E
+    ends = X[E]                      # (k, 2, n): each segment its own two points
+    crossed = np.zeros(len(E), bool)
+    for p, period, lo, flips, mirror in spec:
+        far = np.abs(ends[:, 0, p] - ends[:, 1, p]) > period / 2
+        if not far.any():
+            continue
+        crossed |= far
+        low = far[:, None] & (ends[:, :, p] < lo + period / 2)
+        ends[:, :, p] += np.where(low, period, 0.0)
+        for b, m in zip(flips, mirror):
+            ends[:, :, b] = np.where(low, m - ends[:, :, b], ends[:, :, b])
+    if not crossed.any():
+        return X, E
+    keep = ~crossed
+    moved = ends[crossed].reshape(-1, X.shape[1])
+    k = int(crossed.sum())
+    new_edges = len(X) + np.arange(2 * k, dtype=np.int64).reshape(k, 2)
+    return np.concatenate([X, moved]), np.concatenate([E[keep], new_edges])
+
+
+def _compact(X, edges):
+    """(vertices, edges) with only the vertices the edges use, renumbered."""
+    edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+    used, inverse = np.unique(edges.ravel(), return_inverse=True)
+    return np.asarray(X, dtype=np.float64)[used], inverse.reshape(-1, 2).astype(np.int64)
+
+
+def _edges_of_2cells(cx, cells):
+    off, fac = cx.cells[2]
+    cells = np.asarray(cells, dtype=np.int64)
+    counts = off[cells + 1] - off[cells]
+    idx = np.repeat(off[cells], counts) + np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts, counts)
+    return np.unique(fac[idx])
+
+
+def generator_lines(cx, cycle) -> tuple[np.ndarray, np.ndarray]:
+    """Segments in R^n that show one generator (a :class:`gcmh_core.homology.Cycle`).
+
+    Returns vertices (m, n) float64 and edges (E, 2) int64 (E may be 0).
+    """
+    q = int(cycle.dim)
+    cells = np.asarray(cycle.cells, dtype=np.int64)
+    if q == 0:   # a class of H0 is a component: its edges
+        labels = cx.component_labels()
+        if cx.dim < 1 or cells.size == 0:
+            return np.zeros((0, cx.n)), np.zeros((0, 2), dtype=np.int64)
+        mine = np.isin(labels[np.asarray(cx.edges)[:, 0]], labels[cells])
+        return _compact(cx.vertices, np.asarray(cx.edges)[mine])
+    if q == 1:
+        return _compact(cx.vertices, np.asarray(cx.edges)[cells])
+    if q == 2:
+        return _compact(cx.vertices, np.asarray(cx.edges)[_edges_of_2cells(cx, cells)])
+    # q >= 3: the 2-cells of its cells' boundaries, down to edges
+    for r in range(q, 2, -1):
+        off, fac = cx.cells[r]
+        counts = off[cells + 1] - off[cells]
+        idx = np.repeat(off[cells], counts) + np.arange(int(counts.sum())) - \
+            np.repeat(np.cumsum(counts) - counts, counts)
+        cells = np.unique(fac[idx])
+    return _compact(cx.vertices, np.asarray(cx.edges)[_edges_of_2cells(cx, cells)])
+
+
+def edge_cycle_loops(cx, cycle) -> list[np.ndarray]:
+    """An H1 cycle as closed vertex walks (for a text list or an export): each a (m,) int64
+    array of vertex ids, first = last.  Edges with coefficient c are walked |c| times."""
+    E = np.asarray(cx.edges)[np.asarray(cycle.cells)]
+    coef = np.asarray(cycle.coefficients)
+    darts = []
+    for (u, v), c in zip(E.tolist(), coef.tolist()):
+        darts += [(u, v) if c > 0 else (v, u)] * abs(int(c))
+    out_of: dict = {}
+    for i, (u, _) in enumerate(darts):
+        out_of.setdefault(u, []).append(i)
+    used = [False] * len(darts)
+    loops = []
+    for start in range(len(darts)):
+        if used[start]:
+            continue
+        walk, i = [darts[start][0]], start
+        while True:
+            used[i] = True
+            v = darts[i][1]
+            walk.append(v)
+            nxt = next((j for j in out_of.get(v, []) if not used[j]), None)
+            if nxt is None:
+                break
+            i = nxt
+        loops.append(np.array(walk, dtype=np.int64))
+    return loops
+
+
+def edge_attribute(cx, cycles) -> np.ndarray:
+    """(E,) int32: 1 + the index of the first cycle through each edge, 0 elsewhere (a "cycle"
+    attribute for a PLY/OBJ export of the edges)."""
+    out = np.zeros(cx.count(1) if cx.dim >= 1 else 0, dtype=np.int32)
+    for i in reversed(range(len(cycles))):
+        out[np.asarray(cycles[i].cells)] = i + 1
+    return out
+
+
+def w1_lines(cx, loop_edges, orientation=None, shrink: float = 0.45) -> tuple[tuple, tuple]:
+    """The w1 loop of a non-orientable surface and the orientation beside it.
+
+    Returns ((X, E) of the loop's edges, (X, E) of small oriented loops: in each polygon
+    on either side of the loop, the polygon's loop as `orientation` (an
+    :class:`gcmh_core.analysis.Orientation`) winds it, shrunk towards its centre by
+    `shrink`, with an arrowhead on its first side).  Across the w1 loop these turn the
+    same way round their shared edge: that is where the orientation reverses.
+    """
+    from gcmh_core.analysis import orient_2cells
+
+    loop_edges = np.asarray(loop_edges, dtype=np.int64)
+    line = _compact(cx.vertices, np.asarray(cx.edges)[loop_edges])
+    o = orientation if orientation is not None else orient_2cells(cx)
+    off, fac = cx.cells[2]
+    owner = np.repeat(np.arange(off.size - 1), np.diff(off))
+    polys = np.unique(owner[np.isin(fac, loop_edges)])
+    X = np.asarray(cx.vertices, dtype=np.float64)
+    offs, verts = np.asarray(o.offsets), np.asarray(o.vertices)
+    pts, segs = [], []
+    for p in polys.tolist():
+        ring = verts[offs[p]:offs[p + 1]]
+        if ring.size < 3:
+            continue
+        c = X[ring].mean(axis=0)
+        R = c + shrink * (X[ring] - c)
+        base = sum(len(a) for a in pts)
+        m = ring.size
+        pts.append(R)
+        segs += [(base + i, base + (i + 1) % m) for i in range(m)]
+        # arrowhead at the end of the first side, its barbs back along the side and inwards
+        tip, tail = R[1], R[0]
+        back = tail - tip
+        inward = c - tip
+        barbs = np.array([tip + 0.45 * back + 0.25 * inward, tip + 0.45 * back - 0.25 * inward])
+        k = base + m
+        pts.append(barbs)
+        segs += [(base + 1, k), (base + 1, k + 1)]
+    if not pts:
+        return line, (np.zeros((0, cx.n)), np.zeros((0, 2), dtype=np.int64))
+    return line, (np.concatenate(pts), np.array(segs, dtype=np.int64))
+
+
+def curvature_values(cx, clip: float = 2.0) -> tuple[np.ndarray, str]:
+    """Per-vertex Gaussian curvature density for a colour map, and the Gauss-Bonnet line.
+
+    The densities are clipped to `clip` times their 95th percentile of |K| (a few tiny
+    cells have huge densities that would wash the map out).
+    """
+    from gcmh_core.curvature import gauss_bonnet, gaussian_curvature
+
+    c = gaussian_curvature(cx)
+    k = c.density
+    if k.size:
+        cap = clip * float(np.percentile(np.abs(k), 95)) or 1.0
+        k = np.clip(k, -cap, cap)
+    return k, gauss_bonnet(cx).describe()

@@ -1,0 +1,154 @@
+"""The homology of a result in the Topology tab: computed off the GUI thread, generators drawn
+as overlays that follow the projection, the w1 loop, curvature colours (gcmh_studio.cycles,
+gcmh_studio.qt_homology_box, gcmh_studio.overlays.draw_homology / colour_by_values)."""
+
+import numpy as np
+import pytest
+
+from gcmh_core import extract
+from gcmh_core.examples import load_example
+from gcmh_core.homology import homology
+from gcmh_studio.cycles import edge_attribute, edge_cycle_loops, generator_lines, unwrap_segments, w1_lines
+from gcmh_studio.model import StudioModel
+from gcmh_studio.qt_homology_box import QtHomologyBox
+
+
+def _example(name, div):
+    ex = load_example(name)
+    cx = extract(ex.formulas, ex.bounds, div, variables=ex.variables, periodic=ex.periodic or None,
+                 params=ex.param_values() or None)
+    return cx
+
+
+@pytest.fixture(scope="module")
+def klein():
+    return _example("klein-bottle-closed", [12, 12, 6, 12, 12])
+
+
+@pytest.fixture
+def box(qtbot):
+    b = QtHomologyBox(StudioModel())
+    qtbot.addWidget(b)
+    b.show()
+    return b
+
+
+def _computed(qtbot, box, cx):
+    with qtbot.waitSignal(box.computed, timeout=120_000):
+        box.set_result(cx)
+        # the GUI thread only asked: the answer comes later, from the worker
+        assert box.data is None and box.status.text() == "computing…"
+
+
+def test_box_shows_the_groups(qtbot, box, klein):
+    _computed(qtbot, box, klein)
+    assert box.status.text() == "H0 = Z, H1 = Z + Z/2, H2 = 0"
+    assert [box.groups[q].text() for q in range(3)] == ["H0 = Z", "H1 = Z + Z/2", "H2 = 0"]
+    assert [box.betti2[q].text() for q in range(3)] == ["1", "2", "1"]
+    assert box.betti[1].text() == "b1 = 1  (+1 torsion)"
+    assert not box.groups[3].isVisible()
+    assert box.w1_check.isEnabled() and box.curvature_check.isEnabled()
+    assert "chi = 0" in box.gauss_bonnet.text()
+
+
+def test_click_on_a_betti_number_asks_for_its_generators(qtbot, box, klein):
+    _computed(qtbot, box, klein)
+    with qtbot.waitSignal(box.overlays) as sent:
+        box.betti[1].click()
+    specs = sent.args[0]
+    assert sorted(specs) == ["homology-1-0", "homology-1-1"]
+    colours = {spec[2] for spec in specs.values()}
+    assert len(colours) == 2   # each generator its own colour
+    for X, E, _, width in specs.values():
+        assert X.shape[1] == 5 and len(E) and width > 3
+    with qtbot.waitSignal(box.w1_check.toggled):
+        box.w1_check.click()
+    assert {"homology-w1", "homology-w1-arrows"} <= set(box.overlay_specs())
+    with qtbot.waitSignal(box.overlays) as sent:
+        box.betti[1].click()   # off again
+    assert set(sent.args[0]) == {"homology-w1", "homology-w1-arrows"}
+
+
+def test_a_new_result_replaces_the_old(qtbot, box, klein):
+    _computed(qtbot, box, klein)
+    box.betti[1].click()
+    torus = _example("torus", [12, 12, 6])
+    with qtbot.waitSignal(box.overlays) as sent:
+        _computed(qtbot, box, torus)
+    assert sent.args[0] == {}   # the old result's generators go at once
+    assert box.status.text() == "H0 = Z, H1 = Z^2, H2 = Z"
+    assert not box.w1_check.isEnabled()
+
+
+def test_a_refused_complex_says_why(qtbot, box):
+    from gcmh_core import CellComplex
+
+    annulus = CellComplex(2, 0, np.zeros((6, 2)), [[0, 1], [1, 2], [2, 0], [3, 4], [4, 5], [5, 3]],
+                          {2: ([0, 6], [0, 1, 2, 3, 4, 5])})
+    _computed(qtbot, box, annulus)
+    assert box.status.text().startswith("not computed: 2-cell 0 is not a ball")
+
+
+# ---------------------------------------------------------------------------- Qt-free geometry
+
+def test_generator_lines_and_loops(klein):
+    h = homology(klein)
+    for c in h.generators[1]:
+        X, E = generator_lines(klein, c)
+        assert len(E) == len(c) and X.shape[1] == 5
+        loops = edge_cycle_loops(klein, c)
+        assert all(loop[0] == loop[-1] for loop in loops)
+        assert sum(len(loop) - 1 for loop in loops) == int(np.abs(c.coefficients).sum())
+    attr = edge_attribute(klein, h.generators[1])
+    assert set(np.unique(attr)) <= {0, 1, 2} and (attr > 0).sum() >= max(len(c) for c in h.generators[1])
+    X, E = generator_lines(klein, h.generators[0][0])   # H0: the component's edges
+    assert len(E) == klein.count(1)
+
+
+def test_seam_segments_are_drawn_short(klein):
+    """A generator goes round the identified axes: unwrapped, no segment spans the box."""
+    h = homology(klein)
+    c = h.generators[1][0]
+    X, E = generator_lines(klein, c)
+    span = np.array(klein.meta["bounds"])[:, 1] - np.array(klein.meta["bounds"])[:, 0]
+    before = np.abs(X[E[:, 0]] - X[E[:, 1]]).max(axis=0) / span
+    X2, E2 = unwrap_segments(klein, X, E)
+    after = np.abs(X2[E2[:, 0]] - X2[E2[:, 1]]).max(axis=0) / span
+    assert before.max() > 0.5 and after.max() < 0.5
+    assert len(E2) == len(E)
+
+
+def test_w1_lines_beside_the_loop(klein):
+    h = homology(klein)
+    (XL, EL), (XA, EA) = w1_lines(klein, h.orientation_cycle)
+    assert len(EL) == h.orientation_cycle.size
+    assert len(EA) > 2 * len(EL)   # an oriented loop with an arrowhead in each polygon beside it
+
+
+# ---------------------------------------------------------------------------- in the window
+
+def test_generators_follow_the_view(qtbot, small_window, klein):
+    from gcmh_studio.overlays import colour_by_values, draw_homology
+
+    w = small_window
+    box = w.topology_panel.homology_box
+    # the window's hook (see docs/homology.md): the box says what to draw, the scene draws it
+    box.overlays.connect(lambda specs: draw_homology(w.scene, specs))
+    box.curvature.connect(lambda values: colour_by_values(w.scene, w.model.result, values))
+    with qtbot.waitSignal(box.computed, timeout=120_000):
+        w.show_result(klein, klein.point_names(), title="Klein bottle")
+    box.betti[1].click()
+    box.w1_check.click()
+    drawn = w.scene.overlays
+    assert {"homology-1-0", "homology-1-1", "homology-w1", "homology-w1-arrows"} <= set(drawn)
+    before = np.array(drawn["homology-1-0"][1].points)
+    P = np.array(w.scene.P)
+    P2 = np.roll(P, 1, axis=1)   # another projection of R^5
+    w.scene.set_projection(P2)
+    after = np.array(w.scene.overlays["homology-1-0"][1].points)
+    assert not np.allclose(before, after)
+    box.curvature_check.click()
+    assert "curvature" in w.scene.mesh.point_data
+    assert w.scene.actor.mapper.array_name == "curvature"
+    box.betti[1].click()
+    assert "homology-1-0" not in w.scene.overlays and "homology-w1" in w.scene.overlays
