@@ -159,10 +159,12 @@ class QtSectionStrip(QWidget):
         p.drawText(QRectF(0, y(top) - 7, 30, 14), Qt.AlignRight | Qt.AlignVCenter, str(top))
         if bottom != top:
             p.drawText(QRectF(0, y(bottom) - 7, 30, 14), Qt.AlignRight | Qt.AlignVCenter, str(bottom))
+        # the legend under the plot, between the range's ends (inside, it sat on a line at the top)
+        below = QRectF(r.left(), r.bottom() + 1, r.width(), 14)
         p.setPen(CHI_COLOR)
-        p.drawText(QRectF(r.left() + 4, r.top() + 1, 60, 14), Qt.AlignLeft, "chi")
+        p.drawText(below.adjusted(-40, 0, 0, 0), Qt.AlignHCenter, "chi")
         p.setPen(PIECES_COLOR)
-        p.drawText(QRectF(r.left() + 30, r.top() + 1, 60, 14), Qt.AlignLeft, "pieces")
+        p.drawText(below.adjusted(0, 0, 40, 0), Qt.AlignHCenter, "pieces")
 
     def value_at(self, fraction: float) -> tuple[int, int] | None:
         """(chi, pieces) of the profile at ``fraction`` of the range (the nearest value computed), or None."""
