@@ -55,6 +55,7 @@ LINE_COLOR = "#f0c05a"
 BACK_COLOR = "#3f7fd0"       # back faces when two-sided colouring is on
 SEAM_COLOR = "#ff5cf0"       # the glued seam of identified axes
 CMAP = "viridis"
+SHEET_GAP = 2e-3             # coincident sheets held apart by this much of the object's radius (no z-fighting)
 
 
 def colour_range(values) -> list[float]:
@@ -334,6 +335,7 @@ class Scene:
         self._pts = mesh.points  # a view of the VTK buffer: written in place
         self._normals = mesh.point_data["Normals"] if self._normal_field is not None else None
         self._write_normals()
+        self._separate_sheets()
         self._add_actor()
 
     @property
@@ -470,6 +472,7 @@ class Scene:
                 self.projector.project_view(view, out=self._pts)
                 self.mesh.GetPoints().Modified()
                 self._write_normals()
+                self._separate_sheets()
                 self.mesh.Modified()
         self.overlay_meshes.project()
         self._project_seam()
@@ -520,6 +523,25 @@ class Scene:
         else:
             normal_field.write(self.P, normals)
         mesh.GetPointData().GetNormals().Modified()
+
+    def _separate_sheets(self) -> None:
+        """Hold apart sheets that a linear view lays onto each other (the Clifford torus in Orthographic is a
+        cylinder covered twice): each point moves ``SHEET_GAP`` of the object's radius along its normal, turned
+        away from the centre, outwards where the first hidden coordinate is positive and inwards where it is
+        negative. The depth test then draws one sheet in front everywhere instead of a speckle of both
+        (z-fighting); the move is far below a pixel."""
+        view, pts, normals, proj = self.view, self._pts, self._normals, self.projector
+        if (view is None or pts is None or normals is None or proj is None or not view.linear
+                or view.frame.shape[0] < 4 or self.circles_on):
+            return
+        h = np.asarray(view.frame[3], dtype=proj.XT.dtype) @ proj.XT          # (V,) the first hidden coordinate
+        side = np.where(h >= 0, 1.0, -1.0).astype(pts.dtype)
+        out = np.einsum("ij,ij->i", normals, pts)
+        side *= np.where(out >= 0, 1.0, -1.0).astype(pts.dtype)
+        length = np.sqrt(np.einsum("ij,ij->i", normals, normals))               # (the normals' lengths vary)
+        side /= np.where(length > 0, length, np.inf).astype(pts.dtype)
+        gap = SHEET_GAP * proj.radii()[0]
+        pts += (gap * side)[:, None] * normals
 
     # ------------------------------------------------------------------ slicing
     def set_slice(self, direction=None, c: float = 0.0, w: float = 0.0, render: bool = True) -> int:

@@ -75,3 +75,30 @@ def test_the_default_colour_varies_on_m():
     assert varying_colour(names, X) == "x5"          # x6 .. x10 are 0 on all of it
     X[:, 9] = 1e-3 * np.arange(50)
     assert varying_colour(names, X) == "x10"
+
+
+def test_coincident_sheets_are_held_apart_in_a_linear_view(plotter):
+    """The Clifford torus in Orthographic is a cylinder covered twice: the sheet with x4 > 0 is drawn just
+    outside the one with x4 < 0 (no z-fighting speckle), far below a pixel."""
+    from gcmh_core.examples import load_example
+    from gcmh_studio.scene import SHEET_GAP
+
+    ex = load_example("clifford-torus")
+    cx = extract(ex.formulas, ex.bounds, 10, variables=ex.variables)
+    sc = Scene(plotter, anti_aliasing=None)
+    view = ProjectionModel(n=4).view()                        # (x1, x2, x3), orthographic
+    sc.set_complex(cx, list(ex.variables), view, Style(color_by="x4"))
+    drawn = np.array(sc.mesh.points, dtype=float)
+    plain = sc.projector.project(view.P).astype(float)
+    moved = drawn - plain
+    r = sc.projector.radii()[0]
+    assert np.allclose(np.linalg.norm(moved, axis=1), SHEET_GAP * r, rtol=1e-3)
+    radial = plain[:, :2] / np.linalg.norm(plain[:, :2], axis=1, keepdims=True)
+    outward = np.einsum("ij,ij->i", moved[:, :2], radial)
+    x4 = np.asarray(sc.complex.vertices)[:, 3] - sc.projector.center[3]
+    far = np.abs(x4) > 1e-3
+    assert (np.sign(outward[far]) == np.sign(x4[far])).all()
+    # a view that shows every coordinate moves nothing
+    sc3 = extract(["x^2 + y^2 + z^2 - 1"], [(-1.5, 1.5)] * 3, 6, variables="x,y,z")
+    sc.set_complex(sc3, ["x", "y", "z"], ProjectionModel(n=3).view(), Style())
+    assert np.allclose(np.array(sc.mesh.points), sc.projector.project(np.eye(3)), atol=1e-6)
