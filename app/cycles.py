@@ -187,13 +187,23 @@ def w1_lines(cx, loop_edges, orientation=None, shrink: float = 0.45) -> tuple[tu
 def curvature_values(cx, clip: float = 2.0) -> tuple[np.ndarray, str]:
     """Per-vertex Gaussian curvature density for a colour map, and the Gauss-Bonnet line.
 
-    The densities are clipped to `clip` times their 95th percentile of |K| (a few tiny
+    Each vertex shows the density of its star (it and its neighbours).  The densities are
+    clipped to `clip` times their 95th percentile of |K| (a few tiny
     cells have huge densities that would wash the map out).
     """
     from gcmh_core.curvature import gauss_bonnet, gaussian_curvature
 
     c = gaussian_curvature(cx)
-    k = c.density
+    # averaged over each vertex's star (defects and areas summed over it and its neighbours): a tiny
+    # cell's vertex alone has a huge, noisy density
+    e = np.asarray(cx.edges)
+
+    def star(x):
+        return x + np.bincount(e[:, 0], x[e[:, 1]], len(x)) + np.bincount(e[:, 1], x[e[:, 0]], len(x))
+
+    defect, area = star(c.defect), star(c.area)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        k = np.where(area > 0, defect / area, 0.0)
     if k.size:
         cap = clip * float(np.percentile(np.abs(k), 95)) or 1.0
         k = np.clip(k, -cap, cap)

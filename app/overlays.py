@@ -225,5 +225,34 @@ def colour_by_values(scene, cx, values, cmap: str = CURVATURE_CMAP, name: str = 
     mapper.scalar_range = (-top, top)
     mapper.scalar_visibility = True
     scene.mesh.set_active_scalars(name)
+    # the colour bar names what the colours now mean (the scene's own bar goes; its _add_actor brings it back)
+    scene.texts.remove_bar()
+    title = "Gaussian curvature"
+    args = scene.texts.bar_args(title)
+    args.pop("title", None)
+    scene.plotter.add_scalar_bar(title, mapper=mapper, **args)
+    scene.texts.bar_added(title)
     scene.plotter.render()
     return True
+
+
+def homology_lines_mesh(scene):
+    """The homology overlays on show as one projected line mesh, for an export beside the result's mesh:
+    cell data ``cycle`` (1, 2, ... in the order of their names; the w1 loop and its marks 0) and point data
+    ``RGB`` (V, 3) uint8 (their colours on screen, which ``studio_io.export_mesh`` writes to PLY and OBJ).
+    None when no homology overlay is drawn."""
+    names = sorted(n for n, item in scene.overlays.items() if n.startswith(HOMOLOGY_PREFIX) and item[1] is not None)
+    if not names:
+        return None
+    meshes = []
+    number = 0
+    for name in names:
+        _geo, mesh, _actor, color, _look = scene.overlays[name]
+        m = mesh.copy(deep=True)
+        is_cycle = not name.startswith(HOMOLOGY_PREFIX + "w1")
+        number += is_cycle
+        m.cell_data["cycle"] = np.full(m.n_cells, number if is_cycle else 0, dtype=np.int32)
+        m.point_data["RGB"] = np.tile(np.array(pv.Color(color).int_rgb, dtype=np.uint8), (m.n_points, 1))
+        meshes.append(m)
+    out = meshes[0].merge(meshes[1:], merge_points=False) if len(meshes) > 1 else meshes[0]
+    return out.extract_surface() if not isinstance(out, pv.PolyData) else out

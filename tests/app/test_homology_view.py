@@ -150,5 +150,38 @@ def test_generators_follow_the_view(qtbot, small_window, klein):
     box.curvature_check.click()
     assert "curvature" in w.scene.mesh.point_data
     assert w.scene.actor.mapper.array_name == "curvature"
+    assert "Gaussian curvature" in w.scene.plotter.scalar_bars.keys()
+    box.curvature_check.click()   # back to the style's colours
+    assert w.scene.actor.mapper.array_name != "curvature"
     box.betti[1].click()
     assert "homology-1-0" not in w.scene.overlays and "homology-w1" in w.scene.overlays
+
+
+def test_generators_export_as_lines(qtbot, small_window, tmp_path):
+    from gcmh_studio import studio_io
+    from gcmh_studio.overlays import draw_homology, homology_lines_mesh
+
+    w = small_window
+    torus = _example("torus", [12, 12, 6])
+    box = w.topology_panel.homology_box
+    box.overlays.connect(lambda specs: draw_homology(w.scene, specs))
+    with qtbot.waitSignal(box.computed, timeout=120_000):
+        w.show_result(torus, torus.point_names(), title="torus")
+    assert homology_lines_mesh(w.scene) is None
+    box.betti[1].click()
+    mesh = homology_lines_mesh(w.scene)
+    assert sorted(set(mesh.cell_data["cycle"].tolist())) == [1, 2]
+    assert mesh.n_lines == sum(len(spec[1]) for spec in box.overlay_specs().values())
+    path = studio_io.export_mesh(mesh, tmp_path / "cycles.obj", 1)
+    text = open(path).read()
+    assert text.count("\nl ") == mesh.n_lines and "\nv " in text
+
+
+def test_curvature_values_of_a_sphere():
+    from gcmh_studio.cycles import curvature_values
+
+    cx = extract("x^2 + y^2 + z^2 - 4", bounds=(-2.5, 2.5), div=12, variables="x, y, z")
+    k, text = curvature_values(cx)
+    assert k.shape == (cx.count(0),)
+    assert np.median(k) == pytest.approx(0.25, rel=0.1) and k.min() > 0   # 1 / r^2 everywhere
+    assert text == "Gauss-Bonnet: K / 2pi = 2.000, chi = 2"
