@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 import pyvista as pv
 
-from .background import Picture, draw_in_background, started
+from .background import Picture, draw_in_background, started, wait_background
 from .camera import copy_camera, default_camera, keep_framing, refit_camera
 from .scene import Scene
 
@@ -49,6 +49,7 @@ def render_image(scene: Scene, path=None, size=(1600, 1200), transparent: bool =
     the picture shows what the window of ``camera_size`` showed. ``decorate(plotter)``: draws what the
     window adds to its view (the presentation's card) on this picture. Returns the (h, w, 3 or 4) image.
     """
+    gl_lifecycle()
     pl = pv.Plotter(off_screen=True, window_size=[int(size[0]), int(size[1])])
     try:
         other = Scene(pl, anti_aliasing="ssaa")
@@ -75,8 +76,18 @@ def render_image(scene: Scene, path=None, size=(1600, 1200), transparent: bool =
             atomic_write(path, lambda temp: Image.fromarray(np.asarray(img)).save(temp, format="PNG"), ".png",
                          what=str(path))
     finally:
+        gl_lifecycle()
         pl.close()
     return img
+
+
+def gl_lifecycle() -> None:
+    """Call on the GUI thread before a render window is made, first drawn or closed (a window opened or closed,
+    an off-screen plotter for a picture): it waits for a still picture drawing in the background. Renders wait
+    already (a Scene's StartEvent); making and ending GL contexts and X connections while another thread
+    draws is what Xlib and Mesa's GLX do not guard (issue 26, item 8: ``free(): corrupted unsorted chunks`` as
+    the classroom benchmark opened new windows)."""
+    wait_background()
 
 
 # ------------------------------------------------------------------ pictures that are never black
@@ -185,7 +196,8 @@ class StillJob:
         self._scene: Any = None
         self.picture: Picture | None = None
         # (made here, not in the thread: ``decorate`` is the window's; a plotter kept for the next job would
-        # outlive the X server in a test run, and Xlib ends a process whose display went away)
+        # outlive the X server in a test run, and Xlib ends a process whose display went away; no GL context
+        # is made here: that is the thread's first render, and the thread closes it)
         pl = pv.Plotter(off_screen=True, window_size=list(self.size))
         try:
             window: Any = pl.ren_win           # (an open plotter has its render window)
