@@ -156,6 +156,7 @@ class CircleProjector(Projector):
 
     def __init__(self, vertices: np.ndarray, spec, center=None, dtype=np.float32):
         super().__init__(vertices, center=center, dtype=dtype)
+        self.raw = np.asarray(vertices, dtype=np.float64)   # (what a plain projector is made of again)
         Y, self.owners = circle_rows(np.asarray(vertices, dtype=np.float64), spec, self.center)
         Y[~np.isfinite(Y)] = 0.0
         self.XT = np.ascontiguousarray(Y, dtype=dtype)

@@ -16,7 +16,7 @@ from .angles import circular_mean, linkage_joints, linkage_points, periodic_axes
 
 ROD_COLORS = ("#f0c05a", "#ff7b6b", "#5fd3a3", "#6fa8ff", "#d98cff", "#ffd27f")
 FIXED_COLOR = "#9aa3b5"
-SIZE = (260, 230)
+SIZE = (300, 240)
 
 
 def picked_angles(cx, coords) -> np.ndarray:
@@ -27,6 +27,21 @@ def picked_angles(cx, coords) -> np.ndarray:
     for p, (lo, period) in periodic_axes(cx).items():
         out[p] = circular_mean(coords[:, p], period, lo)
     return out
+
+
+def closed_configuration(angles, closing=(1.0, 0.0), steps: int = 8) -> np.ndarray:
+    """The configuration nearest ``angles`` (radians) whose rods close at ``closing``: Gauss-Newton steps of
+    least length on sum cos(a_i) = X, sum sin(a_i) = Y (a picked cell's middle is a chord's point, off M
+    by the grid's error: the loop would not close by a visible gap)."""
+    a = np.asarray(angles, dtype=float).copy()
+    target = np.asarray(closing, dtype=float)
+    for _ in range(steps):
+        F = np.array([np.cos(a).sum(), np.sin(a).sum()]) - target
+        if np.abs(F).max() < 1e-12:
+            break
+        J = np.stack([-np.sin(a), np.cos(a)])          # (2, m)
+        a -= np.linalg.pinv(J) @ F
+    return a
 
 
 class QtLinkageInset(QWidget):
@@ -42,19 +57,19 @@ class QtLinkageInset(QWidget):
         self.hide()
 
     def show_configuration(self, angles, names, closing=(1.0, 0.0)) -> None:
-        self.angles = np.asarray(angles, dtype=float)
-        self.names = list(names)
         self.closing = (float(closing[0]), float(closing[1]))
+        self.angles = closed_configuration(angles, self.closing)
+        self.names = list(names)
         self.place()
         self.show()
         self.raise_()
         self.update()
 
     def place(self) -> None:
-        """In the parent's bottom-right corner, above the colour bar's foot."""
+        """At the bottom of the view, right of the axes' corner (the colour bar keeps the right side)."""
         p = self.parentWidget()
         if p is not None:
-            self.move(max(0, p.width() - self.width() - 12), max(0, p.height() - self.height() - 12))
+            self.move(int(0.22 * p.width()), max(0, p.height() - self.height() - 12))
 
     def joints(self) -> np.ndarray:
         """The hinges (m + 1, 2): from (0, 0) along each rod; the last one is where the fixed rod starts."""
@@ -96,7 +111,7 @@ class QtLinkageInset(QWidget):
         for x, y in np.vstack([J, [self.closing]]):
             qp.drawEllipse(at(x, y), 3.5, 3.5)
         qp.setPen(QPen(QColor("#c8d2e6")))
-        deg = [f"{nm} = {np.degrees(a) % 360:.0f}\u00b0" for nm, a in zip(self.names, self.angles)]
+        deg = [f"{nm} {np.degrees(a) % 360:.0f}\u00b0" for nm, a in zip(self.names, self.angles)]
         qp.drawText(10, self.height() - 12, "  ".join(deg))
         qp.end()
 

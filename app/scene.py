@@ -361,8 +361,29 @@ class Scene:
             else:
                 self.set_slice(*sl, render=False)
         self._show_seam()
+        self._circle_overlays()
         if render:
             self.plotter.render()
+
+    def _circle_overlays(self) -> None:
+        """The overlays (a picked cell, the boundary, the grid cubes) drawn as the complex is: through the
+        circles of "angles as circles", or plainly again."""
+        if self.geometry is None or self.view is None:
+            return
+        center, radii = self.geometry.projector.center, self.geometry.projector.radii()
+        for geo, mesh, *_ in self.overlay_meshes.items.values():
+            pr = geo.projector
+            is_circle = isinstance(pr, CircleProjector)
+            if is_circle == self.circles_on:
+                continue
+            raw = pr.raw if is_circle else np.asarray(pr.XT.T, dtype=np.float64) + pr.center
+            new = self._projector_for(raw, Projector(raw, center=center))
+            new.set_radii(radii)
+            geo.projector = new
+            if mesh is not None:
+                new.project_view(self.view, out=mesh.points)
+                mesh.GetPoints().Modified()
+                mesh.Modified()
 
     def _drop_seam(self) -> None:
         if self._seam is not None and self._seam[2] is not None and self.plotter is not None:
@@ -568,6 +589,7 @@ class Scene:
                                        cell_ids=geo.cell_ids)
             self._show_geometry(sgeo, sl.vertices, view)
         self.overlay_meshes.rebuild()
+        self._circle_overlays()
         self.overlay_meshes.set_ghost(self.slice is not None and self.style.slice_context and geo.kind == "polygons")
         if render:
             self.plotter.render()
@@ -587,6 +609,7 @@ class Scene:
                     opacity: float = 1.0, render: bool = True) -> None:
         """Line segments in R^n (vertices (m, n), edges (E, 2)) drawn with the view and clipped by the slice."""
         self.overlay_meshes.set(name, vertices, edges, color, width, opacity)
+        self._circle_overlays()
         if render:
             self.plotter.render()
 

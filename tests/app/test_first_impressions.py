@@ -27,7 +27,7 @@ def test_picking_the_linkage_surface_shows_its_rods(qtbot, small_window):
     J = inset.joints()
     assert len(J) == 5
     assert np.allclose(np.linalg.norm(np.diff(J, axis=0), axis=1), 1.0)
-    assert np.linalg.norm(J[-1] - [1.0, 0.0]) < 0.6        # the loop (nearly) closes at a point of a coarse grid
+    assert np.linalg.norm(J[-1] - [1.0, 0.0]) < 1e-9       # the loop closes on the fixed rod (moved onto M)
     assert np.allclose(np.mod(inset.angles - info["coords"].mean(axis=0) + np.pi, 2 * np.pi) - np.pi, 0,
                        atol=0.7)
     img = inset.grab().toImage()
@@ -49,8 +49,15 @@ def test_the_angle_switches_follow_the_result(qtbot, small_window):
     box.seam_check.setChecked(True)
     assert w.scene._seam is not None
     assert w.scene.colour_map("t") == "twilight_shifted"
+    from gcmh_studio.angles import CircleProjector
+
+    w.viewer.pick_cell(3)                     # the picked cell drawn where the circles put it
+    pick = w.scene.overlays["pick"]
+    assert isinstance(pick[0].projector, CircleProjector)
+    assert np.allclose(np.array(pick[1].points), pick[0].projector.project(w.scene.view.P), atol=1e-5)
     box.circles_check.setChecked(False)
     assert np.allclose(np.array(w.scene.mesh.points), before, atol=1e-5)
+    assert not isinstance(w.scene.overlays["pick"][0].projector, CircleProjector)
 
 
 @pytest.mark.parametrize("n", [3, 10])
