@@ -444,7 +444,7 @@ def _homology(cx, want_generators):
         betti2.append(size[q] - odd)
         torsion.append(sorted(f for f in factors[q + 1] if f > 1))
         if want_generators:
-            gens.append(_generators(q, top, size, r_q, D, Rs, Rinvs, crit, chain, partner, time))
+            gens.append(_generators(cx, q, top, size, r_q, D, Rs, Rinvs, crit, chain, partner, time))
     orientation = None
     if want_generators and top == 2 and cx.count(2):
         o = orient_2cells(cx)
@@ -454,7 +454,7 @@ def _homology(cx, want_generators):
                     orientation_cycle=orientation, critical=size)
 
 
-def _generators(q, top, size, r_q, D, Rs, Rinvs, crit, chain, partner, time):
+def _generators(cx, q, top, size, r_q, D, Rs, Rinvs, crit, chain, partner, time):
     """Cycles generating H_q: the kernel of D_q in the basis R_q[:, r_q:], the image of
     D_{q+1} in it diagonalised, each basis cycle lifted from the Morse complex."""
     base, dims, bd_off, bd, bdv, _, _ = chain
@@ -487,33 +487,52 @@ def _generators(q, top, size, r_q, D, Rs, Rinvs, crit, chain, partner, time):
     if overflow:
         raise InputError("homology: a generator's coefficient passed 2^60 (int64 would overflow)")
     cycles = []
+    weight = _edge_weights(cx) if q == 1 and top >= 2 else None
     for k, (_, order) in enumerate(wanted):
         cells = lift_cells[lift_off[k]:lift_off[k + 1]]
         coefs = lift_coefs[lift_off[k]:lift_off[k + 1]]
         if q == 1 and top >= 2:
-            cells, coefs = _shorten(cells, coefs, chain)
+            cells, coefs = _shorten(cells, coefs, chain, weight)
         cells = cells - base[q]
         o = np.argsort(cells)
         cycles.append(Cycle(q, _ro(cells[o]), _ro(coefs[o]), int(order)))
     return tuple(cycles)
 
 
-def _shorten(cells, coefs, chain):
-    """A shorter cycle in the same class: z -> z - t d(f) for a 2-cell f and t = +-1 while
-    that lowers sum |z_e| (z straightens across f: more than half of f's edges were in z).
+def _edge_weights(cx):
+    """(E,) float64 in [1, 2]: 1 + edge length / (2 x median), capped.  Shortening counts
+    edges first and length second (an edge across an identified seam looks long in R^n:
+    the cap keeps it from costing more than two edges)."""
+    e = np.asarray(cx.edges)
+    if e.size == 0:
+        return np.ones(0)
+    length = np.linalg.norm(np.asarray(cx.vertices)[e[:, 0]] - np.asarray(cx.vertices)[e[:, 1]], axis=1)
+    length[~np.isfinite(length)] = 0.0
+    mid = float(np.median(length)) or 1.0
+    return 1.0 + np.minimum(length / (2.0 * mid), 1.0)
 
-    cells: global ids of edges, coefs their coefficients.  Each step shortens z, so it ends.
+
+def _shorten(cells, coefs, chain, weight):
+    """A shorter cycle in the same class: z -> z - t d(f) for a 2-cell f and t = +-1 while
+    that lowers sum weight_e |z_e| (weight[e - base[1]]: about one per edge, a little
+    more for a longer one).  Straightens z across a 2-cell that holds more than half of
+    it, and slides it across one that holds half when the other half is shorter.  Each
+    step lowers the weight by a positive amount, so no chain comes twice: it ends.
+
+    cells: global ids of edges, coefs their coefficients.
     """
     base, dims, bd_off, bd, bdv, cb_off, cb = chain
+    b1 = int(base[1])
     z = dict(zip(cells.tolist(), coefs.tolist()))
     todo = {int(f) for e in z for f in cb[cb_off[e]:cb_off[e + 1]].tolist()}
     while todo:
         f = todo.pop()
         edges = bd[bd_off[f]:bd_off[f + 1]].tolist()
         signs = bdv[bd_off[f]:bd_off[f + 1]].tolist()
+        w = [weight[e - b1] for e in edges]
         for t in (1, -1):
-            delta = sum(abs(z.get(e, 0) - t * se) - abs(z.get(e, 0)) for e, se in zip(edges, signs))
-            if delta < 0:
+            delta = sum(we * (abs(z.get(e, 0) - t * se) - abs(z.get(e, 0))) for e, se, we in zip(edges, signs, w))
+            if delta < -1e-9:
                 for e, se in zip(edges, signs):
                     v = z.get(e, 0) - t * se
                     if v:
