@@ -191,6 +191,65 @@ def read_session_or_fail(path):
         return None, f"cannot open {path}: {e.strerror if isinstance(e, OSError) and e.strerror else e}"
 
 
+def keep_autosaving(app, win, offer: bool = True) -> None:
+    """Save the window's session after each run and every minute (:mod:`gcmh_studio.autosave`), remove it on a
+    clean exit; with ``offer``, offer back the session a crashed window left (a question that does not block)."""
+    from qtpy.QtCore import QTimer
+    from qtpy.QtWidgets import QMessageBox
+
+    from . import autosave
+
+    def save(*_):
+        try:
+            autosave.save(win.controller.session())
+        except Exception:  # noqa: BLE001 - an autosave never interrupts the lesson
+            pass
+
+    timer = QTimer(win)
+    timer.setInterval(autosave.PERIOD_MS)
+    timer.timeout.connect(save)
+    timer.start()
+    win.runFinished.connect(lambda how: save() if how == "done" else None)
+    app.aboutToQuit.connect(autosave.discard)
+    found = autosave.recoverable() if offer else None
+    if found is None:
+        return
+    import time
+
+    when = time.strftime("%H:%M on %d %b", time.localtime(found.stat().st_mtime))
+    box = QMessageBox(QMessageBox.Question, "Restore the last session?",
+                      f"GCMH Studio did not close cleanly last time. Restore the session it was showing "
+                      f"(saved at {when})?", QMessageBox.Yes | QMessageBox.No, win)
+
+    def answered(button):
+        if box.standardButton(button) != QMessageBox.Yes:
+            autosave.restored(found)
+            return
+
+        def open_it(*_):
+            win.controller.open_session(found)   # (checked whole again: a bad file is said, not opened)
+            autosave.restored(found)
+
+        if win.controller.is_running():   # the example the window opened on: its run is cancelled first
+            _once(win.runFinished, open_it)
+            win.controller.cancel()
+        else:
+            open_it()
+
+    box.buttonClicked.connect(answered)
+    box.open()
+    win.autosave_offer = box
+
+
+def _once(signal, slot) -> None:
+    """Connect ``slot`` to ``signal`` for its next emission only."""
+    def call(*args):
+        signal.disconnect(call)
+        slot(*args)
+
+    signal.connect(call)
+
+
 def list_examples_or_warn() -> list:
     """The examples that can be read; each that cannot is named on stderr (one line each)."""
     from gcmh_core.examples import list_examples
@@ -259,6 +318,8 @@ def _main(argv=None) -> int:
     if args.session and problem is None:
         win.controller.open_session(args.session)
     win.show()
+    if not args.window_screenshot:
+        keep_autosaving(app, win, offer=not (args.session or args.example))
     if problem is not None:   # said, and the window stays
         print(f"gcmh-app: error: {problem}", file=sys.stderr)
         from qtpy.QtWidgets import QMessageBox

@@ -233,3 +233,53 @@ def test_a_picture_that_cannot_be_drawn_at_all_is_refused_not_written_black(monk
         assert offscreen._blank(sc.plotter, black, False) and offscreen._blank(sc.plotter, black, True)
     finally:
         ctx.__exit__(None, None, None)
+
+
+# ---------------------------------------------------------------- autosave (item 8: a crash loses little)
+def _dead_pid() -> int:
+    p = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
+    return int(p.stdout)
+
+
+def test_the_autosave_is_atomic_and_a_crashed_one_is_found(tmp_path, monkeypatch):
+    from gcmh_studio import autosave
+
+    monkeypatch.setenv("GCMH_STATE_DIR", str(tmp_path / "state"))
+    assert autosave.recoverable() is None                     # (no folder yet)
+    assert autosave.save(BASE) == autosave.own_path()
+    assert autosave.recoverable() is None                     # this process's own: alive, not offered
+    assert autosave.save(_with("system.n", -1)) is None       # not a session that would open: not written
+    assert studio_io.read_session(autosave.own_path())["title"] == "Sphere"
+    crashed = autosave.own_path(_dead_pid())
+    crashed.write_text(json.dumps(_with("title", "crashed")))
+    broken = autosave.own_path(_dead_pid())
+    broken.write_text("{")
+    os.utime(broken, (1e10, 1e10))                            # the newest, but it does not open
+    assert autosave.recoverable() == crashed and not broken.exists()
+    autosave.restored(crashed)
+    assert autosave.recoverable() is None
+    autosave.discard()
+    assert list((tmp_path / "state").iterdir()) == []
+
+
+def test_the_window_offers_the_crashed_session_back(qtbot, small_window, tmp_path, monkeypatch):
+    from qtpy.QtWidgets import QApplication, QMessageBox
+
+    from gcmh_studio import autosave
+    from gcmh_studio.__main__ import keep_autosaving
+
+    monkeypatch.setenv("GCMH_STATE_DIR", str(tmp_path))
+    saved = _with("system.div", 6)
+    saved["title"] = "Sphere"
+    autosave.own_path(_dead_pid()).write_text(json.dumps(saved))
+    w = small_window
+    keep_autosaving(QApplication.instance(), w, offer=True)
+    box = w.autosave_offer
+    qtbot.waitUntil(box.isVisible, timeout=10_000)
+    with qtbot.waitSignal(w.runFinished, timeout=120_000) as b:
+        box.button(QMessageBox.Yes).click()
+    assert b.args[0] == "done" and w.model.system["formulas"] == saved["system"]["formulas"]
+    assert autosave.recoverable() is None                     # answered: not offered again
+    with qtbot.waitSignal(w.runFinished, timeout=120_000):
+        w.run()
+    assert autosave.own_path().exists()                        # saved after the run
