@@ -227,7 +227,7 @@ def colour_by_values(scene, cx, values, cmap: str = CURVATURE_CMAP, name: str = 
     scene.mesh.set_active_scalars(name)
     # the colour bar names what the colours now mean (the scene's own bar goes; its _add_actor brings it back)
     scene.texts.remove_bar()
-    title = "Gaussian curvature"
+    title = "K"   # (a short title: the bar sits at the right edge)
     args = scene.texts.bar_args(title)
     args.pop("title", None)
     scene.plotter.add_scalar_bar(title, mapper=mapper, **args)

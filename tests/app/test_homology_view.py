@@ -150,7 +150,7 @@ def test_generators_follow_the_view(qtbot, small_window, klein):
     box.curvature_check.click()
     assert "curvature" in w.scene.mesh.point_data
     assert w.scene.actor.mapper.array_name == "curvature"
-    assert "Gaussian curvature" in w.scene.plotter.scalar_bars.keys()
+    assert "K" in w.scene.plotter.scalar_bars.keys()
     box.curvature_check.click()   # back to the style's colours
     assert w.scene.actor.mapper.array_name != "curvature"
     box.betti[1].click()

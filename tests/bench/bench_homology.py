@@ -30,12 +30,47 @@ def _best(fn, repeat):
     return best, out
 
 
+TICK_MS = 10
+
+
+def gui_ticks(cx):
+    """(share of ticks kept, longest gap in ms, seconds) while QtHomologyBox computes ``cx``'s homology
+    (with generators, w1 and curvature) in its worker thread and a QTimer ticks on the GUI thread."""
+    import numpy as np
+    from qtpy.QtCore import QEventLoop, QTimer
+    from qtpy.QtWidgets import QApplication
+
+    from gcmh_studio.qt_homology_box import QtHomologyBox
+
+    app = QApplication.instance() or QApplication([])
+    box = QtHomologyBox()
+    ticks = []
+    timer = QTimer()
+    timer.setInterval(TICK_MS)
+    timer.timeout.connect(lambda: ticks.append(time.perf_counter()))
+    loop = QEventLoop()
+    box.computed.connect(loop.quit)
+    timer.start()
+    t0 = time.perf_counter()
+    box.set_result(cx)
+    loop.exec_()
+    t1 = time.perf_counter()
+    timer.stop()
+    app.processEvents()
+    pts = [t0, *[t for t in ticks if t0 <= t <= t1], t1]
+    share = min(1.0, (len(pts) - 2) / max((t1 - t0) * 1000 / TICK_MS, 1))
+    return share, 1000 * float(max(np.diff(pts))), t1 - t0
+
+
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--example", default="complex-cosine")
     ap.add_argument("--div", type=int, default=320)
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--markdown", action="store_true", help="print a table row for docs/benchmarks.md")
+    ap.add_argument("--ticks", action="store_true",
+                    help="also: the Topology tab's box computes it while a GUI timer ticks every 10 ms "
+                         "(the share of ticks kept and the longest gap, as tests/bench/bench_classroom.py)")
     args = ap.parse_args(argv)
 
     from gcmh_core import extract
@@ -69,6 +104,10 @@ def main(argv=None) -> None:
     print(f"  incidences          {t_inc:8.3f} s")
     print(f"  coreductions        {t_core:8.3f} s")
     print(f"{when}, {platform.processor() or platform.machine()}, {os.cpu_count()} cores, load {load:.1f}")
+    if args.ticks:
+        share, gap, seconds = gui_ticks(cx)
+        print(f"GUI while the box computes ({seconds:.2f} s): {100 * share:.0f}% of 10 ms ticks kept, "
+              f"longest gap {gap:.0f} ms")
     if args.markdown:
         print(f"| {when} | {args.example} | {args.div} | {cells:,} | {t_extract:.2f} s | {t_groups:.2f} s "
               f"({t_groups / t_extract:.2f}x) | {t_gens:.2f} s ({t_gens / t_extract:.2f}x) | "
