@@ -103,6 +103,10 @@ def _gluing(periodic, variables) -> tuple:
     from gcmh_core._validate import as_periodic
     from gcmh_core.errors import InputError
 
+    if isinstance(periodic, str):   # (the field's text, "t  s:flip=t")
+        from .inputs import check_periodic
+
+        periodic = check_periodic(periodic, variables, None)[1]
     try:
         return as_periodic(periodic or None, list(variables), [8] * len(variables))
     except InputError:

@@ -21,12 +21,16 @@ def example_of_system(system: dict):
     """The example whose formulas and variables the Manifold tab shows (``system``: the model's), or None."""
     from gcmh_core.examples import list_examples
 
+    from .labels import _gluing
+
     formulas = [str(f).strip() for f in system.get("formulas") or []]
     variables = list(system.get("variables") or [])
     if not formulas:
         return None
+    glued = _gluing(system.get("periodic") or None, variables)   # (the closed Klein bottle is not the cut one)
     for ex in list_examples(on_error=lambda *a: None):
-        if [str(f).strip() for f in ex.formulas] == formulas and list(ex.variables) == variables:
+        if ([str(f).strip() for f in ex.formulas] == formulas and list(ex.variables) == variables
+                and _gluing(ex.periodic, variables) == glued):
             return ex
     return None
 

@@ -141,3 +141,15 @@ def test_the_estimate_of_a_glued_run_is_told_of_its_glued_axes(monkeypatch):
     job.periodic = None
     jobs.estimate_job(job)
     assert seen["periodic"] is None
+
+
+def test_the_waiting_picture_is_the_glued_examples_when_the_system_is_glued():
+    from gcmh_core.examples import load_example
+    from gcmh_studio.qt_waiting_picture import example_of_system
+
+    kb = load_example("klein-bottle")
+    system = {"formulas": list(kb.formulas), "variables": list(kb.variables)}
+    assert example_of_system(system).name == "klein-bottle"
+    assert example_of_system({**system, "periodic": ["s:flip=t", "t"]}).name == "klein-bottle-closed"
+    assert example_of_system({**system, "periodic": "t  s:flip=t"}).name == "klein-bottle-closed"   # the field's text
+    assert example_of_system({**system, "formulas": ["x - y", "y", "z"]}) is None
