@@ -52,7 +52,7 @@ DATA_SUFFIXES = NPY + NPZ + VTK_IMAGE + NIFTI + HDF5
 # memory-mapped temporary file (the sweep reads them slab by slab; the page cache holds what fits)
 IN_MEMORY_SHARE = 0.25
 # values converted per step: a slab of this many samples (keeps the temporaries small)
-_SLAB_SAMPLES = 1 << 22
+_SLAB_SAMPLES = 1 << 18  # (a slab's data stay in the cache between its range and its subtraction)
 
 
 @dataclass
@@ -727,15 +727,18 @@ def estimate_data(specs, levels=None, bounds=None, *, components: bool | None = 
     return _estimate(_plan(specs, levels, bounds, components), method, scheduler)
 
 
-def _estimate(plan: _Plan, method, scheduler):
+def _estimate(plan: _Plan, method, scheduler, probe: bool | None = True):
+    """The run's estimate plus the data held; probe: True probes a coarse subgrid of F's values (reading
+    the files strided), None takes M to cross the grid like a plane (`budget.estimate_run` without F)."""
     from dataclasses import replace
 
     from .budget import estimate_run
 
     n = len(plan.bounds)
     div = [d - 1 for d in plan.shape[:-1]]
-    cost = estimate_run(n, plan.shape[-1], div, method=method, bounds=plan.bounds, sampled=_LazyValues(plan),
-                        scheduler=scheduler, probe=True)
+    sampled = _LazyValues(plan) if probe else None
+    cost = estimate_run(n, plan.shape[-1], div, method=method, bounds=plan.bounds, sampled=sampled,
+                        scheduler=scheduler, probe=probe)
     on_disk = plan.value_bytes > IN_MEMORY_SHARE * available_memory()
     held = (0 if on_disk else plan.value_bytes) + plan.read_bytes
     return replace(cost, grid_bytes=cost.grid_bytes + held, peak_bytes=cost.peak_bytes + held)
@@ -782,21 +785,43 @@ def _fill(out: np.ndarray, fields, levels) -> tuple[list[tuple[float, float]], i
                 part = src[..., c] if f.components > 1 else src
                 dst = slab[..., j]
                 try:
+                    # the data's range in their own type (float32: half the bytes of F's values)
+                    a, b = float(part.min()), float(part.max())
                     np.subtract(part, levels[j], out=dst, dtype=np.float64, casting="unsafe")
                 except OSError as err:  # (a memory-mapped file that shrank or a read error)
                     raise InputError(f"{f.source}: cannot read the data ({_first_line(err)})") from None
-                a, b = float(dst.min()), float(dst.max())
                 if not (math.isfinite(a) and math.isfinite(b)):  # (NaN or inf: min or max says so)
                     some_nonfinite = True
-                    finite = np.isfinite(dst)
-                    a = float(dst.min(initial=np.inf, where=finite))
-                    b = float(dst.max(initial=-np.inf, where=finite))
-                lo[j] = min(lo[j], a + levels[j])
-                hi[j] = max(hi[j], b + levels[j])
+                    finite = np.isfinite(part)
+                    a = float(part.min(initial=np.inf, where=finite))
+                    b = float(part.max(initial=-np.inf, where=finite))
+                lo[j] = min(lo[j], a)
+                hi[j] = max(hi[j], b)
                 j += 1
         if some_nonfinite:
             bad += int(np.count_nonzero(~np.isfinite(slab).all(axis=-1)))
+        for f in fields:
+            _drop_pages(f.values)
     return [(float(a), float(b)) for a, b in zip(lo, hi)], bad
+
+
+def _drop_pages(values) -> None:
+    """Unmap the pages of a memory-mapped file this process has read (they stay in the page cache): a
+    volume larger than memory is then read slab by slab without the whole file counting as this
+    process's memory (its RSS) at the end."""
+    import mmap
+
+    a = values
+    while isinstance(a, np.ndarray):
+        m = getattr(a, "_mmap", None)
+        if m is not None:
+            if hasattr(m, "madvise") and hasattr(mmap, "MADV_DONTNEED"):
+                try:
+                    m.madvise(mmap.MADV_DONTNEED)
+                except (OSError, ValueError):  # (a closed or odd mapping: only memory use is at stake)
+                    pass
+            return
+        a = a.base
 
 
 # ----------------------------------------------------------------------------- the run
@@ -813,7 +838,9 @@ def extract_data(specs, levels=None, bounds=None, *, components: bool | None = N
 
     if data is None:
         plan = _plan(specs, levels, bounds, components)
-        check_budget(_estimate(plan, kwargs.get("method", "gcmh"), kwargs.get("scheduler")),
+        # before reading the data: with M taken to cross the grid like a plane (`extract` then probes F's
+        # values itself); what refuses here is data too large to hold with the run
+        check_budget(_estimate(plan, kwargs.get("method", "gcmh"), kwargs.get("scheduler"), probe=None),
                      bool(kwargs.get("force", False)))
         if variables is not None:
             _check_names(variables, len(plan.bounds))

@@ -99,9 +99,23 @@ def main() -> int:
     with tempfile.NamedTemporaryFile("w", suffix=".py", delete=False) as f:
         f.write(VTK_SCRIPT)
         script = f.name
+    if args.rounds:
+        compare(path, script, args)
+    if args.big:
+        big_run(folder, args)
+    os.unlink(script)
+    if not args.keep:
+        import shutil
+
+        shutil.rmtree(folder, ignore_errors=True)
+    return 0
+
+
+def compare(path: str, script: str, args) -> None:
+    """Alternating rounds of the gcmh command and the flying edges script on the same file."""
     run_measured(gcmh_argv(path))  # (numba's cache filled, the file in the page cache: both sides warm)
     run_measured([sys.executable, script, path])
-    rows = {"gcmh": [], "vtk": []}
+    rows: dict[str, list] = {"gcmh": [], "vtk": []}
     for r in range(args.rounds):
         for name in (("gcmh", "vtk") if r % 2 == 0 else ("vtk", "gcmh")):
             argv = gcmh_argv(path) if name == "gcmh" else [sys.executable, script, path]
@@ -120,25 +134,22 @@ def main() -> int:
     print(f"peak RSS: gcmh {max(m for _, m in rows['gcmh']) / 1e6:.0f} MB, "
           f"flying edges {max(m for _, m in rows['vtk']) / 1e6:.0f} MB")
 
-    if args.big:
-        big = os.path.join(folder, f"blob{args.big}-{args.noise:g}.npy")
-        if not os.path.exists(big):
-            make_blob(big, args.big, noise=args.noise)
-        _, _, out = run_measured(gcmh_argv(big, "--dry-run"))
-        estimate = json.loads(out)
-        _, idle, _ = run_measured([sys.executable, "-c", IDLE_SCRIPT])
-        wall, rss, out = run_measured(gcmh_argv(big))
-        s = json.loads(out)
-        print(f"\n{args.big}^3 float32 ({os.path.getsize(big) / 1e9:.2f} GB): estimated peak "
-              f"{estimate['peak_bytes'] / 1e9:.2f} GB of {estimate['available_bytes'] / 1e9:.1f} GB available; "
-              f"measured peak RSS {rss / 1e9:.2f} GB, less an idle process's {idle / 1e9:.2f} GB: "
-              f"{(rss - idle) / 1e9:.2f} GB; {wall:.1f} s, {s['vertices']} vertices")
-    os.unlink(script)
-    if not args.keep:
-        import shutil
 
-        shutil.rmtree(folder, ignore_errors=True)
-    return 0
+
+def big_run(folder: str, args) -> None:
+    """A side^3 volume: the dry run's estimated peak against the run's measured peak RSS."""
+    big = os.path.join(folder, f"blob{args.big}-{args.noise:g}.npy")
+    if not os.path.exists(big):
+        make_blob(big, args.big, noise=args.noise)
+    _, _, out = run_measured(gcmh_argv(big, "--dry-run"))
+    estimate = json.loads(out)
+    _, idle, _ = run_measured([sys.executable, "-c", IDLE_SCRIPT])
+    wall, rss, out = run_measured(gcmh_argv(big))
+    s = json.loads(out)
+    print(f"\n{args.big}^3 float32 ({os.path.getsize(big) / 1e9:.2f} GB): estimated peak "
+          f"{estimate['peak_bytes'] / 1e9:.2f} GB of {estimate['available_bytes'] / 1e9:.1f} GB available; "
+          f"measured peak RSS {rss / 1e9:.2f} GB, less an idle process's {idle / 1e9:.2f} GB: "
+          f"{(rss - idle) / 1e9:.2f} GB; {wall:.1f} s, {s['vertices']} vertices", flush=True)
 
 
 if __name__ == "__main__":
