@@ -8,11 +8,30 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._config import JIT
+from ._config import INLINE_JIT, JIT
 
 # ----------------------------------------------------------------------------
 # kernels: coreductions, and the flow along the matching
 # ----------------------------------------------------------------------------
+
+@njit(**INLINE_JIT)
+def _leave(x, dims, cb_off, cb, removed, left, queue, qtail, zstack, ztop):
+    """Cell x leaves: each coface left loses a face; one with a single face left joins the
+    queue, one with none the stack of its dimension.  Returns the queue's new end."""
+    removed[x] = True
+    for j in range(cb_off[x], cb_off[x + 1]):
+        y = cb[j]
+        if removed[y]:
+            continue
+        left[y] -= 1
+        if left[y] == 1:
+            queue[qtail] = y
+            qtail += 1
+        elif left[y] == 0:
+            zstack[ztop[dims[y]]] = y
+            ztop[dims[y]] += 1
+    return qtail
+
 
 @njit(**JIT)
 def _coreduce(dims, top, bd_off, bd, cb_off, cb):
@@ -46,6 +65,9 @@ def _coreduce(dims, top, bd_off, bd, cb_off, cb):
         if left[x] == 0:
             zstack[ztop[dims[x]]] = x
             ztop[dims[x]] += 1
+        elif left[x] == 1:
+            queue[qtail] = x
+            qtail += 1
     critical = np.empty(n, dtype=np.int64)
     n_crit = 0
     clock = 0
@@ -65,21 +87,10 @@ def _coreduce(dims, top, bd_off, bd, cb_off, cb):
             partner[a] = b
             partner[b] = a
             for x in (a, b):
-                removed[x] = True
                 time[x] = clock
                 clock += 1
                 done += 1
-                for j in range(cb_off[x], cb_off[x + 1]):
-                    y = cb[j]
-                    if removed[y]:
-                        continue
-                    left[y] -= 1
-                    if left[y] == 1:
-                        queue[qtail] = y
-                        qtail += 1
-                    elif left[y] == 0:
-                        zstack[ztop[dims[y]]] = y
-                        ztop[dims[y]] += 1
+                qtail = _leave(x, dims, cb_off, cb, removed, left, queue, qtail, zstack, ztop)
             qhead = min(qhead, qtail)
             if qhead == qtail:
                 qhead = 0
@@ -99,23 +110,12 @@ def _coreduce(dims, top, bd_off, bd, cb_off, cb):
                 break
         if c < 0:
             break  # cannot happen: a cell of lowest dimension left has no face left
-        removed[c] = True
         time[c] = clock
         clock += 1
         done += 1
         critical[n_crit] = c
         n_crit += 1
-        for j in range(cb_off[c], cb_off[c + 1]):
-            y = cb[j]
-            if removed[y]:
-                continue
-            left[y] -= 1
-            if left[y] == 1:
-                queue[qtail] = y
-                qtail += 1
-            elif left[y] == 0:
-                zstack[ztop[dims[y]]] = y
-                ztop[dims[y]] += 1
+        qtail = _leave(c, dims, cb_off, cb, removed, left, queue, qtail, zstack, ztop)
     return partner, time, critical[:n_crit]
 
 
