@@ -158,6 +158,16 @@ def _heap_pop(heap, size):
     return x, size
 
 
+@njit(**JIT)
+def _room(arr, used, more):
+    """`arr` with room for `more` entries after its first `used` (doubled when short)."""
+    if used + more <= arr.size:
+        return arr
+    grown = np.empty(max(2 * arr.size, used + more), dtype=arr.dtype)
+    grown[:used] = arr[:used]
+    return grown
+
+
 _LIMIT = 1 << 60  # coefficients past this would overflow int64 in the next step
 
 
@@ -253,14 +263,8 @@ def _flow(chain_off, chain_cells, chain_coefs, dims, partner, time, bd_off, bd, 
             if bx[a] != 0 and partner[a] < 0:
                 cnt += 1
         start = out_off[k]
-        if start + cnt > out_cells.size:
-            size = max(2 * out_cells.size, start + cnt)
-            grown = np.empty(size, dtype=np.int64)
-            grown[:start] = out_cells[:start]
-            out_cells = grown
-            grown = np.empty(size, dtype=np.int64)
-            grown[:start] = out_coefs[:start]
-            out_coefs = grown
+        out_cells = _room(out_cells, start, cnt)
+        out_coefs = _room(out_coefs, start, cnt)
         w = start
         for i in range(nb):
             a = touched_b[i]
@@ -274,14 +278,8 @@ def _flow(chain_off, chain_cells, chain_coefs, dims, partner, time, bd_off, bd, 
         start = lift_off[k]
         w = start
         if want_lift:
-            if start + nx > lift_cells.size:
-                size = max(2 * lift_cells.size, start + nx)
-                grown = np.empty(size, dtype=np.int64)
-                grown[:start] = lift_cells[:start]
-                lift_cells = grown
-                grown = np.empty(size, dtype=np.int64)
-                grown[:start] = lift_coefs[:start]
-                lift_coefs = grown
+            lift_cells = _room(lift_cells, start, nx)
+            lift_coefs = _room(lift_coefs, start, nx)
         for i in range(nx):
             c = touched_x[i]
             if want_lift and xx[c] != 0:
