@@ -42,8 +42,8 @@ from .kernels.cms import simplices_chunk
 from .kernels.gcmh import cubes_chunk
 from .kernels.tables import cube_tables
 
-__all__ = ["REFINED_BELOW", "cut_key", "cut_key_parts", "cut_key_room", "refine_cube", "refined_key",
-           "refined_key_simplex", "replace_refined_cells", "split_joined_pieces"]
+__all__ = ["REFINED_BELOW", "collapse_lens_cells", "cone_lens_balls", "cut_key", "cut_key_parts", "cut_key_room",
+           "refine_cube", "refined_key", "refined_key_simplex", "replace_refined_cells", "split_joined_pieces"]
 
 # a cube face's key from its anchor's global vertex, C(n, dim) and the rank of its free axes: the kernels' own
 # formula, called in Python (n - k = 2 splits are rare: no compiled signature for them)
@@ -529,10 +529,11 @@ def _union(parent, x, y):
 
 def replace_refined_cells(e, c, inc):
     """The assembly's records with every cell a cube refined (rows (-r, K, S) of inc) replaced:
-    K's own rows go, and every incidence (r + 1, X, K) becomes (r + 1, X, S) for each S."""
+    K's own rows go, and every incidence (r + 1, X, K) becomes (r + 1, X, S) for each S.
+    Then the lens cells are collapsed (`collapse_lens_cells`)."""
     marked = inc[:, 0] < 0
     if not marked.any():
-        return e, c, inc
+        return collapse_lens_cells(e, c, inc)
     rep = np.unique(inc[marked], axis=0)
     inc = inc[~marked]
     for r in np.unique(-rep[:, 0]).tolist():
@@ -555,7 +556,151 @@ def replace_refined_cells(e, c, inc):
             starts = np.repeat(lo - np.concatenate([[0], np.cumsum(count)[:-1]]), count)
             expanded[:, 2] = new[starts + np.arange(len(expanded))]
             inc = np.concatenate([inc[~hit], expanded])
+    return collapse_lens_cells(e, c, inc)
+
+
+def _merged(rep: dict, y: int) -> int:
+    while y in rep:
+        y = rep[y]
+    return y
+
+
+def collapse_lens_cells(e, c, inc):
+    """Collapse every lens r-cell, r >= 3: the assembly's records (e, c, inc) without them.
+
+    A lens is an r-cell X with two faces A and B that have the same boundary: M_A's piece in a
+    cube's (r+k)-face meets only two of its (r+k-1)-faces, near the face they share (a random
+    system in R^6, k = 3, div 4: a 3-cell of two 2-cells with the same edges, and those two as
+    "duplicate" cells).  It is collapsed onto A: X goes, B becomes A in every r-cell that had it,
+    and the (r+1)-cells that had X lose it.  One r-cell and one (r-1)-cell fewer: chi is
+    unchanged, and every boundary that was a sphere stays one.  Dimensions go up, since an
+    (r+1)-cell that loses X may become a lens.  Lens 2-cells are collapsed after the assembly
+    (`_regular.collapse_lenses`), but a 3-cell with a lens 2-cell among three faces becomes a
+    lens there: so the same decisions are made here first on the records (smaller key kept,
+    lenses in key order, as ids follow keys) and the 3-cells are counted and compared as
+    they will be, again after each round (a merge can free a lens 2-cell that held another).
+    Left alone: a lens whose A and B are both faces of another r-cell (the merge would fold
+    it), or of no other (X is a whole ball on the box's boundary: `cone_lens_balls`).
+    Keys of what is kept are unchanged, so the result is as deterministic as the records.
+    """
+    top = int(c[:, 0].max()) if len(c) else 0
+    for r in range(3, top + 1):
+        while True:  # until no r-cell is a lens: each round removes some
+            edge_rep, lenses_2 = _lenses(e, inc, 2, {}, None) if r == 3 else ({}, None)
+            rep, removed = _lenses(e, inc, r, edge_rep, lenses_2)
+            if not removed:
+                break
+            gone = np.array(sorted(removed), np.int64)
+            dropped = np.array(sorted(rep), np.int64)
+            c = c[~(((c[:, 0] == r) & np.isin(c[:, 1], gone)) | ((c[:, 0] == r - 1) & np.isin(c[:, 1], dropped)))]
+            inc = inc[~(((inc[:, 0] == r) & np.isin(inc[:, 1], gone))
+                        | ((inc[:, 0] == r + 1) & np.isin(inc[:, 2], gone))
+                        | ((inc[:, 0] == r - 1) & np.isin(inc[:, 1], dropped)))]
+            moved = (inc[:, 0] == r) & np.isin(inc[:, 2], dropped)
+            if moved.any():
+                inc = inc.copy()
+                inc[moved, 2] = [_merged(rep, y) for y in inc[moved, 2].tolist()]
     return e, c, inc
+
+
+def cone_lens_balls(vertices: np.ndarray, edges: np.ndarray, cells: dict):
+    """Make every whole-ball lens 3-cell regular: a 3-cell X bounded by two 2-cells A and B with
+    the same edges and no other 3-cell (M_A's small piece cut off by the box near one of its
+    ridges, which `collapse_lens_cells` leaves).  B is replaced by the cone over its edges from a
+    new vertex at the mean of B's vertices: one triangle per edge, so X has at least four faces
+    and no two cells the same boundary.  +1 vertex, +m edges, +m - 1 2-cells: chi is unchanged.
+
+    vertices (V, n), edges (E, 2), cells {r: (offsets, faces)} as in CellComplex (after
+    `_regular`).  Returns (vertices, edges, cells, coned); new ids follow the old ones."""
+    if 3 not in cells:
+        return vertices, edges, cells, 0
+    off3, f3 = cells[3]
+    off2, f2 = cells[2]
+    sizes = np.diff(off3)
+    cofaces = np.bincount(f3, minlength=len(off2) - 1)
+    new_vertices, new_edges, new_cells = [], [], []
+    replaced: dict[int, list[int]] = {}  # B -> its triangles' ids
+    n_edges, n_cells = len(edges), len(off2) - 1
+    for x in np.flatnonzero(sizes == 2).tolist():
+        a, b = f3[off3[x] : off3[x] + 2].tolist()
+        ea, eb = f2[off2[a] : off2[a + 1]], f2[off2[b] : off2[b + 1]]
+        if cofaces[a] != 1 or cofaces[b] != 1 or set(ea.tolist()) != set(eb.tolist()) or b in replaced:
+            continue
+        ring = np.unique(edges[eb])
+        p = len(vertices) + len(new_vertices)
+        new_vertices.append(vertices[ring].mean(axis=0))
+        spoke = {}
+        for v in ring.tolist():
+            spoke[v] = n_edges + len(new_edges)
+            new_edges.append((p, v))
+        replaced[b] = []
+        for edge in eb.tolist():
+            u, v = edges[edge].tolist()
+            replaced[b].append(n_cells + len(new_cells))
+            new_cells.append((edge, spoke[u], spoke[v]))
+    if not replaced:
+        return vertices, edges, cells, 0
+    vertices = np.concatenate([vertices, np.array(new_vertices)])
+    edges = np.concatenate([edges, np.array(new_edges, np.int64)])
+    keep = np.ones(n_cells + len(new_cells), bool)
+    keep[list(replaced)] = False
+    rows2 = [f2[off2[i] : off2[i + 1]] for i in range(n_cells)] + [np.array(t, np.int64) for t in new_cells]
+    new_id = np.cumsum(keep) - 1
+    out = dict(cells)
+    out[2] = _csr([r for r, kept in zip(rows2, keep) if kept])
+    rows3 = []
+    for x in range(len(sizes)):
+        faces = []
+        for y in f3[off3[x] : off3[x + 1]].tolist():
+            faces.extend(replaced.get(y, [y]))
+        rows3.append(new_id[np.array(faces, np.int64)])
+    out[3] = _csr(rows3)
+    return vertices, edges, out, len(replaced)
+
+
+def _csr(rows: list) -> tuple[np.ndarray, np.ndarray]:
+    offsets = np.zeros(len(rows) + 1, np.int64)
+    np.cumsum([len(r) for r in rows], out=offsets[1:])
+    faces = np.concatenate(rows).astype(np.int64) if rows else np.zeros(0, np.int64)
+    return offsets, faces
+
+
+def _lenses(e, inc, r, edge_rep, lenses_2):
+    """`collapse_lens_cells`' decisions on the r-cells of the records: (rep, removed), rep maps each
+    merged (r-1)-cell key to the one it becomes (`_merged`), removed the lens keys.  edge_rep and
+    lenses_2: the r = 2 decisions, for r = 3 (the 3-cells as they will be after `_regular`)."""
+    pairs = np.unique(inc[inc[:, 0] == r][:, 1:], axis=0)  # (X, Y): r-cell X has face Y
+    if lenses_2 is not None and len(lenses_2):
+        pairs = pairs[~np.isin(pairs[:, 1], np.array(sorted(lenses_2), np.int64))]
+    cells, counts = np.unique(pairs[:, 0], return_counts=True)
+    lenses = cells[counts == 2]
+    rep: dict[int, int] = {}  # a merged face -> the face it became
+    removed: set[int] = set()
+    if len(lenses) == 0:
+        return rep, removed
+    two = pairs[np.isin(pairs[:, 0], lenses)].reshape(-1, 2, 2)[:, :, 1]  # A, B of each lens
+    wanted = np.unique(two)
+    cofaces: dict[int, set[int]] = {}
+    for x, y in pairs[np.isin(pairs[:, 1], wanted)].tolist():
+        cofaces.setdefault(y, set()).add(x)
+    boundary: dict[int, set[int]] = {}
+    below = e if r == 2 else inc[inc[:, 0] == r - 1][:, 1:]  # (face, one of its faces or ends)
+    for row in np.unique(below[np.isin(below[:, 0], wanted)], axis=0).tolist():
+        boundary.setdefault(row[0], set()).update(_merged(edge_rep, z) for z in row[1:])
+    for x, (a, b) in zip(lenses.tolist(), two.tolist()):
+        a, b = _merged(rep, a), _merged(rep, b)
+        if a != b and boundary.get(a, set()) != boundary.get(b, set()):
+            continue  # not a lens: two faces that do not close a sphere (left for the checks)
+        if a != b and (cofaces[a] & cofaces[b]) - {x} - removed:
+            continue
+        if a != b and cofaces[a] == {x} and cofaces[b] == {x}:
+            continue
+        removed.add(x)
+        if a != b:
+            keep, drop = min(a, b), max(a, b)
+            rep[drop] = keep
+            cofaces[keep] = (cofaces[keep] | cofaces.pop(drop)) - {x}
+    return rep, removed
 
 
 def cube_euler(tab, records, origin, strides, dims):
