@@ -2,12 +2,14 @@
 
 Slicing a result of dimension d >= 2 by ``u . x = c`` draws its section (:mod:`gcmh_core.section`: a complex
 of dimension d - 1, cut from the cells themselves) opaque, in its own colour, over the faint ghost of the
-whole result, with the slice's value and the section's chi and pieces written in the picture.  A curve,
-or a direction the engine refuses (across a glued seam), keeps the window of :mod:`gcmh_studio.slicing`.
+whole result, with the slice's value and the section's chi and pieces written in the picture: a surface's
+curves over its band of cells (the window of :mod:`gcmh_studio.slicing`), a higher result's section in
+place of its slab.  A curve, or a direction the engine refuses (across a glued seam), keeps the window.
 
 :class:`SectionLayer` owns the section's mesh and text on a scene; :class:`SectionScene` is the scene
-that uses it: :meth:`SectionScene.set_slice` draws the section where :meth:`Scene.set_slice` drew the
-slab, and the projection, the still picture's copy (:meth:`Scene.detached`) and a new result carry it.
+that uses it: :meth:`SectionScene.set_slice` draws the section (over a surface's band, or where
+:meth:`Scene.set_slice` drew a higher result's slab), and the projection, the still picture's copy
+(:meth:`Scene.detached`) and a new result carry it.
 A slider step re-sections (the cells the hyperplane meets only, :class:`gcmh_core.section.Sectioner`)
 and writes the new cells into the same mesh: no new actor.
 """
@@ -255,12 +257,20 @@ class SectionScene(Scene):
         self.sections.set_complex(cx if self.complex is not None else None)
 
     def set_slice(self, direction=None, c: float = 0.0, w: float = 0.0, render: bool = True) -> int:
-        """As :meth:`Scene.set_slice`; for a result of dimension >= 2 its section at ``c`` instead of the
-        slab of cells within ``w`` of it. Returns the number of cells drawn."""
+        """As :meth:`Scene.set_slice`, and the section at ``c`` of a result of dimension >= 2: a surface's
+        curves drawn over its band of cells within ``w`` (the band is the curves' neighbourhood on the
+        surface, one or two layers: it reads); a higher result's section instead of its slab (a pale pile of
+        cells). Returns the number of cells drawn (the band's, or the section's)."""
         geo, view = self.geometry, self.view
         if direction is None or geo is None or view is None or self.sections.cutter(direction) is None:
             self.sections.clear()
             return super().set_slice(direction, c, w, render)
+        if geo.dim == 2:
+            drawn = super().set_slice(direction, c, w, render=False)
+            self.sections.show(np.asarray(direction, dtype=float), float(c))
+            if render:
+                self.plotter.render()
+            return drawn
         u = np.asarray(direction, dtype=float)
         self.slice = (u, float(c), float(w))
         empty = Geometry.from_slice(_no_slab(geo.n), geo.dim, geo.n, geo.projector.center, geo.projector.radii())

@@ -114,8 +114,13 @@ def test_curves_and_seams_keep_the_window(qtbot):
         assert sc.set_slice(np.eye(5)[s], 3.0, 0.2) > 0 and not sc.sections.shown
         x = ex.variables.index("x")
         lo, hi = cx.vertices[:, x].min(), cx.vertices[:, x].max()
-        sc.set_slice(np.eye(5)[x], 0.5 * (lo + hi) + 0.01, 0.2)
+        band = sc.set_slice(np.eye(5)[x], 0.5 * (lo + hi) + 0.01, 0.2)
         assert sc.sections.shown and sc.sections.cells.complex.boundary_facets().size == 0
+        # a surface: its section's curves drawn over its band of cells (the window), both there
+        assert band == sc.mesh.n_cells > 0 and sc.sections.geometry.kind == "lines"
+        assert sc.sections.text().endswith("section: chi = 0, " + (
+            f"{sc.sections.cells.pieces} piece" + ("s" if sc.sections.cells.pieces != 1 else "")))
+        assert sc.plotter.renderer.HasViewProp(sc.sections.actor)
     finally:
         pl.close()
 
