@@ -134,18 +134,11 @@ class DataSource:
 
     def _ranges(self) -> list[LevelRange]:
         """Each component's finite data range (one pass over the data, slab by slab)."""
+        from gcmh_core.data_files import field_ranges
+
         out = []
         for f in self.plan.fields:
-            for c in range(f.components):
-                lo, hi = math.inf, -math.inf
-                step = max(1, (1 << 22) // max(1, math.prod(f.values.shape[1:])))
-                for i0 in range(0, f.values.shape[0], step):
-                    part = np.asarray(f.values[i0:i0 + step])
-                    part = part[..., c] if f.components > 1 else part
-                    finite = np.isfinite(part)
-                    if finite.any():
-                        lo = min(lo, float(part.min(where=finite, initial=np.inf)))
-                        hi = max(hi, float(part.max(where=finite, initial=-np.inf)))
+            for c, (lo, hi) in enumerate(field_ranges(f)):
                 name = f.source if f.components == 1 else f"{f.source} (component {c})"
                 if not math.isfinite(lo):
                     from gcmh_core import InputError

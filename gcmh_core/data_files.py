@@ -39,7 +39,7 @@ from ._memory import available_memory, format_bytes
 from .errors import InputError
 
 __all__ = ["DataField", "SampledData", "read_data", "read_fields", "load_components", "estimate_data",
-           "extract_data", "parse_levels", "DATA_SUFFIXES"]
+           "extract_data", "field_ranges", "parse_levels", "DATA_SUFFIXES"]
 
 NPY = (".npy",)
 NPZ = (".npz",)
@@ -742,6 +742,28 @@ def _estimate(plan: _Plan, method, scheduler, probe: bool | None = True):
     on_disk = plan.value_bytes > IN_MEMORY_SHARE * available_memory()
     held = (0 if on_disk else plan.value_bytes) + plan.read_bytes
     return replace(cost, grid_bytes=cost.grid_bytes + held, peak_bytes=cost.peak_bytes + held)
+
+
+def field_ranges(f: DataField) -> list[tuple[float, float]]:
+    """Each component's finite (min, max) over a field, slab by slab (a memory map is read once, its
+    pages released as it goes); (inf, -inf) for a component with no finite value."""
+    out = []
+    layer = math.prod(f.values.shape[1:])
+    step = max(1, _SLAB_SAMPLES // max(1, layer))
+    for c in range(f.components):
+        lo, hi = math.inf, -math.inf
+        for i0 in range(0, f.values.shape[0], step):
+            part = f.values[i0:i0 + step]
+            part = part[..., c] if f.components > 1 else part
+            a, b = float(part.min()), float(part.max())
+            if not (math.isfinite(a) and math.isfinite(b)):  # (NaN or inf: only floats have them)
+                finite = np.isfinite(part)
+                a = float(part.min(initial=np.inf, where=finite))
+                b = float(part.max(initial=-np.inf, where=finite))
+            lo, hi = min(lo, a), max(hi, b)
+        _drop_pages(f.values)
+        out.append((lo, hi))
+    return out
 
 
 def _component_name(fields, j) -> str:

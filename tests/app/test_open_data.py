@@ -133,3 +133,15 @@ def test_session_entry_and_a_moved_file(tmp_path, volume):
     (tmp_path / "e.npy").rename(tmp_path / "moved.npy")
     with pytest.raises(InputError, match="is not there any more .moved or deleted.: open it again"):
         DataSource.from_session(entry)
+
+
+def test_a_real_int16_scan_opens_at_its_middle_level(qtbot, window):
+    nib_testing = pytest.importorskip("nibabel.testing")
+    import os
+
+    path = os.path.join(nib_testing.data_path, "anatomical.nii")
+    assert open_and_wait(qtbot, window, [path]) == "full"   # (no level: the middle of the data's range)
+    r = window.data_source.ranges[0]
+    assert (r.lo, r.hi) == (-610.0, 30393.0)
+    assert window.data_source.levels == [pytest.approx((r.lo + r.hi) / 2)]
+    assert window.result_names == ["x [mm]", "y [mm]", "z [mm]"] and window.result.count(0) > 0
