@@ -382,9 +382,8 @@ class _PaletteMap:
         self.order = np.argsort(keys, kind="stable")
         self.keys = keys[self.order]
 
-    def frame(self, img):
-        from PIL import Image
-
+    def indices(self, img) -> np.ndarray:
+        """(h, w) uint8: each pixel's palette index (exact, or dithered as the class says)."""
         f = np.ascontiguousarray(np.asarray(img)[..., :3])
         h, w = f.shape[:2]
         shift = 8 - _LUT_BITS
@@ -395,18 +394,47 @@ class _PaletteMap:
         b = _bayer(8)
         t = np.stack([np.tile(m, (h // 8 + 1, w // 8 + 1))[:h, :w] for m in (b, b[::-1], b[:, ::-1])], -1)
         g = np.clip(f + t * self.amplitude[near][..., None], 0, 255).astype(np.int64) >> shift
-        idx = np.where(exact, self.order[pos], self.lut[g[..., 0], g[..., 1], g[..., 2]]).astype(np.uint8)
-        out = Image.fromarray(idx, mode="P")
+        return np.where(exact, self.order[pos], self.lut[g[..., 0], g[..., 1], g[..., 2]]).astype(np.uint8)
+
+    def frame(self, img):
+        from PIL import Image
+
+        out = Image.fromarray(self.indices(img), mode="P")
         out.putpalette(self.entries)
         return out
 
 
-def write_gif(path, images, fps: float = 20.0, progress=None, cancel=None) -> int:
-    """Write the images to a looping GIF with one adaptive palette (:func:`gif_palette`), ordered-dithered
-    where it lacks a colour (:class:`_PaletteMap`); returns the count.
+# The palette entry no pixel takes (a twin of white, the last entry): in every frame after the first it marks
+# the pixels that kept their colour, transparent over the frame before (GIF disposal 1, "leave in place")
+UNCHANGED = 255
 
-    The palette needs a look at the frames, so they are all held (a 60-frame 800x600 animation is 86 MB).
+
+def frame_differences(indices: list) -> list:
+    """The (h, w) uint8 index frames with each pixel equal to the one before it in the frame before set to
+    ``UNCHANGED`` (the first frame whole).  A still background then codes as one long run of one index (LZW
+    squeezes it to almost nothing) and the encoder crops each frame to what changed.
+
+    A frame that changes nothing keeps the top-left pixel's own index, or ``UNCHANGED`` when the frame
+    before kept it, so no two frames in a row are equal (PIL would merge them: one frame fewer than asked)."""
+    out = [indices[0]]
+    for prev, cur in zip(indices, indices[1:]):
+        d = np.where(cur == prev, np.uint8(UNCHANGED), cur)
+        if not np.any(d != UNCHANGED):
+            d[0, 0] = cur[0, 0] if out[-1][0, 0] == UNCHANGED else UNCHANGED
+        out.append(d)
+    return out
+
+
+def write_gif(path, images, fps: float = 20.0, progress=None, cancel=None, dither: float = DITHER) -> int:
+    """Write the images to a looping GIF with one adaptive palette (:func:`gif_palette`), ordered-dithered
+    where it lacks a colour (:class:`_PaletteMap`), each frame after the first only what changed
+    (:func:`frame_differences`); returns the count.
+
+    The palette needs a look at the frames, so they are all held (a 60-frame 1280x720 animation is 166 MB).
+    ``dither``: the dither's strength (:data:`DITHER`; 0: none).
     ``cancel()`` true: nothing is written, the frames made so far are counted."""
+    from PIL import Image
+
     frames: list[np.ndarray] = []
     for img in images:
         if cancel is not None and cancel():
@@ -416,25 +444,16 @@ def write_gif(path, images, fps: float = 20.0, progress=None, cancel=None) -> in
             progress(len(frames))
     if not frames:
         raise ValueError("no frames to write")
-    # the last entry repeats white while the frames are mapped (so no pixel takes it) ...
+    # the last entry repeats white, so no pixel maps to it (the first of equal entries wins): UNCHANGED
     pal = gif_palette(frames, RESERVED_COLOURS + background_colours(frames) + (RESERVED_COLOURS[0],))
-    mapper = _PaletteMap(pal)
-    pics = [mapper.frame(f) for f in frames]
-    dup = [k for k in range(1, len(pics)) if pics[k].tobytes() == pics[k - 1].tobytes()]
-    if dup:
-        # ... then becomes a twin of the corner pixel's colour: PIL merges a frame equal to the one
-        # before it (one frame fewer than asked), so a repeated frame's corner takes the twin index,
-        # the same colour under another index
-        entries = pal.getpalette()[:768]
-        c = pics[dup[0]].getpixel((0, 0))
-        entries[765:768] = entries[3 * c: 3 * c + 3]
-        for k in range(1, len(pics)):
-            pics[k].putpalette(entries)
-            if k in dup:
-                pics[k].putpixel((0, 0), 255 if pics[k - 1].getpixel((0, 0)) != 255 else c)
-        pics[0].putpalette(entries)
+    mapper = _PaletteMap(pal, dither)
+    pics = []
+    for d in frame_differences([mapper.indices(f) for f in frames]):
+        pic = Image.fromarray(d, mode="P")
+        pic.putpalette(mapper.entries)
+        pics.append(pic)
     pics[0].save(str(path), save_all=True, append_images=pics[1:], duration=int(round(1000.0 / fps)), loop=0,
-                 optimize=False, disposal=1)
+                 optimize=False, disposal=1, transparency=UNCHANGED)
     return len(pics)
 
 

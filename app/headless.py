@@ -29,7 +29,7 @@ class Options:
 
     example: str | None = None
     screenshot: str | None = None
-    size: tuple[int, int] = (1600, 1200)
+    size: tuple[int, int] | None = None   # None: SCREENSHOT_SIZE, or ANIMATION_SIZE for an animation
     div: object = None
     seed: int = 0
     method: str = "gcmh"
@@ -53,6 +53,20 @@ class Options:
     @classmethod
     def from_args(cls, args: argparse.Namespace) -> Options:
         return cls(**{f.name: getattr(args, f.name) for f in fields(cls) if hasattr(args, f.name)})
+
+
+SCREENSHOT_SIZE = (1600, 1200)
+# An animation's default: a slide's 16:9 at half HD (a projector doubles it cleanly).  60-frame GIFs at
+# 1600x1200 were 11.9 MB (complex cosine rotate:x-y) and 14.6 MB (Clifford torus tour); at 1280x720 with
+# frame differences they are 1.6 and 1.7 MB, but the bagel Klein bottle's rotate:x-s is 4.1 MB; here all
+# three are well under 4 MB (docs/animations.md).  MP4 is 5-10 times smaller than any GIF, WebP 3-4 times.
+ANIMATION_SIZE = (960, 540)
+
+
+def default_size(animate: bool) -> tuple[int, int]:
+    """The picture size when none is given: :data:`ANIMATION_SIZE` for an animation, else
+    :data:`SCREENSHOT_SIZE`."""
+    return ANIMATION_SIZE if animate else SCREENSHOT_SIZE
 
 
 def parse_size(text: str) -> tuple[int, int]:
@@ -274,6 +288,10 @@ def render(opts: Options) -> int:
     problem = check_outputs([opts.screenshot, opts.gif, opts.mp4])
     if problem is not None:
         return fail(problem)
+    if opts.size is None:
+        from dataclasses import replace
+
+        opts = replace(opts, size=default_size(bool(opts.animate)))
     prep = _prepare(opts)
     if isinstance(prep, int):
         return prep

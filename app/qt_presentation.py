@@ -190,10 +190,16 @@ class QtPresentation(QObject):
     def set_parameter(self, name: str, value: float, final: bool = True) -> None:
         """Parameter ``name`` to ``value`` through the formula panel's own input, as a hand on its slider:
         not ``final`` (held, or a sweep playing) a coarse step, ``final`` the full grid."""
+        from .qt_parameters import STEPS, step_value
+
         w = self.window
         params = w.formula_panel.parameters
         if name not in params.rows:
             return
+        spec = params.rows[name].state   # (a sweep's value on the slider's grid: "a = 0.99", not 0.998123)
+        lo, hi = float(spec["min"]), float(spec["max"])
+        if hi > lo and lo <= value <= hi:
+            value = step_value(lo, hi, int(round((value - lo) / (hi - lo) * STEPS)))
         params.set_value(name, value, commit=bool(final))   # (final: "committed", the full step)
         if not final:
             w.controller.parameter_step(True, moved=name)
@@ -452,6 +458,32 @@ class QtPresentation(QObject):
             size = int(round(entry[1] * FONT_SCALE))
             if prop.GetFontSize() != size:
                 prop.SetFontSize(size)
+        self._fit_texts()
+
+    def _fit_texts(self) -> None:
+        """The enlarged title and subtitle smaller again where they would leave the view (a long title ran
+        off its right edge and its top was cut)."""
+        pl = self.window.plotter
+        W, H = self._view_size()
+        boxes = {}
+        for name in TEXT_ACTORS:
+            actor = pl.actors.get(name)
+            if actor is None or not actor.GetInput():
+                continue
+            bb = [0.0] * 4
+            actor.GetBoundingBox(pl.renderer, bb)   # (x0, x1, y0, y1) in pixels
+            over = max(bb[1] / (0.98 * W), bb[3] / (0.97 * H))   # (the box is a few pixels short of the glyphs)
+            if over > 1.0:
+                prop = actor.GetTextProperty()
+                prop.SetFontSize(max(6, int(prop.GetFontSize() / over)))
+                actor.GetBoundingBox(pl.renderer, bb)
+            boxes[name] = (actor, bb)
+        if "gcmh-title" in boxes and "gcmh-subtitle" in boxes:   # the subtitle's top below the title
+            (_, t), (sub, b) = boxes["gcmh-title"], boxes["gcmh-subtitle"]
+            room = t[2] - b[2] - 2.0
+            if b[3] - b[2] > room > 0:
+                prop = sub.GetTextProperty()
+                prop.SetFontSize(max(6, int(prop.GetFontSize() * room / (b[3] - b[2]))))
 
     def _restore_fonts(self) -> None:
         for prop, base in self._base_fonts.values():

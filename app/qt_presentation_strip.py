@@ -215,4 +215,4 @@ class QtPresentationStrip(QFrame):
         self.show_turn()
 
     def set_playing(self, on: bool) -> None:
-        self.play_button.setText("\u23f8 Pause" if on else "\u25b6 Play")
+        self.play_button.setText("\u25a0 Pause" if on else "\u25b6 Play")

@@ -81,7 +81,7 @@ def test_export_writes_the_requested_frames(tmp_path, ext):
     seen = []
     assert write_animation(p, imgs, fps=10, progress=seen.append) == 9
     assert seen == list(range(1, 10))
-    frames = iio.imread(p, index=None) if ext == ".gif" else _ffmpeg_frames(p)
+    frames = iio.imread(p, index=None, mode="RGB") if ext == ".gif" else _ffmpeg_frames(p)
     assert len(frames) == 9
     assert frames.shape[1:3] == (48, 64)
 
@@ -118,7 +118,7 @@ def test_headless_animate_tour_writes_gif_and_mp4(tmp_path):
     assert r.returncode == 0, r.stderr
     import imageio.v3 as iio
 
-    g = iio.imread(gif, index=None)
+    g = iio.imread(gif, index=None, mode="RGB")   # (frames after the first: what changed, over it)
     assert g.shape[0] == 6 and g.shape[1:3] == (120, 160)
     assert len(_ffmpeg_frames(mp4)) == 6
     # the frames differ: the view moves
@@ -132,7 +132,7 @@ def test_headless_animate_slice_sweep(tmp_path):
     assert r.returncode == 0, r.stderr
     import imageio.v3 as iio
 
-    g = iio.imread(gif, index=None)
+    g = iio.imread(gif, index=None, mode="RGB")   # (frames after the first: what changed, over it)
     assert g.shape[0] == 4
     assert np.abs(g[0].astype(int) - g[2].astype(int)).mean() > 0.2
 
@@ -226,3 +226,35 @@ def test_gif_dithers_gradients_and_keeps_text_exact(tmp_path):
         assert np.abs(blurred(out) - blurred(src)).mean() < 0.8 * np.abs(blurred(nearest) - blurred(src)).mean()
         assert np.array_equal(out[10:20, 10:120], src[10:20, 10:120])
         assert np.array_equal(out[25:30, 10:90], src[25:30, 10:90])
+
+
+def test_gif_frames_after_the_first_hold_only_what_changed(tmp_path):
+    """Each frame after the first codes only the pixels that changed (the rest transparent over the frame
+    before): squares moving over a still, dithered gradient decode frame by frame as drawn, repeated
+    frames are kept (not merged), and ten frames take less room than two whole ones (each frame after the
+    first carries its own copy of the palette, 768 bytes)."""
+    from PIL import Image, ImageSequence
+
+    y, x = np.mgrid[0:240, 0:320] / np.array([239.0, 319.0])[:, None, None]
+    still = np.stack([30 + 60 * x, 40 + 50 * y, 60 + 40 * x * y], -1).round().astype(np.uint8)
+    frames = []
+    for k in range(10):
+        f = still.copy()
+        c = 10 + 8 * min(k, 6)                      # two squares in opposite corners move 8 px a frame, then
+        f[10:40, c:c + 30] = (220, 170, 60)         # rest for three frames (what changed spans the picture)
+        f[200:230, 280 - c:310 - c] = (220, 170, 60)
+        frames.append(f)
+    path = tmp_path / "d.gif"
+    assert write_animation(path, frames) == 10
+    got = [np.asarray(f.convert("RGB")).astype(int) for f in ImageSequence.Iterator(Image.open(path))]
+    assert len(got) == 10
+    for k in range(1, 10):   # the still part decodes the same in every frame (the dither does not crawl)
+        same = np.all(frames[k] == frames[k - 1], axis=-1)
+        assert np.array_equal(got[k][same], got[k - 1][same])
+    for src, out in zip(frames, got):   # each frame as drawn: the square where it is, the gradient dithered
+        assert np.abs(out - src).mean() < 4.0
+        sq = np.all(src == (220, 170, 60), axis=-1)
+        assert np.abs(out[sq] - src[sq]).max() < 24 and np.abs(out[~sq] - src[~sq]).max() < 24
+    one = tmp_path / "one.gif"
+    write_animation(one, frames[:1])
+    assert path.stat().st_size < 2.0 * one.stat().st_size

@@ -65,7 +65,12 @@ def test_f11_presents_the_view_alone_with_the_typeset_formula(qtbot, presenting)
     w, h = p.formula_actor().image_size
     assert w > 100 and h > 40
     with_card = window.screenshot_array()
-    assert title.GetFontSize() > size_before        # larger type for the room
+    # larger type for the room, as large as fits in the view (a long title on a small screen fills its width)
+    bb = [0.0] * 4
+    window.plotter.actors["gcmh-title"].GetBoundingBox(window.plotter.renderer, bb)
+    view_w, view_h = window.plotter.ren_win.GetSize()
+    assert title.GetFontSize() > size_before or bb[1] - bb[0] > 0.8 * view_w
+    assert bb[1] <= view_w and bb[3] <= view_h                     # and never off the view
     x, y = (int(v) for v in p.formula_actor().GetPosition())     # from the bottom left
     # the screenshot of the view carries the card: in its bottom right corner, and nowhere else
     p.set_formula_shown(False)
