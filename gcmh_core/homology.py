@@ -30,7 +30,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._homology_kernels import _LIMIT, _coreduce, _flow, _orient_faces
 from .analysis import orient_2cells
 from .complex import CellComplex
 from .errors import InputError
@@ -168,6 +167,8 @@ def _incidences(cx):
 def _orient_cells(cx, r, below):
     """Signs of the r-cells' face entries such that each cell's faces cancel on every
     (r-2)-cell they share: [c:f1][f1:g] + [c:f2][f2:g] = 0 (kernel: _orient_faces)."""
+    from ._homology_kernels import _orient_faces  # (numba loads on first use, not with the package)
+
     off, fac = cx.cells[r]
     sub_owner, sub_face = _faces(cx, r - 1)
     n_below = cx.count(r - 1)
@@ -395,6 +396,8 @@ def _morse_complex(cx):
     critical q-cells (global ids), D[q] (q = 1..dim) the Morse boundary as a list of
     rows (len(crit[q-1]) x len(crit[q]), Python ints).
     """
+    from ._homology_kernels import _coreduce, _flow
+
     signs = _incidences(cx)
     base, dims, bd_off, bd, bdv, cb_off, cb = _chain_complex(cx, signs)
     partner, time, critical = _coreduce(dims, cx.dim, bd_off, bd, cb_off, cb)
@@ -479,6 +482,8 @@ def _generators(cx, q, top, size, r_q, D, Rs, Rinvs, crit, chain, partner, time)
                 chains_cells.append(c)
                 chains_coefs.append(row[i])
         chains_off.append(len(chains_cells))
+    from ._homology_kernels import _LIMIT, _flow
+
     if any(abs(v) > _LIMIT for v in chains_coefs):
         raise InputError("homology: a generator's coefficient passed 2^60 (int64 would overflow)")
     out = _flow(np.array(chains_off, dtype=np.int64), np.array(chains_cells, dtype=np.int64),

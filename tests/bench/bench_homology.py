@@ -74,8 +74,9 @@ def main(argv=None) -> None:
     args = ap.parse_args(argv)
 
     from gcmh_core import extract
+    from gcmh_core._homology_kernels import _coreduce
     from gcmh_core.examples import load_example
-    from gcmh_core.homology import _chain_complex, _coreduce, _incidences, homology
+    from gcmh_core.homology import _chain_complex, _incidences, homology
 
     ex = load_example(args.example)
 
