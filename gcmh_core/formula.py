@@ -29,6 +29,7 @@ import keyword
 import math
 import operator
 import re
+import reprlib
 import unicodedata
 import warnings
 from collections.abc import Callable, Sequence
@@ -190,7 +191,10 @@ def _check_variables(variables) -> tuple[str, ...]:
     """Validate variable names: identifiers, unique, not function/constant names."""
     if isinstance(variables, str):  # "x, y, z" from a text field
         variables = [v for v in re.split(r"[\s,]+", variables) if v]
-    names = tuple(variables)
+    try:
+        names = tuple(variables)
+    except TypeError:   # (a number where an example file or a session should list names)
+        raise FormulaError(f"variables must be a list of names, got {reprlib.repr(variables)}") from None
     if not names:
         raise FormulaError("no variables given")
     if len(names) > MAX_VARIABLES:
