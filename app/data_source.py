@@ -219,6 +219,20 @@ class DataSource:
         return cls(entry["files"], entry.get("levels"), entry.get("bounds"), entry.get("components"))
 
 
+def session_data(path) -> dict | None:
+    """The data entry of a session file (None for a session of formulas, or a file that is not JSON: the
+    session reader then says what is wrong with it)."""
+    import json
+
+    try:
+        with open(path, "rb") as f:
+            d = json.loads(f.read(1 << 20).decode("utf-8"))
+    except (OSError, ValueError):
+        return None
+    entry = d.get(SESSION_KEY) if isinstance(d, dict) else None
+    return entry if isinstance(entry, dict) else None
+
+
 def _copy_field(f):
     from dataclasses import replace
 

@@ -271,8 +271,17 @@ class QtMainWindow(QMainWindow):
 
     # ------------------------------------------------------------------ sessions and exports
     def save_session(self, path) -> None:
-        path = studio_io.write_session(path, self.controller.session())
+        session = self.controller.session()
+        if self.showing_data():   # (the data files by path and their levels: opened again from them)
+            session[data_source.SESSION_KEY] = self.data_source.session_entry()
+        path = studio_io.write_session(path, session)
         self.set_status(f"Session saved to {path}")
+
+    def showing_data(self) -> bool:
+        """Is the result on screen the data source's (not a formula's run or a saved result)?"""
+        meta = getattr(self.result, "meta", None) or {}
+        data = meta.get("data") if isinstance(meta.get("data"), dict) else {}
+        return self.data_source is not None and data.get("files") == self.data_source.specs
 
     def export_complex(self, path) -> None:
         path = studio_io.export_complex(self.result, path)
@@ -329,7 +338,11 @@ class QtMainWindow(QMainWindow):
         """A session (.json), a saved result (.npz of a cell complex) or a data file, by what it is."""
         path = str(path)
         if path.lower().endswith(".json"):
-            return self.controller.open_session(path)
+            entry = data_source.session_data(path)
+            if entry is None:
+                return self.controller.open_session(path)
+            source = self.guard("Opening the session", data_source.DataSource.from_session, entry)
+            return source is not None and self.open_data(source.specs, source.levels)
         if data_source.is_result_file(path):
             return self.open_result(path)
         return self.open_data([path])

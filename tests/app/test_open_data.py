@@ -145,3 +145,14 @@ def test_a_real_int16_scan_opens_at_its_middle_level(qtbot, window):
     assert (r.lo, r.hi) == (-610.0, 30393.0)
     assert window.data_source.levels == [pytest.approx((r.lo + r.hi) / 2)]
     assert window.result_names == ["x [mm]", "y [mm]", "z [mm]"] and window.result.count(0) > 0
+
+
+def test_a_session_remembers_the_data_and_says_when_a_file_moved(qtbot, window, tmp_path, volume):
+    open_and_wait(qtbot, window, [volume], levels=0.8)
+    window.save_session(tmp_path / "s.json")
+    with qtbot.waitSignal(window.data_panel.shown, timeout=120_000):
+        assert window.open_file(str(tmp_path / "s.json"))
+    assert window.data_source.specs == [volume] and window.data_source.levels == [0.8]
+    (tmp_path / "e.npy").rename(tmp_path / "elsewhere.npy")
+    assert not window.open_file(str(tmp_path / "s.json"))
+    assert "is not there any more (moved or deleted)" in window.last_status
