@@ -194,29 +194,34 @@ def graph_certified_chunk(values, cube_row, corner_row, k, subsets):
     mid = np.empty((k, k), np.float64)
     rad = np.empty((k, k), np.float64)
     aug = np.empty((k, 2 * k), np.float64)
+    here = np.empty((1 << n, k), np.float64)
+    n_subsets = subsets.shape[0]
+    last = 0
     for i in range(m):
         o = cube_row[i]
         finite = True
-        for j in range(k):
-            for a in range(n):
-                lo[j, a] = np.inf
-                hi[j, a] = -np.inf
-        for a in range(n):
-            bit = 1 << a
-            for c in range(1 << n):
-                if c & bit:
-                    continue
-                for j in range(k):
-                    d = values[o + corner_row[c | bit], j] - values[o + corner_row[c], j]
-                    if not np.isfinite(d):
-                        finite = False
-                    if d < lo[j, a]:
-                        lo[j, a] = d
-                    if d > hi[j, a]:
-                        hi[j, a] = d
+        for c in range(1 << n):  # (the corners' values once, then the differences from them)
+            for j in range(k):
+                x = values[o + corner_row[c], j]
+                finite = finite and np.isfinite(x)
+                here[c, j] = x
         if not finite:
             continue
-        for q in range(subsets.shape[0]):
+        for a in range(n):
+            bit = 1 << a
+            for j in range(k):
+                low = np.inf
+                high = -np.inf
+                for c in range(1 << n):
+                    if c & bit:
+                        continue
+                    d = here[c | bit, j] - here[c, j]
+                    low = min(low, d)  # (branch-free: the differences' signs are random on noise)
+                    high = max(high, d)
+                lo[j, a] = low
+                hi[j, a] = high
+        for step in range(n_subsets):
+            q = (last + step) % n_subsets  # (neighbouring cubes: the axes that served the last one first)
             for r in range(k):
                 for s in range(k):
                     a = subsets[q, s]
@@ -266,5 +271,6 @@ def graph_certified_chunk(values, cube_row, corner_row, k, subsets):
                 worst = max(worst, row)
             if worst < 1.0:
                 out[i] = True
+                last = q
                 break
     return out
