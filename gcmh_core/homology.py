@@ -151,7 +151,7 @@ def _faces(cx, r):
 
 
 def _incidences(cx):
-    signs = [np.zeros(0, dtype=np.int64)]
+    signs: list[np.ndarray] = [np.zeros(0, dtype=np.int64)]
     if cx.dim >= 1:
         e = np.asarray(cx.edges)
         s = np.tile(np.array([-1, 1], dtype=np.int64), (e.shape[0], 1))
@@ -233,12 +233,12 @@ def _smith(A, m, n, transforms):
     """Diagonalise the m x n integer matrix A (list of rows, changed in place):
     L A R = diag(s_1 | s_2 | ...), s_i > 0.
 
-    Returns (s, R, Rinv, Linv); the matrices are None unless `transforms`.
+    Returns (s, R, Rinv, Linv); the matrices are empty unless `transforms`.
     """
-    R = _identity(n) if transforms else None
-    Rinv = _identity(n) if transforms else None
-    Linv = _identity(m) if transforms else None
-    s = []
+    R = _identity(n) if transforms else []
+    Rinv = _identity(n) if transforms else []
+    Linv = _identity(m) if transforms else []
+    s: list[int] = []
     t = 0
 
     def swap_rows(i, j):
@@ -412,7 +412,7 @@ def _morse_complex(cx):
     pos = np.full(dims.size, -1, dtype=np.int64)
     for q in range(cx.dim + 1):
         pos[crit[q]] = np.arange(crit[q].size)
-    D = [None]
+    D: list = [None]
     for q in range(1, cx.dim + 1):
         rows = [[0] * int(crit[q].size) for _ in range(int(crit[q - 1].size))]
         first = int(np.searchsorted(critical, base[q]))
@@ -431,7 +431,9 @@ def _homology(cx, want_generators):
     top = cx.dim
     size = [int(c.size) for c in crit]
     # rank and invariant factors of each Morse boundary D_q, with R_q and R_q^-1
-    factors, Rs, Rinvs = [[]], [_identity(size[0]) if want_generators else None], [None]
+    factors: list[list[int]] = [[]]
+    Rs: list = [_identity(size[0]) if want_generators else None]
+    Rinvs: list = [None]
     for q in range(1, top + 1):
         s, R, Rinv, _ = _smith([row[:] for row in D[q]], size[q - 1], size[q], want_generators)
         factors.append(s)
@@ -439,7 +441,7 @@ def _homology(cx, want_generators):
         Rinvs.append(Rinv)
     factors.append([])
     betti, betti2, torsion = [], [], []
-    gens = [] if want_generators else None
+    gens: list = []
     for q in range(top + 1):
         r_q, r_next = len(factors[q]), len(factors[q + 1])
         betti.append(size[q] - r_q - r_next)
@@ -453,7 +455,7 @@ def _homology(cx, want_generators):
         o = orient_2cells(cx)
         if not o.consistent:
             orientation = np.array(o.conflict_edges, dtype=np.int64)
-    return Homology(betti=betti, betti_mod2=betti2, torsion=torsion, generators=gens,
+    return Homology(betti=betti, betti_mod2=betti2, torsion=torsion, generators=gens if want_generators else None,
                     orientation_cycle=orientation, critical=size)
 
 
