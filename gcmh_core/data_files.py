@@ -166,17 +166,17 @@ def read_fields(spec: str, components: bool | None = None) -> list[DataField]:
     if not os.access(path, os.R_OK):
         raise InputError(f"{path}: cannot be read (permission denied)")
     suffix = _suffix(path)
+    one = {**dict.fromkeys(NPY, "a .npy file holds one array"),
+           **dict.fromkeys(NIFTI, "a NIfTI file holds one image")}.get(suffix)
+    if members and one:
+        raise InputError(f"{spec}: {one}; drop ':{','.join(members)}'")
     if suffix in NPY:
-        if members:
-            raise InputError(f"{spec}: a .npy file holds one array; drop ':{','.join(members)}'")
         out = [_read_npy(spec, path)]
     elif suffix in NPZ:
         out = _read_npz(spec, path, members)
     elif suffix in VTK_IMAGE:
         out = _read_vtk(spec, path, members)
     elif suffix in NIFTI:
-        if members:
-            raise InputError(f"{spec}: a NIfTI file holds one image; drop ':{','.join(members)}'")
         out = [_read_nifti(spec, path)]
     elif suffix in HDF5:
         out = _read_hdf5(spec, path, members)
