@@ -3,9 +3,9 @@ for curves).
 
 The sliders set c and w as fractions of the range the 3D view reports (its readout is shown under them). The
 box writes the model's :class:`gcmh_studio.model.SliceState` and shows it (:meth:`show_slice`, on the model's
-``slice`` event).  A result of dimension >= 2 is drawn as its exact section at c (:mod:`gcmh_studio.sections`),
-so the width is hidden and :class:`gcmh_studio.qt_section_strip.QtSectionStrip` plots the section's chi and
-pieces against c under the centre's slider.
+``slice`` event).  A result of dimension >= 2 is drawn with its exact section at c (:mod:`gcmh_studio.sections`)
+and :class:`gcmh_studio.qt_section_strip.QtSectionStrip` plots the section's chi and pieces against c under
+the slider; the width is hidden for dimension >= 3 (the section stands for the slab; a surface keeps its band).
 """
 
 from __future__ import annotations
@@ -46,12 +46,12 @@ class QtSliceBox(QGroupBox):
         self.show_kind()
 
     def show_kind(self) -> None:
-        """A section (dimension >= 2: no width; the strip) or a window (a curve)."""
-        cx = self.studio.result
-        section = cx is None or getattr(cx, "dim", 0) >= 2
-        self.slice_w.setVisible(not section)
-        self.slice_w_label.setVisible(not section)
-        self.slice_c_label.setText("value" if section else "centre")
+        """A section at a value (dimension >= 2, with the strip; a surface's band of cells keeps its width)
+        or a window (a curve)."""
+        dim = getattr(self.studio.result, "dim", 3)
+        self.slice_w.setVisible(dim <= 2)
+        self.slice_w_label.setVisible(dim <= 2)
+        self.slice_c_label.setText("value" if dim >= 2 else "centre")
 
     def set_names(self, names) -> None:
         """The directions to slice along: the variables, then the hidden directions."""

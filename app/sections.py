@@ -50,6 +50,18 @@ def section_text(label: str, c: float, cells: SectionCells | None, scale: float 
     return f"{head}   section: chi = {cells.euler_characteristic}, {pieces} piece{'s' if pieces != 1 else ''}"
 
 
+def _fitting_font(plotter, text: str) -> int:
+    """The words' font size: large for a projector, small enough that ``text`` fits between its place and
+    the colour bar (a 420-pixel frame of an animation cut it)."""
+    try:
+        width = int(plotter.window_size[0])
+    except Exception:  # noqa: BLE001 - a plotter without a window: the size it is tuned for
+        width = 1600
+    room = (0.88 - TEXT_POSITION[0]) * width          # pixels up to the colour bar (at 0.9)
+    # (pyvista's add_text sizes are half VTK's: a character is about 1.1 of them wide)
+    return max(4, min(font_size(plotter, 21), int(room / (1.1 * max(len(text), 1)))))
+
+
 class SectionLayer:
     """The section of ``scene``'s result, drawn on its plotter.
 
@@ -172,12 +184,14 @@ class SectionLayer:
         pl = self.scene.plotter
         lo, hi = self._cutter.range() if self._cutter is not None else (0.0, 1.0)
         text = section_text(self.label, self.value if self.value is not None else 0.0, self.cells, hi - lo)
+        size = _fitting_font(pl, text)
         if self.text_actor is None:
             # (named apart from "gcmh-section": adding an actor by name removes those named "<name>-...")
             self.text_actor = pl.add_text(text, position=TEXT_POSITION, viewport=True,
-                                          font_size=font_size(pl, 21), color=TEXT_COLOR, name="gcmh-text-section")
+                                          font_size=size, color=TEXT_COLOR, name="gcmh-text-section")
         else:
             self.text_actor.SetInput(text)
+            self.text_actor.GetTextProperty().SetFontSize(2 * size)   # (as add_text sets it)
 
     def text(self) -> str:
         """The words written in the picture ("" when no section is shown)."""

@@ -236,7 +236,11 @@ def test_the_strip_hides_for_curves_and_the_box_shows_the_width_for_them(qtbot, 
     box.show()
     studio.set_slice(on=True, index=3, hidden=False, c=0.5)
     assert box.strip.isVisible() and not box.slice_w.isVisible() and box.slice_c_label.text() == "value"
-    circle = extract(["x**2 + y**2 - 1", "z"], (-1.3, 1.3), 10, variables=list("xyz"))
+    sphere = extract(["x**2 + y**2 + z**2 - 1"], (-1.3, 1.3), 8, variables=list("xyz"))
     studio.set_view_variables(list("xyz"), False)
+    studio.set_result(sphere, list("xyz"), "sphere")                  # a surface: its band keeps a width
+    studio.set_slice(on=True, index=2, hidden=False, c=0.5)           # (new variables turned the slice off)
+    assert box.strip.isVisible() and box.slice_w.isVisible() and box.slice_c_label.text() == "value"
+    circle = extract(["x**2 + y**2 - 1", "z"], (-1.3, 1.3), 10, variables=list("xyz"))
     studio.set_result(circle, list("xyz"), "circle")
     assert not box.strip.isVisible() and box.slice_w.isVisible() and box.slice_c_label.text() == "centre"
