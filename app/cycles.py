@@ -160,14 +160,15 @@ def w1_lines(cx, loop_edges, orientation=None, shrink: float = 0.45) -> tuple[tu
     polys = np.unique(owner[np.isin(fac, loop_edges)])
     X = np.asarray(cx.vertices, dtype=np.float64)
     offs, verts = np.asarray(o.offsets), np.asarray(o.vertices)
-    pts, segs = [], []
+    pts: list[np.ndarray] = []
+    segs: list[tuple[int, int]] = []
     for p in polys.tolist():
         ring = verts[offs[p]:offs[p + 1]]
         if ring.size < 3:
             continue
         c = X[ring].mean(axis=0)
         R = c + shrink * (X[ring] - c)
-        base = sum(len(a) for a in pts)
+        base = int(sum(len(a) for a in pts))
         m = ring.size
         pts.append(R)
         segs += [(base + i, base + (i + 1) % m) for i in range(m)]
