@@ -571,5 +571,8 @@ def summary(cx: CellComplex) -> tuple[dict, str]:
 
 
 def summary_line(d: dict) -> str:
-    """The summary line of a ``"homology"`` object (:meth:`Homology.as_dict`)."""
+    """The summary line of a ``"homology"`` object (:meth:`Homology.as_dict`, or ``{"error": why}``
+    for a complex homology refuses)."""
+    if "error" in d:
+        return f"homology: not computed: {d['error']}"
     return f"homology: {_describe(d['betti'], d['torsion'])} (mod 2 Betti {', '.join(str(b) for b in d['betti_mod2'])})"

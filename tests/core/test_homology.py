@@ -15,7 +15,7 @@ from naive_homology import (
 
 from gcmh_core import CellComplex, InputError, extract
 from gcmh_core.examples import load_example
-from gcmh_core.homology import Homology, homology, incidences, summary
+from gcmh_core.homology import Homology, homology, incidences, summary, summary_line
 
 hypothesis = pytest.importorskip("hypothesis")
 from hypothesis import HealthCheck, given, settings  # noqa: E402
@@ -100,6 +100,8 @@ def test_klein_bottle_as_the_issue_says(results):
     assert h.describe() == "H0 = Z, H1 = Z + Z/2, H2 = 0"
     d, line = summary(results["klein-bottle-closed"])
     assert d == h.as_dict() and "H1 = Z + Z/2" in line and "mod 2 Betti 1, 2, 1" in line
+    assert summary_line(d) == line
+    assert summary_line({"error": "2-cell 0 is not a ball"}) == "homology: not computed: 2-cell 0 is not a ball"
 
 
 @pytest.mark.parametrize("name", ["klein-bottle-closed", "moebius-band"])
