@@ -156,3 +156,23 @@ def test_a_session_remembers_the_data_and_says_when_a_file_moved(qtbot, window, 
     (tmp_path / "e.npy").rename(tmp_path / "elsewhere.npy")
     assert not window.open_file(str(tmp_path / "s.json"))
     assert "is not there any more (moved or deleted)" in window.last_status
+
+
+def test_a_4d_series_is_a_3_manifold_sliced_in_time(qtbot, window, tmp_path):
+    nib = pytest.importorskip("nibabel")
+    # a sphere growing over 4 frames of 2 s: its isosurfaces in space-time are a 3-manifold in R^4
+    t = np.linspace(-1.2, 1.2, 17)
+    X = np.meshgrid(t, t, t, indexing="ij")
+    r2 = sum(x**2 for x in X)
+    series = np.stack([r2 / (0.5 + 0.15 * f) ** 2 for f in range(4)], axis=-1).astype(np.float32)
+    img = nib.Nifti1Image(series, np.diag([0.15, 0.15, 0.15, 1.0]))
+    img.header.set_xyzt_units("mm", "sec")
+    img.header["pixdim"][4] = 2.0
+    nib.save(img, tmp_path / "series.nii.gz")
+    open_and_wait(qtbot, window, [str(tmp_path / "series.nii.gz")], levels=1.0)
+    cx = window.result
+    assert (cx.n, cx.k, cx.dim) == (4, 1, 3)
+    assert window.result_names == ["x [mm]", "y [mm]", "z [mm]", "t [sec]"]
+    assert window.data_source.plan.bounds[3].tolist() == [0.0, 6.0]
+    window.model.set_slice(on=True, index=3, c=0.5, w=0.05)   # (a section in time: a surface)
+    assert window.model.slice_readout.startswith("t [sec] in [2.7, 3.3] of [0, 6]")
