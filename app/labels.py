@@ -170,11 +170,30 @@ def font_size(plotter, size: float) -> int:
 MIN_TEXT_PX = 14       # no word over the picture smaller (a projector at 1280x720 shows 7 px as a smudge)
 MIN_TITLE_PX = 20
 AXES_LABEL_PX = 24     # the orientation widget's axis names, at 1600x1200
+CHAR_EM = 0.6          # a character's width in VTK's sans font, in font sizes (a generous average)
+# pyvista's add_text draws a text actor at twice the font size it is given: these sizes are pixels, and
+# :func:`text_size` halves them for it
 
 
-def readable(plotter, size: float, least: int = MIN_TEXT_PX) -> int:
-    """:func:`font_size`, but never under ``least`` pixels."""
-    return max(int(least), font_size(plotter, size))
+def readable(plotter, size: float, least: int = MIN_TEXT_PX, text: str | None = None, left: float = 0.02) -> int:
+    """A text's size in pixels: :func:`font_size`, but never under ``least``; with ``text``, no larger than lets
+    its longest line fit from ``left`` (a fraction of the width) to the picture's right edge (a narrow
+    picture: smaller, never under 6)."""
+    px = max(int(least), font_size(plotter, size))
+    if text:
+        try:
+            width = int(plotter.window_size[0])
+        except Exception:  # noqa: BLE001
+            return px
+        longest = max(len(line) for line in str(text).splitlines()) if str(text).strip() else 0
+        if longest:
+            px = min(px, int((1.0 - left - 0.02) * width / (CHAR_EM * longest)))
+    return max(6, px)
+
+
+def text_size(plotter, size: float, least: int = MIN_TEXT_PX, text: str | None = None) -> int:
+    """pyvista's ``add_text`` font size for a text of :func:`readable` pixels (it draws twice its size)."""
+    return max(3, readable(plotter, 2 * size, least, text) // 2)
 
 
 def axes_labels(P, names) -> list[str]:
@@ -205,11 +224,12 @@ class SceneTexts:
         self.title_actor = self.subtitle_actor = None
         if title:
             self.title_actor = pl.add_text(title, position=(0.02, TITLE_Y), viewport=True,
-                                           font_size=readable(pl, 18, MIN_TITLE_PX), color="white",
+                                           font_size=text_size(pl, 18, MIN_TITLE_PX, title), color="white",
                                            name="gcmh-title")
         if subtitle:
             self.subtitle_actor = pl.add_text(subtitle, position=(0.02, SUBTITLE_Y), viewport=True,
-                                              font_size=readable(pl, 11), color="#c8cfdc", name="gcmh-subtitle")
+                                              font_size=text_size(pl, 11, text=subtitle), color="#c8cfdc",
+                                              name="gcmh-subtitle")
 
     def bar_args(self, title: str) -> dict:
         """pyvista's ``scalar_bar_args`` for the colour bar titled ``title``."""
@@ -273,10 +293,12 @@ class SceneTexts:
             set_caption_size(a, readable(self.plotter, AXES_LABEL_PX))
         if self.legend_actor is None:
             self.legend_actor = self.plotter.add_text(legend, position=(0.02, LEGEND_Y), viewport=True,
-                                                      font_size=readable(self.plotter, 11), color="#dfe4ee",
+                                                      font_size=text_size(self.plotter, 11, text=legend),
+                                                      color="#dfe4ee",
                                                       name="gcmh-legend")
         else:
             self.legend_actor.SetInput(legend)
+            self.legend_actor.GetTextProperty().SetFontSize(2 * text_size(self.plotter, 11, text=legend))
 
 
 def set_caption_size(axes_actor, px: int) -> None:

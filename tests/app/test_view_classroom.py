@@ -235,7 +235,11 @@ def test_large_results_move_at_a_coarse_level_of_detail(qtbot):
         assert sc.coarse_shown() and not sc.actor.GetVisibility()
         sc.set_projection(m.view(), render=False)
         assert not sc.coarse_shown() and sc.actor.GetVisibility()
-        assert np.allclose(sc.mesh.points, sc.projector.project_view(m.view()), atol=1e-5)
+        # (the full mesh's points, each held SHEET_GAP of the radius off its coincident sheets)
+        from gcmh_studio.scene import SHEET_GAP
+
+        gap = SHEET_GAP * sc.projector.radii()[0]
+        assert np.allclose(sc.mesh.points, sc.projector.project_view(m.view()), atol=1e-5 + 1.01 * gap)
     finally:
         pl.close()
 
