@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import math
 import os
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from math import comb, factorial
 
 import numpy as np
@@ -65,6 +65,7 @@ __all__ = [
 
 # Vertices of the probe grid (per run: milliseconds of F, a few passes over booleans).
 _PROBE_VERTICES = 600_000  # (9^6: div 8 probed exactly in R^6)
+_PROBE_OVERHEAD = 4_000_000  # bytes beside the probe's arrays (the evaluator's, numpy's)
 # Seconds per byte of the cube tables' arrays (numpy writes them; on a fresh VM page the first
 # touch dominates: 1 ns/B warm, 5 ns/B measured for R^10, k = 8), and per entry of the label
 # enumeration behind the Kuhn triangulation (n <= 7: n (n+2)^n entries).
@@ -407,11 +408,31 @@ def estimate_run(
                       checked)
         if worst.peak_bytes <= worst.available_bytes // 8 and worst.seconds <= worst.seconds_limit / 10:
             return worst
+    probe_bytes = 0
     if system is not None or sampled is not None:
         expected, faces, _ = _probe(n, k, div_t, bounds, system, sampled)
+        if sampled is None:
+            probe_bytes = _probe_bytes(k, _probe_vertices(div_t))
     else:
         expected, faces = min(float(cubes), float(cubes) ** ((n - k) / n)), plane
-    return _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, expected, faces, pruned, checked)
+    est = _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, expected, faces, pruned, checked)
+    if probe_bytes + _PROBE_OVERHEAD > est.peak_bytes:   # (the probe's peak, before the run's)
+        est = replace(est, peak_bytes=int(probe_bytes + _PROBE_OVERHEAD))
+    return est
+
+
+def _probe_vertices(div) -> int:
+    """Vertices of the probe's (first) grid."""
+    side = _probe_side(np.asarray(div, np.int64), _PROBE_VERTICES)
+    return math.prod(min(int(d), side) + 1 for d in div)
+
+
+def _probe_bytes(k: int, vertices: int) -> int:
+    """The probe's own peak: F's k values at each probe vertex and the evaluation's temporaries, then the packed
+    signs (measured: 41 bytes a vertex for k = 3, 48 for k = 4, 61 for k = 5 at about 530,000 vertices). A small
+    run of large k was all probe: n = 5, k = 4, div 40 peaked at 28.7 MB against an estimate of 16.1 MB (the
+    issue's 2.03x), n = 6, k = 5, div 10 at 32.5 MB against 18.9."""
+    return int(vertices * (10 * k + 12))
 
 
 def _pruned_vertices(n: int, k: int, expected: float, vertices: int):
