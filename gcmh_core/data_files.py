@@ -593,8 +593,8 @@ def parse_levels(text: str | Sequence[float] | float | None) -> list[float] | No
         if any(not p for p in parts):
             raise InputError(f"--level: expected C or C1,C2,..., got {text!r}")
         return [_number(p, "level") for p in parts]
-    if isinstance(text, (int, float, np.integer, np.floating)) and not isinstance(text, bool):
-        return [_number(text, "level")]
+    if isinstance(text, (int, float, np.integer, np.floating)):
+        return [_number(text, "level")]   # (a bool: refused there, "must be a number")
     return [_number(v, "level") for v in text]
 
 
