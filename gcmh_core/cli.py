@@ -178,6 +178,10 @@ def _build_parser() -> _Parser:
     )
     out.add_argument("--vtu", metavar="OUT.vtu", help="save the cell complex as a VTK unstructured grid")
     out.add_argument("--json", action="store_true", help="print one JSON object instead of a summary")
+    out.add_argument(
+        "--homology", action="store_true",
+        help="also compute the homology: Betti numbers over Q and Z/2 and torsion (gcmh_core.homology)",
+    )
     out.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.add_argument(
         "--check-cells", action="store_true",
@@ -573,6 +577,13 @@ def _cmd_extract(args) -> int:
 
     _write_outputs(cx, outputs)
     summary = _summary(cx, job, outputs)
+    if args.homology:
+        from .homology import summary as homology_summary
+
+        try:
+            summary["homology"] = homology_summary(cx)[0]
+        except InputError as err:  # a cell that is not a ball: said; the run's outputs stand
+            summary["homology"] = {"error": str(err)}
     report = sys.stderr if any(path == STDOUT for _, path in outputs) else sys.stdout
     if args.json:
         print(json.dumps(summary), file=report)
@@ -780,6 +791,10 @@ def _human(s: dict, job: dict) -> str:
     if s["singular_vertices"]:
         lines.append(f"  notice: F's Jacobian nearly loses rank at {s['singular_vertices']} vertices: "
                      "M is singular there, the parameters are at or near a critical value")
+    if s.get("homology"):
+        from .homology import summary_line
+
+        lines.append(f"  {summary_line(s['homology'])}")
     seconds = s["seconds"]
     tail = f"  {seconds:.2f} s" if seconds is not None and math.isfinite(seconds) else "  done"
     if s["files"]:
