@@ -19,11 +19,13 @@ background from the start (:func:`gcmh_studio.jobs.start_warm_up`). Only the GUI
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 from qtpy.QtCore import Qt, QTimer, Signal
 from qtpy.QtWidgets import QMainWindow, QSplitter, QTabWidget, QVBoxLayout, QWidget
 
-from . import data_source, qt_exports, studio_io
+from . import data_source, overlays, qt_exports, studio_io
 from .controller import StudioController
 from .jobs import continuation_methods, current_warm_up, engine_methods, start_warm_up
 from .model import StudioModel
@@ -136,6 +138,10 @@ class QtMainWindow(QMainWindow):
             tp = self.topology_panel
             tp.refineRequested.connect(c.refine)
             c.events.refining.connect(lambda on: tp.set_refine_enabled(not on))
+            # the homology box says what to draw (generators, the w1 loop, curvature); the scene draws it
+            hb = tp.homology_box
+            hb.overlays.connect(lambda specs: overlays.draw_homology(self.scene, specs))
+            hb.curvature.connect(lambda values: overlays.colour_by_values(self.scene, self.model.result, values))
         try:   # double-click a cell: its coordinates in R^n and its grid cube
             self.plotter.track_click_position(self._on_click, side="left", double=True, viewport=True)
         except Exception:  # noqa: BLE001 - picking is a convenience
@@ -290,6 +296,11 @@ class QtMainWindow(QMainWindow):
     def export_mesh(self, path) -> None:
         dim = None if self.result is None else self.result.dim
         path = studio_io.export_mesh(self.scene.projected_mesh(), path, dim)
+        cycles = overlays.homology_lines_mesh(self.scene)  # the generators on show, with a "cycle" attribute
+        if cycles is not None:
+            stem, ext = os.path.splitext(path)
+            path += " and its cycles to " + studio_io.export_mesh(
+                cycles, f"{stem}-cycles{'.vtp' if ext == '.stl' else ext}", 1)
         self.set_status(f"Projected mesh saved to {path}")
 
     def save_screenshot(self, path, size=None, transparent: bool = False) -> np.ndarray:

@@ -128,13 +128,8 @@ def test_w1_lines_beside_the_loop(klein):
 # ---------------------------------------------------------------------------- in the window
 
 def test_generators_follow_the_view(qtbot, small_window, klein):
-    from gcmh_studio.overlays import colour_by_values, draw_homology
-
     w = small_window
-    box = w.topology_panel.homology_box
-    # the window's hook (see docs/homology.md): the box says what to draw, the scene draws it
-    box.overlays.connect(lambda specs: draw_homology(w.scene, specs))
-    box.curvature.connect(lambda values: colour_by_values(w.scene, w.model.result, values))
+    box = w.topology_panel.homology_box   # (the window connects it to its scene)
     with qtbot.waitSignal(box.computed, timeout=120_000):
         w.show_result(klein, klein.point_names(), title="Klein bottle")
     box.betti[1].click()
@@ -159,12 +154,11 @@ def test_generators_follow_the_view(qtbot, small_window, klein):
 
 def test_generators_export_as_lines(qtbot, small_window, tmp_path):
     from gcmh_studio import studio_io
-    from gcmh_studio.overlays import draw_homology, homology_lines_mesh
+    from gcmh_studio.overlays import homology_lines_mesh
 
     w = small_window
     torus = _example("torus", [12, 12, 6])
     box = w.topology_panel.homology_box
-    box.overlays.connect(lambda specs: draw_homology(w.scene, specs))
     with qtbot.waitSignal(box.computed, timeout=120_000):
         w.show_result(torus, torus.point_names(), title="torus")
     assert homology_lines_mesh(w.scene) is None
@@ -175,6 +169,9 @@ def test_generators_export_as_lines(qtbot, small_window, tmp_path):
     path = studio_io.export_mesh(mesh, tmp_path / "cycles.obj", 1)
     text = open(path).read()
     assert text.count("\nl ") == mesh.n_lines and "\nv " in text
+    # the window's Export mesh writes the generators beside the result's mesh
+    w.export_mesh(str(tmp_path / "torus.ply"))
+    assert (tmp_path / "torus.ply").exists() and (tmp_path / "torus-cycles.ply").exists()
 
 
 def test_curvature_values_of_a_sphere():
