@@ -160,24 +160,29 @@ def check_output_size(args) -> str | None:
 
 def main(argv=None) -> int:
     install_interrupt_handlers()
+    argv = sys.argv[1:] if argv is None else list(argv)
     try:
         return _main(argv)
     except KeyboardInterrupt:
         print("gcmh-app: interrupted", file=sys.stderr)
         return 130
     except OSError as e:   # a full disk, a folder gone: the writers leave the old file and no temporary
-        return fail(f"error: cannot write {_written_name(e)}: {e.strerror or e}", 1)
+        return fail(f"error: cannot write {_written_name(e, argv)}: {e.strerror or e}", 1)
 
 
-def _written_name(e: OSError) -> str:
-    """The file an OSError names, as the user gave it (not the hidden temporary beside it)."""
+def _written_name(e: OSError, argv) -> str:
+    """The file an OSError names, as the user gave it (not the hidden temporary beside it); else the outputs
+    the command line named."""
     import re
 
     name = os.path.basename(str(e.filename or ""))
     real = re.fullmatch(r"\.(.+)\.[A-Za-z0-9_]{8}\.tmp(\.\w+)?", name)   # (safe_io.AtomicFile's temporaries)
     if real:
         name = real.group(1)
-    return repr(name) if name else "the output"
+    if name:
+        return repr(name)
+    outs = [argv[i + 1] for i, a in enumerate(argv[:-1]) if a in ("--screenshot", "--gif", "--mp4")]
+    return " or ".join(repr(o) for o in outs) or "the output"
 
 
 def read_session_or_fail(path):
