@@ -58,3 +58,23 @@ def test_hull_keeps_the_extremes_of_flat_and_solid_sets():
     F[:, 2] = 0.0                                  # flat: no 3-D hull
     H = hull_points(F)
     assert np.allclose(H.max(0), F.max(0)) and np.allclose(H.min(0), F.min(0))
+
+
+def test_the_windows_export_is_framed_over_all_its_frames(qtbot, window, tmp_path):
+    """The window's Export GIF (its camera's direction, the Animate tab's rotation) frames every frame."""
+    pytest.importorskip("pytestqt")
+    from gcmh_core.examples import load_example
+
+    from app_helpers import small_div
+
+    with qtbot.waitSignal(window.runFinished, timeout=180_000) as b:
+        assert window.load_example("complex-cosine", div=small_div(load_example("complex-cosine")))
+    assert b.args[0] == "done", window.last_status
+    ap = window.animation_panel
+    ap.set_mode("rotate")
+    names = window.model.view_names
+    ap.set_plane((names.index("x"), names.index("y")))
+    out = tmp_path / "w.gif"
+    assert window.export_animation(out, frames=8, size=(240, 180), show_progress=False) == 8
+    faults = [framing_faults(f) for f in gif_frames(out)]
+    assert all(f == {"cut": 0, "over_text": 0} for f in faults), faults
