@@ -58,8 +58,9 @@ def crossable_face(corner_signs, free, fixed, full):
 NEAR_FACET = 1e-9
 # a determinant at most this fraction of its Hadamard bound (the product of its rows' norms) is 0
 DET_ZERO = 1e-12
-# `_sos_det` tries the perturbation's terms over the first this many entries of a facet (2^20 subsets)
-_SOS_ENTRIES = 20
+# `_sos_det` tries the perturbation's terms over the first this many entries of a facet: all of them up to
+# k = 4; above, 2^16 subsets at most (a whole component 0 with k = 6 took 0.5 s a simplex with 2^20)
+_SOS_ENTRIES = 16
 
 
 @nb.njit(**JIT)
