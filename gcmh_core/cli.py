@@ -37,8 +37,6 @@ import sys
 import threading
 from collections.abc import Sequence
 
-from . import __version__
-from ._validate import glued_axes, parse_params
 from .errors import InputError
 from .safe_io import AtomicFile, check_output
 
@@ -91,6 +89,8 @@ def _build_parser() -> _Parser:
         description="Extract implicit manifolds F^-1(0), F: R^n -> R^k, as cell complexes (GCMH).",
         allow_abbrev=False,
     )
+    from . import __version__
+
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
 
@@ -375,6 +375,8 @@ def _job_from_args(args) -> dict:
 
     n_opt = _parse_int(args.n, "--n", minimum=1) if args.n is not None else None
     bounds = _parse_bounds(args.bounds) if args.bounds is not None else None
+    from ._validate import parse_params  # (numpy: after main() has installed the signal handlers)
+
     params = parse_params(args.params)
     if args.complex and args.example:
         raise InputError("--complex goes with --f (an example says itself whether it is complex)")
@@ -455,6 +457,8 @@ def _job_from_args(args) -> dict:
     if args.start is not None:
         start = _parse_start(args.start, n)
     if periodic:  # (an example's glued axes again too: --div may have changed the grid)
+        from ._validate import glued_axes
+
         periodic = glued_axes(periodic, variables, div)
     seed = _parse_int(args.seed, "--seed", minimum=0)
     method = args.method.strip().lower()

@@ -32,9 +32,9 @@ def test_import_loads_no_gui_and_no_cluster():
     code = ("import json, sys, gcmh_core; "
             "print(json.dumps(sorted(m.split('.')[0] for m in sys.modules)))")
     top = set(json.loads(_python(code)))
-    assert "numpy" in top
-    # numba and sympy come with the first extract / formula (lazy names), never Qt and friends
-    for heavy in ("numba", "sympy", "PyQt5", "qtpy", "vtk", "vtkmodules", "pyvista", "pyvistaqt", "dask",
+    # numpy, numba and sympy come with the first use of a name (lazy), never Qt and friends: `gcmh`
+    # installs its Ctrl-C handler before anything heavy loads (issue 26, item 7)
+    for heavy in ("numpy", "numba", "sympy", "PyQt5", "qtpy", "vtk", "vtkmodules", "pyvista", "pyvistaqt", "dask",
                   "distributed", "app"):
         assert heavy not in top, heavy
     # an extraction from sampled values loads the numba engine, still no sympy
@@ -150,3 +150,28 @@ def test_every_package_folder_is_in_the_package_list():
             rel = init.parent.relative_to(ROOT / folder).parts
             found.add(".".join([package, *rel]))
     assert sorted(config["packages"]) == sorted(found)
+
+
+def test_the_command_line_module_loads_nothing_heavy():
+    # `gcmh` imports gcmh_core.cli, whose main() installs the SIGINT/SIGTERM handlers: until then a
+    # Ctrl-C is Python's KeyboardInterrupt with a traceback, so nothing slow may load before it
+    code = ("import json, sys, gcmh_core.cli; "
+            "print(json.dumps(sorted(m.split('.')[0] for m in sys.modules)))")
+    top = set(json.loads(_python(code)))
+    for heavy in ("numpy", "numba", "sympy", "importlib_metadata", "tqdm"):
+        assert heavy not in top, heavy
+    assert not any(m.startswith("importlib.metadata") for m in json.loads(
+        _python("import json, sys, gcmh_core.cli; print(json.dumps(list(sys.modules)))")))
+
+
+def test_shadowed_names_stay_functions():
+    # gcmh_core.extract, .homology and .section are functions named as their modules: importing the
+    # module (as the app and the engine do) must not replace the package's function
+    code = ("import gcmh_core.extract, gcmh_core.homology, gcmh_core.section, gcmh_core, inspect; "
+            "from gcmh_core.extract import METHODS; "
+            "print(all(inspect.isfunction(getattr(gcmh_core, n)) for n in ('extract', 'homology', 'section')))")
+    assert _python(code).strip() == "True"
+
+
+def test_all_is_the_errors_and_the_lazy_names():
+    assert sorted(gcmh_core.__all__) == sorted(["Cancelled", "InputError", "TooLargeError", *gcmh_core._LAZY])
