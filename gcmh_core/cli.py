@@ -177,6 +177,11 @@ def _build_parser() -> _Parser:
         help="save the cell complex (.npz, gcmh-complex/1; '-' writes it to standard output)",
     )
     out.add_argument("--vtu", metavar="OUT.vtu", help="save the cell complex as a VTK unstructured grid")
+    out.add_argument(
+        "--section", metavar="VAR=C",
+        help="cut the result by the hyperplane VAR = C (C a constant: 0.5, -pi/4): -o and --vtu write the "
+        "section, a complex of one dimension less, and the summary describes it too (gcmh_core.section)",
+    )
     out.add_argument("--json", action="store_true", help="print one JSON object instead of a summary")
     out.add_argument(
         "--homology", action="store_true",
@@ -545,6 +550,10 @@ def _cmd_extract(args) -> int:
         outputs.append(("vtu", _check_output(args.vtu, "--vtu")))
     if any(path == STDOUT for _, path in outputs) and args.json:
         raise InputError("-o - writes the .npz to standard output: it can't take --json too")
+    if args.section is not None:  # a bad VAR=C is refused before the run
+        from .section import parse_section_spec
+
+        parse_section_spec(args.section, job["variables"])
     if args.dry_run:
         return _dry_run(args, job)
 
@@ -579,8 +588,15 @@ def _cmd_extract(args) -> int:
     finally:
         progress.close()
 
-    _write_outputs(cx, outputs)
+    section = None
+    if args.section is not None:
+        from .section import section_summary
+
+        section = section_summary(cx, args.section, job["variables"])
+    _write_outputs(cx if section is None else section[0], outputs)
     summary = _summary(cx, job, outputs)
+    if section is not None:
+        summary["section"] = dict(section[1], line=section[2])
     if args.homology:
         from .homology import summary as homology_summary
 
@@ -795,6 +811,8 @@ def _human(s: dict, job: dict) -> str:
     if s["singular_vertices"]:
         lines.append(f"  notice: F's Jacobian nearly loses rank at {s['singular_vertices']} vertices: "
                      "M is singular there, the parameters are at or near a critical value")
+    if s.get("section"):
+        lines.append(f"  {s['section']['line']}")
     if s.get("homology"):
         from .homology import summary_line
 
@@ -802,7 +820,7 @@ def _human(s: dict, job: dict) -> str:
     seconds = s["seconds"]
     tail = f"  {seconds:.2f} s" if seconds is not None and math.isfinite(seconds) else "  done"
     if s["files"]:
-        tail += "; wrote " + ", ".join(s["files"].values())
+        tail += ("; wrote the section to " if s.get("section") else "; wrote ") + ", ".join(s["files"].values())
     lines.append(tail)
     return "\n".join(lines)
 

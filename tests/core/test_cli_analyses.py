@@ -30,3 +30,38 @@ def test_homology_line_in_the_summary(capsys):
 def test_without_the_flag_no_homology(capsys):
     s = run_json(capsys, "--f", "x^2 + y^2 + z^2 - 1", "--vars", "x,y,z", "--bounds", "-1.5:1.5", "--div", "6")
     assert "homology" not in s
+
+
+SPHERE3 = ["--f", "x^2 + y^2 + z^2 + w^2 - 1", "--vars", "x,y,z,w", "--bounds", "-1.3:1.3", "--div", "8"]
+
+
+def test_section_of_the_three_sphere_is_a_two_sphere(capsys, tmp_path):
+    out = tmp_path / "s.npz"
+    s = run_json(capsys, *SPHERE3, "--section", "w=0.3", "-o", str(out))
+    sec = s["section"]
+    assert sec["along"] == "w" and sec["value"] == 0.3 and sec["dimension"] == 2
+    assert sec["euler_characteristic"] == 2 and sec["pieces"] == 1 and sec["boundary_facets"] == 0
+    from gcmh_core import CellComplex
+
+    written = CellComplex.load(out)   # -o writes the section, not the 3-sphere
+    assert written.dim == 2 and written.euler_characteristic() == 2
+
+
+def test_section_outside_is_empty_and_said(capsys):
+    code = main(["extract", *SPHERE3, "--section", "w=pi/2", "-q"])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    assert "section w = 1.5708: empty" in out
+
+
+def test_a_bad_section_is_refused_before_the_run(capsys, monkeypatch):
+    import gcmh_core
+
+    def never(*a, **k):
+        raise AssertionError("the run started")
+
+    monkeypatch.setattr(gcmh_core, "extract", never)
+    for spec in ("v=0.3", "w", "w=abc", "w=nan"):
+        code = main(["extract", *SPHERE3, "--section", spec, "-q"])
+        out, err = capsys.readouterr()
+        assert code == 2 and err.startswith("gcmh: error:") and len(err.splitlines()) == 1, (spec, err)
