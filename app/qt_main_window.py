@@ -351,7 +351,12 @@ class QtMainWindow(QMainWindow):
         if path.lower().endswith(".json"):
             entry = data_source.session_data(path)
             if entry is None:
-                return self.controller.open_session(path)
+                if self.controller.open_session(path):
+                    return True
+                from qtpy.QtWidgets import QMessageBox  # (checked whole first: nothing on screen was changed)
+
+                QMessageBox.warning(self, "Cannot open the session", self.last_status)
+                return False
             source = self.guard("Opening the session", data_source.DataSource.from_session, entry)
             return source is not None and self.open_data(source.specs, source.levels)
         if data_source.is_result_file(path):
@@ -391,6 +396,9 @@ class QtMainWindow(QMainWindow):
         self.bar.set_ticking(False)
         self.animation_panel.set_playing(False)
         self.runs.shutdown()
+        from .offscreen import gl_lifecycle
+
+        gl_lifecycle()   # (no GL context ended while a still picture draws in the background: issue 26, item 8)
         try:
             self.plotter.close()
         except Exception:  # noqa: BLE001

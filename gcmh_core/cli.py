@@ -299,6 +299,8 @@ def _check_output(path: str, option: str) -> str:
         if _isatty(sys.stdout):
             raise InputError("-o -: standard output is a terminal; redirect it to a file or a pipe")
         return STDOUT
+    if path == STDOUT:
+        raise InputError(f"{option} -: only the .npz (-o -) can go to standard output; give {option} a file name")
     try:
         check_output(path, option)
     except InputError as err:
@@ -324,7 +326,8 @@ def _is_special(path: str) -> bool:
 def _cmd_examples(args) -> int:
     from .examples import list_examples
 
-    examples = list_examples()
+    examples = list_examples(on_error=lambda name, err: print(f"{PROG}: warning: example {name!r} left out: "
+                                                             f"{_one_line(str(err))}", file=sys.stderr))
     if not examples:
         where = os.environ.get("GCMH_EXAMPLES_DIR")
         return _fail(f"no examples found{f' in {where!r} (GCMH_EXAMPLES_DIR)' if where else ''}", status=1)
@@ -379,6 +382,10 @@ def _job_from_args(args) -> dict:
         raise InputError("nothing to extract: give --example NAME, --f EXPR or --data FILE (see gcmh examples)")
 
     n_opt = _parse_int(args.n, "--n", minimum=1) if args.n is not None else None
+    if n_opt is not None:
+        from ._validate import check_n
+
+        check_n(n_opt)   # (before n names, bounds or anything else of n entries is made)
     bounds = _parse_bounds(args.bounds) if args.bounds is not None else None
     from ._validate import parse_params  # (numpy: after main() has installed the signal handlers)
 
@@ -544,10 +551,13 @@ COMPILE_NOTE = ("gcmh: first run: compiling the kernels, once per install (10-20
 def _cmd_extract(args) -> int:
     job = _job_from_args(args)
     outputs = []
-    if args.output:
+    if args.output is not None:   # (-o '' is an empty file name, said; not "no output")
         outputs.append(("npz", _check_output(args.output, "-o")))
-    if args.vtu:
+    if args.vtu is not None:
         outputs.append(("vtu", _check_output(args.vtu, "--vtu")))
+    files = [os.path.realpath(path) for _, path in outputs if path != STDOUT]
+    if len(set(files)) < len(files):
+        raise InputError(f"-o and --vtu name the same file ({args.vtu!r}): give each its own")
     if any(path == STDOUT for _, path in outputs) and args.json:
         raise InputError("-o - writes the .npz to standard output: it can't take --json too")
     if args.section is not None:  # a bad VAR=C is refused before the run
@@ -682,9 +692,10 @@ def _write_outputs(cx, outputs) -> None:
                 if kind == "npz":
                     with open(out.temp, "wb") as f:
                         cx.save(f)
-                else:  # VTK crashed when a signal's exception was raised inside it
-                    with _signals.held():
-                        cx.to_pyvista().save(out.temp, binary=True)
+                else:  # VTK crashed when a signal's exception was raised inside it; VTK's own file
+                    # writer aborted on a full disk (free(): invalid pointer): it writes to memory, Python the file
+                    with _signals.held(), open(out.temp, "wb") as f:
+                        cx.save_vtu(f)
             except OSError as err:
                 raise _WriteError(f"cannot write {path!r}: {err.strerror or err}") from None
             except ImportError as err:

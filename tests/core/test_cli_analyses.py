@@ -65,3 +65,26 @@ def test_a_bad_section_is_refused_before_the_run(capsys, monkeypatch):
         code = main(["extract", *SPHERE3, "--section", spec, "-q"])
         out, err = capsys.readouterr()
         assert code == 2 and err.startswith("gcmh: error:") and len(err.splitlines()) == 1, (spec, err)
+
+
+# ---------------------------------------------------------------- outputs that clash (issue 26, item 6)
+
+def test_outputs_that_clash_are_refused_before_the_run(capsys, tmp_path, monkeypatch):
+    import gcmh_core
+
+    monkeypatch.setattr(gcmh_core, "extract", lambda *a, **k: (_ for _ in ()).throw(AssertionError("ran")))
+    same = str(tmp_path / "a.npz")
+    for argv, words in ((["-o", "-", "--vtu", "-"], "--vtu -: only the .npz"),
+                        (["-o", ""], "-o: empty file name"),
+                        (["--vtu", ""], "empty file name"),
+                        (["-o", same, "--vtu", same], "name the same file")):
+        code = main(["extract", *SPHERE3, "-q", *argv])
+        out, err = capsys.readouterr()
+        assert code == 2 and err.startswith("gcmh: error:") and words in err and len(err.splitlines()) == 1, err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_huge_n_is_refused_at_once(capsys):
+    code = main(["extract", "--f", "x1", "--n", "100000", "--bounds", "-1:1", "-q"])
+    out, err = capsys.readouterr()
+    assert code == 2 and err.startswith("gcmh: error:") and len(err.splitlines()) == 1, err
