@@ -304,7 +304,7 @@ def _main(argv=None) -> int:
             pass
 
     sys.excepthook = excepthook
-    win = QtMainWindow(example=None if args.session else (args.example or "klein-bottle"), div=args.div,
+    win = QtMainWindow(example=None if args.session else (args.example or "klein-bottle-closed"), div=args.div,
                        method=args.method)
     if args.window_screenshot:
         w, h = args.size if args.size != (1600, 1200) else (1400, 900)

@@ -49,7 +49,7 @@ try:
 except ImportError:
     QtGallery = None
 
-DEFAULT_EXAMPLE = "klein-bottle"
+DEFAULT_EXAMPLE = "klein-bottle-closed"   # chi 0, non-orientable: the glued one, and its story
 
 
 class QtMainWindow(QMainWindow):
@@ -84,7 +84,7 @@ class QtMainWindow(QMainWindow):
         self.run_button, self.cancel_button, self.progress = b.run_button, b.cancel_button, b.progress
         self.status_label, self.result_label, self.pick_label = b.status_label, b.result_label, b.pick_label
         self.about_box, self.about_label = b.about_box, b.about_label
-        side.setMinimumWidth(430)
+        side.setMinimumWidth(330)   # (the View tab fits 1024 // 3; the side a third of a 1024-pixel window)
         self.viewer = QtViewer(m, self)
         self.plotter, self.scene = self.viewer.plotter, self.viewer.scene
         split = QSplitter(Qt.Horizontal)
@@ -92,7 +92,7 @@ class QtMainWindow(QMainWindow):
         split.addWidget(self.viewer.widget)
         split.setStretchFactor(0, 0)
         split.setStretchFactor(1, 1)
-        split.setSizes([440, 960])
+        split.setSizes([360, 1040])
         self.setCentralWidget(split)
 
         self.data_panel = QtDataPanel(self)   # (a "Data" tab once a data file is opened)

@@ -34,6 +34,7 @@ from qtpy.QtCore import QThread, Signal
 from .jobs import (  # (run_job and estimate_job are looked up here: tests replace them)
     COMPILING,
     ENGINE,
+    LOADING,
     STOPPING,
     Job,
     current_warm_up,
@@ -162,7 +163,8 @@ class ExtractWorker(QThread):
     def _wait_for_kernels(self) -> None:
         warm = current_warm_up()
         if warm is not None and warm.waits_for(self.job.method):
-            self.progress.emit(COMPILING, 0.0, time.perf_counter() - self._t0)
+            # compiling only while numba really compiles (a cache load is "loading")
+            self.progress.emit(COMPILING if warm.compiling else LOADING, 0.0, time.perf_counter() - self._t0)
             self._wait(lambda: warm.wait(self.POLL) or not warm.waits_for(self.job.method))
 
     def _in_helper(self, fn, *args, **kwargs):

@@ -661,7 +661,7 @@ def _dry_run(args, job) -> int:
         F = parse_system(F, job["variables"], params=job["params"])
     cost = estimate(
         F, job["bounds"], job["div"], variables=job["variables"], method=job["method"],
-        scheduler=job["scheduler"],
+        scheduler=job["scheduler"], periodic=job["periodic"],
     )
     if args.json:
         print(json.dumps(cost.as_dict()))
