@@ -12,6 +12,7 @@ import pyvista as pv
 from .background import Picture, draw_in_background, started, wait_background
 from .camera import copy_camera, default_camera, keep_framing, refit_camera
 from .scene import Scene
+from .sections import SectionScene
 
 
 def animation_images(scene: Scene, model, frames, window=None, progress=None):
@@ -52,7 +53,7 @@ def render_image(scene: Scene, path=None, size=(1600, 1200), transparent: bool =
     gl_lifecycle()
     pl = pv.Plotter(off_screen=True, window_size=[int(size[0]), int(size[1])])
     try:
-        other = Scene(pl, anti_aliasing="ssaa")
+        other = SectionScene(pl, anti_aliasing="ssaa")
         other.adopt(scene, copy.copy(scene.style))
         if camera is not None:
             copy_camera(camera, pl.camera)
@@ -202,7 +203,7 @@ class StillJob:
         try:
             window: Any = pl.ren_win           # (an open plotter has its render window)
             window.SetMultiSamples(0)          # as the window: FXAA, no multi-sampling
-            sc = Scene(pl, anti_aliasing=None)
+            sc = SectionScene(pl, anti_aliasing=None)
             if anti_aliasing == "fxaa":    # (as pyvista would, without its 20 ms check for EGL: the caller's)
                 pl.renderer.SetUseFXAA(True)
                 sc.anti_aliasing = "fxaa"

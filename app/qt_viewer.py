@@ -53,6 +53,7 @@ from .qt_linkage_inset import QtLinkageInset, linkage_of, picked_angles
 from .qt_still_picture import QtStillPicture
 from .qt_waiting_picture import QtWaitingPicture
 from .scene import Scene, Style
+from .sections import SectionScene
 from .studio_io import apply_camera, camera_state, valid_camera
 
 SETTLE_MS = 250          # a view at rest this long is drawn in full again
@@ -66,9 +67,12 @@ class QtViewer:
 
         self.model = model
         # no multi-sampling: with software GL it doubles every frame; FXAA smooths the edges instead
+        from .offscreen import gl_lifecycle
+
+        gl_lifecycle()  # (no GL context made while a still picture draws in the background: issue 26, item 8)
         self.plotter = QtInteractor(parent, auto_update=False, multi_samples=0)
         self.widget = self.plotter.interactor
-        self.scene = Scene(self.plotter, anti_aliasing="fxaa")
+        self.scene: Scene = SectionScene(self.plotter, anti_aliasing="fxaa")   # a sliced solid shows its section
         warm_labels()
         self.renders = 0                     # full renders of the window (the benchmark counts them)
         # what else the window draws in the view (the presentation's card and axes): f(plotter) draws it
