@@ -176,18 +176,15 @@ def _run_job(job: Job, progress=None, cancel=None):
 def estimate_job(job: Job):
     """What ``job`` will cost (a gcmh_core.budget.Estimate: peak memory, seconds, ``fits``), without
     running it. Bad input raises the InputError the run would."""
-    import inspect
 
     from gcmh_core.budget import estimate
 
     F = system_of(job) if job.params else list(job.formulas)   # (the estimate takes parameters as a System)
-    kw = {}
-    if job.periodic and "periodic" in inspect.signature(estimate).parameters:
-        # glued axes: the identified grid's sweep is never pruned and evaluates F at every vertex (the closed
-        # Klein bottle: 0.66 s estimated as if cut open and pruned; 18-21 s at a load of 13-16 on 2 cores)
-        kw["periodic"] = list(job.periodic)
+    # glued axes: the identified grid's sweep is never pruned and evaluates F at every vertex (the closed
+    # Klein bottle: 0.66 s estimated as if cut open and pruned; 18-21 s at a load of 13-16 on 2 cores)
     return estimate(F, [tuple(b) for b in job.bounds], job.div, variables=list(job.variables),
-                    method=job.method, scheduler=job.scheduler or None, **kw)
+                    method=job.method, scheduler=job.scheduler or None,
+                    periodic=list(job.periodic) if job.periodic else None)
 
 
 def warm_up_kernels(methods, cancel=None, ready=None) -> None:

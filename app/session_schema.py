@@ -16,6 +16,9 @@ import math
 import re
 from numbers import Integral, Real
 
+# the first field of every session file (studio_io writes it)
+SESSION_FORMAT = "gcmh-session/1"
+
 MAX_SESSION_BYTES = 1 << 20   # a session the app writes is a few kB; 100 MB of title took 6 GB
 N_MAX = 12                    # the largest n and k (the Manifold tab's, qt_formula_rows.N_MAX)
 MAX_TITLE = 500               # characters
@@ -136,8 +139,8 @@ def _system(s) -> tuple[int, int]:
             _text(f, f"system.formulas[{i}]", MAX_FORMULA)
         if not any(f.strip() for f in formulas):
             raise _fail("system.formulas", "are all empty")
-        n = _int(s["n"], "system.n", 1, N_MAX) if "n" in s else len(s.get("variables") or []) or None
-        if n is None:
+        n = _int(s["n"], "system.n", 1, N_MAX) if "n" in s else len(s.get("variables") or [])
+        if not n:
             raise _fail("system", "gives neither n nor the variables")
         k = _int(s["k"], "system.k", 1, N_MAX) if "k" in s else len(formulas)
         if k != len(formulas):
@@ -200,8 +203,8 @@ def _system(s) -> tuple[int, int]:
                 for key in ("value", "min", "max"):
                     if spec.get(key) is not None:
                         _number(spec[key], f"system.params.{name}.{key}")
-                lo, hi = spec.get("min"), spec.get("max")
-                if lo is not None and hi is not None and not _number(lo, "") < _number(hi, ""):
+                low, high = spec.get("min"), spec.get("max")
+                if low is not None and high is not None and not _number(low, "") < _number(high, ""):
                     raise _fail(f"system.params.{name}", "min is not below max")
             else:
                 _number(spec, f"system.params.{name}")
@@ -267,8 +270,6 @@ def validate_session(d) -> dict:
     its formulas or complex equations, variables, bounds, div, method, seed, start, parameters and glued
     axes, each bounded and finite), the view (projection kind, axes, n(n-1)/2 finite angles, mapping,
     distance, colour, opacity in [0, 1], toggles, a slice that is a mapping)."""
-    from .studio_io import SESSION_FORMAT
-
     if not isinstance(d, dict) or d.get("format") != SESSION_FORMAT:
         raise SessionError(f"not a GCMH session file (format {SESSION_FORMAT!r} expected)")
     if d.get("title") is not None:

@@ -13,7 +13,8 @@ import json
 import os
 from pathlib import Path
 
-SESSION_FORMAT = "gcmh-session/1"
+from .session_schema import SESSION_FORMAT
+
 MESH_FORMATS = (".ply", ".obj", ".vtp", ".stl", ".vtk")
 
 

@@ -618,7 +618,9 @@ def cone_lens_balls(vertices: np.ndarray, edges: np.ndarray, cells: dict):
     off2, f2 = cells[2]
     sizes = np.diff(off3)
     cofaces = np.bincount(f3, minlength=len(off2) - 1)
-    new_vertices, new_edges, new_cells = [], [], []
+    new_vertices: list = []
+    new_edges: list = []
+    new_cells: list = []
     replaced: dict[int, list[int]] = {}  # B -> its triangles' ids
     n_edges, n_cells = len(edges), len(off2) - 1
     for x in np.flatnonzero(sizes == 2).tolist():

@@ -152,13 +152,12 @@ def expansion_terms(expr: sympy.Expr, complex_symbols) -> int:
         if e.is_Add or e.is_Mul:
             parts = [walk(a) for a in e.args]
             degs = [d for _, d in parts]
-            terms, deg = (0, 0) if e.is_Add else (1, 0)
+            terms = 0 if e.is_Add else 1
             for t, _ in parts:
                 terms = clip(terms + t if e.is_Add else terms * t)
+            deg: int | None = None
             if all(d is not None for d in degs):
                 deg = max(degs) if e.is_Add else sum(degs)
-            else:
-                deg = None
             return terms, deg
         if e.is_Pow and e.exp.is_Integer:
             t, d = walk(e.base)

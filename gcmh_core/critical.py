@@ -182,7 +182,7 @@ def critical_points(system, X: np.ndarray, bounds, div, jacobian=None) -> list[d
         met = (np.abs(F).max(axis=1) <= _TOL_F * diameter) & \
             (np.linalg.norm(np.einsum("mkn,mk->mn", J, u), axis=1) <= _TOL_J * np.linalg.norm(u, axis=1))
         inside = ((x >= bounds[:, 0]) & (x <= bounds[:, 1])).all(axis=1)
-    found = []
+    found: list = []
     merge = 0.01 * (bounds[:, 1] - bounds[:, 0]) / np.asarray(div, np.float64)
     for i in np.flatnonzero(met & inside):
         if any((np.abs(x[i] - p) <= merge).all() for p, _ in found):
