@@ -190,8 +190,13 @@ def _build_parser() -> _Parser:
     out.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.add_argument(
         "--check-cells", action="store_true",
-        help="check every cube's cells against CMS's Euler characteristic (n = 4..7): by default only "
-        "solids with n <= 5 are; this adds surfaces (2-3 times the run) and n = 6, 7 (7-11 times)",
+        help="check every cube's cells against CMS's Euler characteristic (n = 4..7): by default only the "
+        "cubes where a cell can be wrong are (those a certificate can't show to be a graph over a face)",
+    )
+    p.add_argument(
+        "--confirm", action="store_true",
+        help="repeat the run on a second grid (the next seed, 1.5 times the div) and say whether the Euler "
+        "characteristic, pieces and boundary agree (formulas only)",
     )
     guard = p.add_argument_group("before the run")
     guard.add_argument(
@@ -560,6 +565,8 @@ def _cmd_extract(args) -> int:
         raise InputError(f"-o and --vtu name the same file ({args.vtu!r}): give each its own")
     if any(path == STDOUT for _, path in outputs) and args.json:
         raise InputError("-o - writes the .npz to standard output: it can't take --json too")
+    if args.confirm and job.get("data"):
+        raise InputError("--confirm repeats the run on a finer grid: it needs formulas, not sampled data")
     if args.section is not None:  # a bad VAR=C is refused before the run
         from .section import parse_section_spec
 
@@ -607,6 +614,14 @@ def _cmd_extract(args) -> int:
     summary = _summary(cx, job, outputs)
     if section is not None:
         summary["section"] = dict(section[1], line=section[2])
+    if args.confirm:
+        from .confirm import confirm
+
+        summary["confirmation"] = confirm(
+            job["F"], result=cx, variables=job["variables"], method=job["method"], start=job["start"],
+            scheduler=job["scheduler"], force=args.force, params=job["params"], periodic=job["periodic"],
+            check_cells=True if args.check_cells else None,
+        ).as_dict()
     if args.homology:
         from .homology import summary as homology_summary
 
@@ -762,7 +777,16 @@ def _summary(cx, job, outputs) -> dict:
         "example": job["name"],
         "params": meta.get("params") or {},
         "singular_vertices": meta.get("singular_vertices"),
+        # the critical points of M solved for (`critical`): [{"x": point, "rank": rank of J}]
+        "critical_points": meta.get("critical_points") or [],
+        # cubes checked against CMS (the others certified graphs over a face), and why a run's
+        # topology is not checked (n >= 8, or the check turned off), else None
+        "checked_cubes": int(meta.get("checked_cubes", 0) or 0),
+        "topology_unchecked": meta.get("topology_unchecked"),
+        # how a Dask run went (not saved in the .npz: distributed.RUN_META)
         "scheduler": meta.get("scheduler"),
+        "workers": meta.get("workers"),
+        "tasks": meta.get("tasks"),
         "blocks": meta.get("blocks"),
         "timings": meta.get("timings"),
         "files": {kind: str(path) for kind, path in outputs},
@@ -816,12 +840,17 @@ def _human(s: dict, job: dict) -> str:
         how = "cut into discs" if cut else "replaced by the simplicial (CMS) cells of their cubes"
         lines.append(f"  note: at {s['non_ball_split']} places a piece of M inside a cube was not a ball; GCMH's cells "
                      f"there were {how}, so the topology is right")
-    if 6 <= s["n"] <= 7 and s["n"] - s["k"] >= 3 and not s["cells_checked"] and s["method"] in ("gcmh", "gcch"):
-        lines.append("  note: cells were not checked against CMS's Euler characteristic (costly for n >= 6): "
-                     "--check-cells does")
+    if s["topology_unchecked"]:
+        lines.append(f"  warning: the topology is unchecked: {s['topology_unchecked']}")
     if s["singular_vertices"]:
         lines.append(f"  notice: F's Jacobian nearly loses rank at {s['singular_vertices']} vertices: "
                      "M is singular there, the parameters are at or near a critical value")
+    for point in s["critical_points"]:
+        where = ", ".join(f"{x:.4g}" for x in point["x"])
+        lines.append(f"  notice: M has a critical point at ({where}), where F's Jacobian has rank {point['rank']} "
+                     f"< {s['k']}")
+    if "confirmation" in s:
+        lines.append(f"  {s['confirmation']['message']}")
     if s.get("section"):
         lines.append(f"  {s['section']['line']}")
     if s.get("homology"):

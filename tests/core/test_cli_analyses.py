@@ -88,3 +88,27 @@ def test_a_huge_n_is_refused_at_once(capsys):
     code = main(["extract", "--f", "x1", "--n", "100000", "--bounds", "-1:1", "-q"])
     out, err = capsys.readouterr()
     assert code == 2 and err.startswith("gcmh: error:") and len(err.splitlines()) == 1, err
+
+
+# ---------------------------------------------------------------- how sure the topology is (issue 25)
+
+def test_confirm_agrees_on_a_sphere(capsys):
+    s = run_json(capsys, "--f", "x^2 + y^2 + z^2 - 1", "--vars", "x,y,z", "--bounds", "-1.5:1.5", "--div", "8",
+                 "--confirm")
+    c = s["confirmation"]
+    assert c["agree"] is True and c["first"] == c["second"], c
+
+
+def test_confirm_says_when_a_thin_tube_is_below_the_grid(capsys):
+    # a torus of tube radius 0.06 at div 6: the first grid misses or breaks it
+    s = run_json(capsys, "--f", "(sqrt(x^2 + y^2) - 1)^2 + z^2 - 0.0036", "--vars", "x,y,z",
+                 "--bounds", "-1.5:1.5", "--div", "6", "--confirm")
+    c = s["confirmation"]
+    assert c["agree"] is False and "finer" in c["message"] and c["suggested_div"], c
+
+
+def test_the_hyperboloid_cone_is_flagged_at_div_13(capsys):
+    code = main(["extract", "--example", "hyperboloid", "--param", "a=0", "--div", "13", "-q"])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    assert "critical point" in out

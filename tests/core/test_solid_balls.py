@@ -222,7 +222,8 @@ def test_a_piece_with_no_gcmh_vertex_is_found():
 
 
 def test_cli_check_cells(capsys):
-    """--check-cells turns the check on for n = 6; the summary says whether it ran."""
+    """The cells are checked by default where they can be wrong (n = 4..7), --check-cells checks every
+    cube; the summary says whether the check ran."""
     import json
 
     from gcmh_core.cli import main
@@ -230,15 +231,16 @@ def test_cli_check_cells(capsys):
     argv = ["extract", "--f", "x1^2+x2^2+x3^2+x4^2-1", "--f", "x5-0.1*x1-0.2*x2", "--f", "x6-0.3*x3+0.1*x4",
             "--n", "6", "--bounds=-1.3:1.3", "--div", "4"]
     assert main(argv) == 0
-    assert "--check-cells does" in capsys.readouterr().out
+    assert "topology is unchecked" not in capsys.readouterr().out
     assert main(argv + ["--check-cells", "--json"]) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["cells_checked"] is True and summary["euler_characteristic"] == 0
-    # a surface's tube is cut into discs, or, where the cells are checked, refined like a solid's
+    # a surface's tube: its cubes are checked by default, so refined like a solid's (cut into discs
+    # only with check_cells=False: `runner.split_non_ball_cells`)
     tube = ["--f", "+".join(f"(x{a}-(x1+x2+x3)/3)^2" for a in (1, 2, 3)) + "-0.04",
             "--f", "x4-0.1*x1+0.05*x2-0.137", "--n", "4", "--bounds=-1:1", "--div", "8,8,8,3"]
     assert main(["extract"] + tube) == 0
-    assert "cut into discs" in capsys.readouterr().out
+    assert "replaced by the simplicial (CMS) cells" in capsys.readouterr().out
     assert main(["extract"] + tube + ["--check-cells"]) == 0
     assert "replaced by the simplicial (CMS) cells" in capsys.readouterr().out
 
