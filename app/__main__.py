@@ -49,7 +49,7 @@ if __name__ == "__main__":   # python -m gcmh_studio: before the imports below (
 
 import argparse  # noqa: E402
 
-from .headless import Options, fail, parse_size, prepare_env, render  # noqa: E402
+from .headless import Options, default_size, fail, parse_size, prepare_env, render  # noqa: E402
 
 
 def _div(text: str):
@@ -70,8 +70,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--session", metavar="FILE", help="open a saved session (.json)")
     p.add_argument("--list", action="store_true", help="list the examples and exit")
     p.add_argument("--screenshot", metavar="PNG", help="render without a window, write this PNG and exit")
-    p.add_argument("--size", type=parse_size, default=(1600, 1200), metavar="WxH",
-                   help="screenshot size (default 1600x1200)")
+    p.add_argument("--size", type=parse_size, default=None, metavar="WxH",
+                   help="picture size (default 1600x1200 for a screenshot, 960x540 for an animation)")
     p.add_argument("--div", type=_div, metavar="N", help="override the example's grid divisions (N or N1,N2,...)")
     p.add_argument("--seed", type=int, default=0, help="grid perturbation seed (default 0)")
     p.add_argument("--param", dest="params", action="append", default=[], metavar="NAME=VALUE",
@@ -265,6 +265,8 @@ def list_examples_or_warn() -> list:
 
 def _main(argv=None) -> int:
     args = build_parser().parse_args(argv)
+    if args.size is None:  # an animation's default is a slide's (headless.ANIMATION_SIZE)
+        args.size = default_size(bool(args.animate))
     prepare_env()
     problem = check_output_size(args)
     if problem:

@@ -34,7 +34,8 @@ from psygnal import Signal, SignalGroup
 
 from . import studio_io
 from .animation import PARAM_PERIOD
-from .jobs import COMPILE_NOTE, COMPILING, WAITING_PHASES, continuation_methods, current_warm_up
+from .jobs import COMPILING, WAITING_PHASES, continuation_methods, current_warm_up
+from .labels import gluing_title
 from .model import EMPTY_RESULT, StudioModel, animation_frames, slice_params
 from .steps import CoarseAim, critical_notice, step_key
 
@@ -146,7 +147,7 @@ class StudioController:
         m.job = job
         self._suggest_complex_view(job)
         warm = current_warm_up()
-        self.events.progress.emit(0.0, f"{COMPILING}\u2026" if warm is not None and warm.waits_for(job.method)
+        self.events.progress.emit(0.0, f"{warm.phase()}\u2026" if warm is not None and warm.waits_for(job.method)
                                   else "starting\u2026")
         return self.runner.start(job)
 
@@ -261,9 +262,11 @@ class StudioController:
             self.events.progress.emit(fraction, f"{phase}\u2026 \u00b7 {seconds:.1f} s")
         else:
             self.events.progress.emit(fraction, f"{phase} {100 * fraction:.0f}% \u00b7 {seconds:.1f} s")
-        if phase == COMPILING:
-            self.model.set_status(f"The numerical kernels compile once per install ({COMPILE_NOTE}); "
-                                  "this run starts when they are ready.")
+        if phase.startswith(COMPILING):   # (only while numba really compiles: WarmUp.phase, jobs.compile_phase)
+            warm = current_warm_up()
+            note = warm.notice() if warm is not None else ""
+            self.model.set_status(note or f"The numerical kernels compile once per install{phase[len(COMPILING):]};"
+                                  " this run goes on when they are ready.")
 
     def on_declined(self) -> None:
         self.events.progress.emit(0.0, "not started")
@@ -295,6 +298,10 @@ class StudioController:
         keep = job.step is not None and m.result is not None and list(job.variables) == m.names
         view = None if keep else m.take_view()
         title = m.title_for(job.formulas, job.variables)
+        if title:   # an example's equations glued otherwise are the example glued so (its title and story)
+            title, story = gluing_title(title, job.formulas, job.variables, job.periodic)
+            if story is not None:
+                self.events.described.emit(title if story else "", story)
         if not title:   # a system typed in: the last example's description no longer applies
             self.events.described.emit("", "")
             title = job.title

@@ -17,6 +17,7 @@ camera and one colour scale fitted to all of them, each captioned with its value
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 from contextlib import contextmanager
@@ -106,12 +107,15 @@ def offscreen_scene(size, anti_aliasing: str | None = ANIMATION_AA):
     """A :class:`gcmh_studio.scene.Scene` on an off-screen plotter of ``size`` (w, h) pixels, closed afterwards."""
     import pyvista as pv
 
-    from .scene import Scene
+    from .offscreen import gl_lifecycle
+    from .sections import SectionScene
 
+    gl_lifecycle()   # (the window's animation export: no GL context made or ended while a still picture draws)
     pl = pv.Plotter(off_screen=True, window_size=[int(size[0]), int(size[1])])
     try:
-        yield Scene(pl, anti_aliasing=anti_aliasing)
+        yield SectionScene(pl, anti_aliasing=anti_aliasing)  # a slice frame shows the section, its value and chi
     finally:
+        gl_lifecycle()
         pl.close()
 
 
@@ -230,6 +234,8 @@ def _prepare(opts: Options):
             a, b = (names.index(t.strip()) for t in plane.replace("\u2013", "-").split("-"))
             i, j = min(a, b), max(a, b)
             sgn = 1.0 if a < b else -1.0
+            if not math.isfinite(float(deg)):   # (a NaN angle drew nothing, exit 0)
+                raise ValueError(f"the angle of {plane} must be a finite number of degrees, got {deg.strip()!r}")
             model.angles[model.planes.index((i, j))] = sgn * float(deg)
     except ValueError as e:
         return fail(f"bad --project/--rotate/--mapping ({e}); variables are {', '.join(names)}")
@@ -244,6 +250,8 @@ def _prepare(opts: Options):
         var, _, c = opts.slice.partition("=")
         try:
             slice_var, slice_c = names.index(var.strip()), float(c)
+            if not math.isfinite(slice_c):
+                raise ValueError(c)
         except ValueError:
             return fail(f"bad --slice {opts.slice!r}: use VAR=C with VAR one of {', '.join(names)}")
     if opts.slice_width is not None and not opts.slice_width > 0:
@@ -314,8 +322,12 @@ def render(opts: Options) -> int:
             pl.renderer.GradientBackgroundOff()
         if spec is not None:
             return _animation(opts, scene, model, window, spec, prep["slice_range"])
-        pl.render()
-        img = pl.screenshot(None, transparent_background=opts.transparent, return_img=True)
+        from .offscreen import RenderError, checked_screenshot
+
+        try:   # (never a black picture: a size the renderer cannot draw super-sampled is drawn with FXAA)
+            img = checked_screenshot(scene, opts.transparent)
+        except RenderError as e:
+            return fail(f"error: --size {opts.size[0]}x{opts.size[1]}: {e}", 1)
         from PIL import Image
 
         _written(opts.screenshot, lambda temp: Image.fromarray(np.asarray(img)).save(temp))

@@ -31,7 +31,7 @@ from psygnal import Signal, SignalGroup
 from .animation import Clock, Spec, frames_for
 from .inputs import default_variables
 from .jobs import Job
-from .projection import MAPPINGS, ProjectionModel, default_axes, turned_angles
+from .projection import MAPPINGS, ProjectionModel, default_axes, turned_angles, varying_colour
 from .slicing import SliceWindow, window_range
 
 EMPTY_RESULT = ("The result is empty: F has no sign change on this grid. Widen the domain, "
@@ -291,7 +291,8 @@ class StudioModel:
             p.set_vertices(vertices)
         color = self.style.color_by
         if color not in names and not keep and names:
-            color = names[-1]
+            # the last coordinate that varies on the result (a torus in R^10 is 0 in its last ones)
+            color = varying_colour(names, vertices) if vertices is not None else names[-1]
         self.view_names = names
         recording, self.recording = self.recording, False
         try:
@@ -571,6 +572,8 @@ def _warnings(meta: dict) -> str:
     left = int(meta.get("non_ball_left", meta.get("non_ball_cells", 0)) or 0)
     if left:
         out += f" \u00b7 warning: {left} cells are not balls (try method cms or another div)"
+    if meta.get("topology_unchecked"):  # (n >= 8: no cell check exists; or the check was turned off)
+        out += f" \u00b7 warning: topology unchecked ({meta['topology_unchecked']})"
     degenerate = int(meta.get("degenerate", 0) or 0)
     if degenerate:
         out += f" \u00b7 warning: {degenerate} degenerate events (try another seed)"

@@ -177,3 +177,11 @@ def test_a_parameter_step_that_loses_the_start_point_continues_from_auto():
     job.params = {"a": 0.3}
     cx = run_job(job)
     assert cx.euler_characteristic() == 0 and "start_note" not in cx.meta
+
+
+def test_the_status_says_when_the_topology_is_unchecked():
+    from gcmh_studio.model import _warnings
+
+    assert _warnings({}) == ""
+    said = _warnings({"topology_unchecked": "no cell check exists in R^10 with k = 8"})
+    assert "topology unchecked (no cell check exists in R^10 with k = 8)" in said

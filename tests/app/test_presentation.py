@@ -142,11 +142,16 @@ def test_axes_with_ticks_are_titled_with_the_projection(qtbot, presenting):
     assert [axes.GetXTitle(), axes.GetYTitle(), axes.GetZTitle()] == ["u = Re w", "v = Im w", "x = Re z"]
     lo, hi = np.array(axes.GetBounds()).reshape(3, 2).T
     mesh = np.array(window.scene.mesh.bounds).reshape(3, 2)
-    assert np.allclose(lo, mesh[:, 0]) and np.allclose(hi, mesh[:, 1])
+    # the box reaches round values around the object (bounds_axes.nice_range: an end a fiftieth of a step
+    # past a round value stays at it)
+    slack = 0.02 * (hi - lo)
+    assert np.all(lo <= mesh[:, 0] + slack) and np.all(hi >= mesh[:, 1] - slack)
     # the ticks count in the variables (the drawing is centred on the object): x = cos(u) cosh(v) >= 0 here
     V = np.asarray(window.result.vertices)
     shown = np.array([axes.x_axis_range, axes.y_axis_range, axes.z_axis_range])
-    assert np.allclose(shown, np.stack([V[:, :3].min(0), V[:, :3].max(0)], 1), atol=1e-3)
+    data = np.stack([V[:, :3].min(0), V[:, :3].max(0)], 1)
+    room = 0.02 * np.ptp(shown, axis=1)
+    assert np.all(shown[:, 0] <= data[:, 0] + room) and np.all(shown[:, 1] >= data[:, 1] - room)
     assert shown[2, 0] == 0.0
     _key(qtbot, window, Qt.Key_A)
     assert not p.axes_shown()

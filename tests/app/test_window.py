@@ -789,7 +789,7 @@ def test_export_animation_from_the_window(qtbot, window, tmp_path):
     angles = window.projection_panel.model.angles.copy()
     p = tmp_path / "rot.gif"
     assert window.export_animation(p, frames=5, size=(200, 150)) == 5
-    g = iio.imread(p, index=None)
+    g = iio.imread(p, index=None, mode="RGB")
     assert g.shape[:3] == (5, 150, 200)
     assert np.allclose(window.projection_panel.model.angles, angles)      # the window's view is untouched
     window.projection_panel.set_slice("s", 0.5, 0.05)
