@@ -29,6 +29,7 @@ from qtpy.QtWidgets import (
 )
 
 from .model import StudioModel
+from .qt_confirm_box import QtConfirmBox
 from .qt_homology_box import QtHomologyBox
 
 DIM_NAMES = {0: "points", 1: "curve", 2: "surface"}
@@ -129,7 +130,7 @@ class QtTopologyPanel(QWidget):
         self.homology_box = QtHomologyBox(self.studio)
         layout.addWidget(self.homology_box)
 
-        refine_box = QGroupBox("Refinement")
+        refine_box = QGroupBox("Refine and confirm")
         rl = QVBoxLayout(refine_box)
         self.refine_button = QPushButton("Refine onto M")
         self.refine_button.setToolTip(
@@ -141,6 +142,8 @@ class QtTopologyPanel(QWidget):
         self.refine_label.setObjectName("topology_refinement")
         rl.addWidget(self.refine_button)
         rl.addWidget(self.refine_label)
+        self.confirm_box = QtConfirmBox(self.studio)   # how sure the topology is: a second grid
+        rl.addWidget(self.confirm_box)
         layout.addWidget(refine_box)
 
         view_box = QGroupBox("Show")
