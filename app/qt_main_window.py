@@ -32,6 +32,7 @@ from .model import StudioModel
 from .qt_actions import StudioActions, ask_big_run
 from .qt_animation_panel import QtAnimationPanel
 from .qt_data_panel import QtDataPanel
+from .qt_file_opener import QtFileOpener
 from .qt_formula_panel import QtFormulaPanel
 from .qt_presentation import QtPresentation
 from .qt_projection_panel import QtProjectionPanel
@@ -97,6 +98,7 @@ class QtMainWindow(QMainWindow):
 
         self.data_panel = QtDataPanel(self)   # (a "Data" tab once a data file is opened)
         self.data_source: data_source.DataSource | None = None
+        self.files = QtFileOpener(self)   # File -> Open, Open data... and drops
         self.setAcceptDrops(True)   # data files, saved results and sessions dropped on the window open
         self.menu_actions = StudioActions(self, with_gallery=QtGallery is not None)
         self.statusBar()   # shows the menus' status tips (example descriptions)
@@ -312,82 +314,22 @@ class QtMainWindow(QMainWindow):
 
     # ------------------------------------------------------------------ files: data, results, sessions
     def open_data(self, specs, levels=None) -> bool:
-        """Open data files as F's components (one per file or field) and extract at their levels (default:
-        the middle of each range); the Data tab gets a live slider per level. False (status line) on a bad file."""
-        specs = [str(s) for s in ([specs] if isinstance(specs, (str, bytes)) or hasattr(specs, "__fspath__")
-                                  else specs)]
-        source = self.guard("Opening the data", data_source.DataSource, specs, levels)
-        if source is None:
-            return False
-        self.data_source = source
-        if self.tabs.indexOf(self._data_tab()) < 0:
-            self.tabs.addTab(self._data_tab(), "Data")
-        self.tabs.setCurrentWidget(self._data_tab())
-        self.show_description(source.title, "")
-        self.data_panel.set_source(source)
-        return True
-
-    def _data_tab(self):
-        if getattr(self, "_data_scroll", None) is None:
-            self._data_scroll = scrolled(self.data_panel)
-        return self._data_scroll
+        return self.files.open_data(specs, levels)
 
     def open_result(self, path) -> bool:
-        """Show a cell complex saved as .npz (Export complex, ``gcmh extract -o``): view, slices and exports
-        work on it as on a run's result."""
-        opened = self.guard("Opening the result", data_source.open_result, str(path))
-        if opened is None:
-            return False
-        cx, names, title = opened
-        self.data_panel.stop()
-        self.show_result(cx, names, title=title)
-        self.show_description(title, "")
-        self.set_status(f"Opened {path}: {cx.count(0):,} vertices, a {cx.dim}-manifold in R^{cx.n}")
-        return True
+        return self.files.open_result(path)
 
     def open_file(self, path) -> bool:
-        """A session (.json), a saved result (.npz of a cell complex) or a data file, by what it is."""
-        path = str(path)
-        if path.lower().endswith(".json"):
-            entry = data_source.session_data(path)
-            if entry is None:
-                if self.controller.open_session(path):
-                    return True
-                from qtpy.QtWidgets import QMessageBox  # (checked whole first: nothing on screen was changed)
-
-                QMessageBox.warning(self, "Cannot open the session", self.last_status)
-                return False
-            source = self.guard("Opening the session", data_source.DataSource.from_session, entry)
-            return source is not None and self.open_data(source.specs, source.levels)
-        if data_source.is_result_file(path):
-            return self.open_result(path)
-        return self.open_data([path])
+        return self.files.open_file(path)
 
     def dropped_files(self, mime) -> list[str]:
-        """The local files of a drag that the window opens (sessions, results, data), else []."""
-        if not mime.hasUrls():
-            return []
-        paths = [u.toLocalFile() for u in mime.urls() if u.isLocalFile()]
-        ok = [p for p in paths if p.lower().endswith(".json") or data_source.is_data_file(p)]
-        return ok if len(ok) == len(paths) else []
+        return self.files.dropped_files(mime)
 
     def dragEnterEvent(self, event) -> None:
-        if self.dropped_files(event.mimeData()):
-            event.acceptProposedAction()
-        else:
-            event.ignore()
+        self.files.drag_enter(event)
 
     def dropEvent(self, event) -> None:
-        """One file opens by its kind; several data files open together, one component of F each."""
-        paths = self.dropped_files(event.mimeData())
-        if not paths:
-            event.ignore()
-            return
-        event.acceptProposedAction()
-        if len(paths) == 1:
-            self.open_file(paths[0])
-        else:
-            self.open_data(paths)
+        self.files.drop(event)
 
     def closeEvent(self, event) -> None:
         self.data_panel.stop()
