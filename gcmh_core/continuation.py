@@ -45,12 +45,6 @@ def project_onto_M(system, X0: np.ndarray, bounds: np.ndarray) -> tuple[np.ndarr
     M, in the domain's units), never by |F|: multiplying F by 1e10 or 1e-12 changes nothing.
     """
     scale = float(np.max(bounds[:, 1] - bounds[:, 0]))
-    # Newton on F itself, never on a copy whose exact zeros are shifted: at a point where F is 0
-    # a shift is noise that no step reduces, so every start on M took all 50 steps (GCCH on the
-    # complex cosine at div 80: 18 ms of 250).  (`_zeros` no longer shifts: the kernels resolve
-    # zeros symbolically; a System given a shift by its caller is still read unshifted here.)
-    if getattr(system, "zero_shift", None) is not None:
-        system = system.with_zero_shift(None)
     result = gauss_newton(system, X0, _NEWTON_STEPS, step_tol=1e-12 * scale, only_improving=False,
                           bounds=bounds, margin=1e-9 * scale)
     status = result.status

@@ -17,7 +17,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from . import _zeros
 from ._methods import CONTINUATION_METHODS, METHODS, SIMPLICIAL_METHODS
 from ._validate import as_div, as_periodic, describe_periodic, prepare
 from .budget import check_budget, estimate_run
@@ -163,13 +162,8 @@ def extract(
         axes = identified_axes(bounds_, div_, seed, amplitude, spec)
     else:
         axes = perturbed_axes(bounds_, div_, seed, amplitude)
-    if k_ >= 2:  # exact zeros become tiny distinct positive values (`_zeros`): no cell malformed by them
-        if sampled is not None:
-            if not sampled.all():
-                sampled = np.array(sampled, np.float64)
-                _zeros.shift_grid(sampled, axes, _zeros.zero_shift(sampled=sampled))
-        else:
-            system = system.with_zero_shift(_zeros.zero_shift(system, bounds_))
+    # (exact zeros and other degenerate values are resolved in the kernels by simulation of
+    # simplicity, `kernels.solve._zero_side`: F's values are never moved)
 
     def new_grid():
         if spec:

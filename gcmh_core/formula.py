@@ -21,7 +21,6 @@ depends on; sums and products combine their terms smallest-support first.
 from __future__ import annotations
 
 import ast
-import copy
 import difflib
 import functools
 import itertools
@@ -38,7 +37,6 @@ import numpy as np
 import sympy
 from sympy.core.logic import fuzzy_and
 
-from . import _zeros
 from .errors import InputError
 
 __all__ = ["FormulaError", "System", "parse_system", "check_component", "evaluate_constant", "find_parameters"]
@@ -605,18 +603,8 @@ class System:
         # the values substituted, in the order of appearance ({} without parameters)
         self.params = {p: values[p] for p in self.parameters} if values else {}
 
-    # delta_j (k,) where a value 0 of F_j becomes +delta_j (1 + u): see `_zeros` (None: values as they are)
-    zero_shift: np.ndarray | None = None
-
     def __reduce__(self):  # (worker processes parse again, with the same values)
-        state = {"zero_shift": self.zero_shift} if self.zero_shift is not None else None
-        return (type(self), (self.texts, self.variables, self.params or None), state)
-
-    def with_zero_shift(self, delta) -> System:
-        """A copy (sharing the compiled programs) whose evaluations shift exact zeros (`_zeros`)."""
-        other = copy.copy(self)
-        other.zero_shift = None if delta is None else np.asarray(delta, np.float64)
-        return other
+        return (type(self), (self.texts, self.variables, self.params or None))
 
     def __repr__(self):
         extra = f", params={self.params!r}" if self.params else ""
@@ -643,8 +631,6 @@ class System:
         out = np.empty((P.shape[0], self.k))
         for j, v in enumerate(values):
             out[:, j] = v  # broadcasts constant components
-        if self.zero_shift is not None:
-            _zeros.shift_points(out, P, self.zero_shift)
         return out
 
     def evaluate_grid(self, axes: Sequence, out: np.ndarray | None = None) -> np.ndarray:
@@ -668,8 +654,6 @@ class System:
             raise InputError(f"out must be a float64 array of shape {shape}, got {out.dtype} {out.shape}")
         for j, v in enumerate(self._program.run(cols)):
             out[..., j] = v  # broadcast to the full grid
-        if self.zero_shift is not None:
-            _zeros.shift_grid(out, axes, self.zero_shift)
         return out
 
     def jacobian_points(self, P) -> np.ndarray:

@@ -3,7 +3,7 @@
 F sampled on a grid through M: values exactly 0 at vertices, components 0 on whole grid
 hyperplanes, quantized values whose images at a facet's corners are affinely dependent with 0
 (a torus through grid vertices gave chi 138 for 0, 960 degenerate events).  The kernels read
-F_j(v) as F_j(v) + eps^(2^order(v, j)) (`gcmh_core._zeros`, `kernels.solve._zero_side`): every
+F_j(v) as F_j(v) + eps^(2^order(v, j)) (`kernels.solve._zero_side`): every
 method gives a valid regular complex with the right topology, and nothing is degenerate.
 """
 

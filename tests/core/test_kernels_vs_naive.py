@@ -356,11 +356,14 @@ def extract_as_gcmh(values, **kw):
     the assembly adds to make cells regular (lens collapse and halved double edges,
     gcmh_core._regular, tested in test_regular) and balls (the split of pieces M_A joins
     through a cube, and the solids' Euler check, gcmh_core._balls, tested in test_balls and
-    test_solid_balls)."""
-    from gcmh_core import runner
+    test_solid_balls; the lens cells of higher dimensions, _balls.collapse_lens_cells, in
+    test_regular_high_n)."""
+    from gcmh_core import _balls, runner
 
     gcmh_core, _ = _engine()
     keep = runner.collapse_lenses, runner.subdivide_double_edges, runner.split_non_ball_cells, runner.checks_cells
+    keep_lens_cells = _balls.collapse_lens_cells
+    _balls.collapse_lens_cells = lambda e, c, inc: (e, c, inc)
     runner.collapse_lenses = lambda edges, cells: (edges, cells, 0, 0)
     runner.subdivide_double_edges = lambda vertices, edges, cells: (vertices, edges, cells, 0)
     runner.split_non_ball_cells = lambda grid, records, cubes, common: records
@@ -370,6 +373,7 @@ def extract_as_gcmh(values, **kw):
     finally:
         runner.collapse_lenses, runner.subdivide_double_edges, runner.split_non_ball_cells, runner.checks_cells \
             = keep
+        _balls.collapse_lens_cells = keep_lens_cells
 
 
 # the naive twin's runs of the random cases, kept for test_random_cases_are_not_vacuous (the topology
@@ -589,15 +593,15 @@ def test_zero_on_a_facet_is_inside_like_naive(k):
 
 
 def test_simplex_crosses_singular_and_offsets():
-    from gcmh_core.kernels.solve import simplex_crosses
+    from gcmh_core.kernels.solve import _zero_side, simplex_crosses
     k = 2
     mat, rhs, lam = np.empty((k, k)), np.empty(k), np.empty(k + 1)
-    # identical components -> singular -> no vertex, in both
+    # identical components -> flat: decided by simulation of simplicity, as the exact twin decides
     vals = np.array([[-1.0, -1.0], [1.0, 1.0], [2.0, 2.0]])
     pos = np.array([0, 3, 3], np.int64)
     idx = np.arange(3, dtype=np.int64)
-    assert not simplex_crosses(vals, 0, idx, idx[None], 0, k, pos, 3, mat, rhs, lam)
-    assert simplex_lambdas(vals) is None
+    assert simplex_crosses(vals, 0, idx, idx[None], 0, k, pos, 3, mat, rhs, lam) == 2
+    assert bool(_zero_side(vals, 0, idx, idx[None], 0, k, lam)) == (simplex_lambdas(vals) is not None)
     # rows reached through o + corner_off[corner]: same answer as the packed layout
     rng = np.random.default_rng(9)
     V = np.array([[0, 0], [1, 0], [0, 1]], float)

@@ -75,7 +75,7 @@ def test_random_samples_in_r4_like_cms(seed, div):
 def test_cube_euler_chunk_matches_naive(n, k):
     rng = np.random.default_rng(n * 10 + k)
     values = rng.normal(size=(3,) * n + (k,))
-    if k == 1:  # exact zeros too (for k >= 2 extract shifts them off first, `_zeros`)
+    if k == 1:  # exact zeros too (the kernels resolve them by simulation of simplicity)
         values[rng.random(values.shape) < 0.1] = 0.0
     tab = cube_tables(n, k)
     strides = np.array([3 ** (n - 1 - a) for a in range(n)], np.int64)
