@@ -286,30 +286,10 @@ def test_the_window_offers_the_crashed_session_back(qtbot, small_window, tmp_pat
 
 
 # ---------------------------------------------------------------- a full disk (item 4): the PNG and GIF writers
-@pytest.fixture
-def full_disk(tmp_path):
-    d = tmp_path / "small"
-    d.mkdir()
-    r = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(d)], capture_output=True)
-    if r.returncode != 0:
-        pytest.skip(f"cannot mount a tmpfs here: {r.stderr.decode().strip()}")
-    try:
-        fd = os.open(d / "ballast", os.O_WRONLY | os.O_CREAT)
-        try:
-            while True:
-                os.write(fd, b"\0" * 4096)
-        except OSError:
-            pass
-        finally:
-            os.close(fd)
-        yield d
-    finally:
-        subprocess.run(["umount", str(d)], check=False)
-
-
 @pytest.mark.parametrize("args,name", [(["--screenshot"], "x.png"), (["--animate", "rotate:x-y", "--frames", "3",
                                                                      "--gif"], "x.gif")])
-def test_a_picture_on_a_full_disk_is_one_line_and_leaves_nothing(full_disk, args, name):
+def test_a_picture_on_a_full_disk_is_one_line_and_leaves_nothing(full_disk, fill_disk, args, name):
+    fill_disk(full_disk)
     env = dict(os.environ)
     env.pop("QT_QPA_PLATFORM", None)
     r = subprocess.run([sys.executable, "-m", "gcmh_studio", "--example", "sphere", "--div", "6", "--size",

@@ -177,39 +177,12 @@ def test_an_empty_flip_is_refused_not_read_as_a_plain_seam(entry):
 
 
 # ---------------------------------------------------------------- item 4: a full disk
-@pytest.fixture
-def full_disk(tmp_path):
-    """A 64 kB tmpfs (root, where mount is permitted), filled but for a few kB."""
-    d = tmp_path / "small"
-    d.mkdir()
-    r = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(d)], capture_output=True)
-    if r.returncode != 0:
-        pytest.skip(f"cannot mount a tmpfs here: {r.stderr.decode().strip()}")
-    try:
-        yield d
-    finally:
-        subprocess.run(["umount", str(d)], check=False)
-
-
-def _fill(d: Path, leave: int = 2048) -> None:
-    fd = os.open(d / "ballast", os.O_WRONLY | os.O_CREAT)
-    try:
-        while True:
-            os.write(fd, b"\0" * 4096)
-    except OSError:
-        pass
-    finally:
-        os.close(fd)
-    size = os.path.getsize(d / "ballast")
-    os.truncate(d / "ballast", max(0, size - leave))
-
-
-def test_every_writer_on_a_full_disk_says_so_and_leaves_the_old_file(full_disk, capsys):
+def test_every_writer_on_a_full_disk_says_so_and_leaves_the_old_file(full_disk, fill_disk, capsys):
     cx = extract(SPHERE, variables="x,y,z", bounds=[-1.5, 1.5], div=30)
     for name, save in (("a.npz", cx.save), ("a.vtu", cx.save_vtu)):
         old = full_disk / name
         old.write_bytes(b"old content")
-        _fill(full_disk)
+        fill_disk(full_disk, leave=2048)
         with pytest.raises(OSError) as err:
             save(old)
         assert err.value.errno == errno.ENOSPC
@@ -218,8 +191,8 @@ def test_every_writer_on_a_full_disk_says_so_and_leaves_the_old_file(full_disk, 
         os.unlink(full_disk / "ballast")
 
 
-def test_the_command_line_on_a_full_disk_is_one_line_and_leaves_nothing(full_disk):
-    _fill(full_disk)
+def test_the_command_line_on_a_full_disk_is_one_line_and_leaves_nothing(full_disk, fill_disk):
+    fill_disk(full_disk, leave=2048)
     for flag, name in (("-o", "a.npz"), ("--vtu", "a.vtu")):
         r = subprocess.run([sys.executable, "-m", "gcmh_core.cli", "extract", "--f", SPHERE[0], "--vars", "x,y,z",
                             "--bounds", "-1.5:1.5", "--div", "40", "-q", flag, str(full_disk / name)],
