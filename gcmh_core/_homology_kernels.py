@@ -120,6 +120,14 @@ def _coreduce(dims, top, bd_off, bd, cb_off, cb):
 
 
 @njit(**JIT)
+def _swap_rows(heap, a, b):
+    for c in range(2):
+        t = heap[a, c]
+        heap[a, c] = heap[b, c]
+        heap[b, c] = t
+
+
+@njit(**JIT)
 def _heap_push(heap, size, key, x):
     heap[size, 0] = key
     heap[size, 1] = x
@@ -128,10 +136,7 @@ def _heap_push(heap, size, key, x):
         p = (i - 1) // 2
         if heap[p, 0] >= heap[i, 0]:
             break
-        for c in range(2):
-            t = heap[p, c]
-            heap[p, c] = heap[i, c]
-            heap[i, c] = t
+        _swap_rows(heap, p, i)
         i = p
     return size + 1
 
@@ -150,10 +155,7 @@ def _heap_pop(heap, size):
                 big = c
         if big == i:
             break
-        for c in range(2):
-            t = heap[big, c]
-            heap[big, c] = heap[i, c]
-            heap[i, c] = t
+        _swap_rows(heap, big, i)
         i = big
     return x, size
 
