@@ -163,11 +163,12 @@ HOMOLOGY_PREFIX = "homology-"
 def draw_homology(scene, specs: dict, render: bool = True) -> None:
     """Show exactly the homology overlays ``specs`` (name -> (vertices (m, n), edges (E, 2), colour, width),
     from :class:`gcmh_studio.qt_homology_box.QtHomologyBox`): others named ``homology-*`` go."""
-    for name in [n for n in list(scene.overlay_meshes._src) if n.startswith(HOMOLOGY_PREFIX) and n not in specs]:
+    gone = [n for n in list(scene.overlay_meshes._src) if n.startswith(HOMOLOGY_PREFIX) and n not in specs]
+    for name in gone:
         scene.remove_overlay(name, render=False)
     for name, (X, E, color, width) in specs.items():
         scene.set_overlay(name, X, E, color, width=width, render=False)
-    if render:
+    if render and (gone or specs):   # (a new result clears nothing drawn: no render of the old one)
         scene.plotter.render()
 
 

@@ -29,6 +29,9 @@ class QtStillPicture:
         self.image: np.ndarray | None = None    # the last one shown
         self.settling = False
         self.fresh = False        # a new result the window has not drawn yet (its picture drawn in a thread)
+        # what covers the view until the new result is on screen (the waiting picture): hiding a label over the
+        # view repaints it, a render on the GUI thread, so it goes when the picture or the window's frame is there
+        self.cover = None
         self.label = QLabel(viewer.widget)
         self.label.setAttribute(Qt.WA_TransparentForMouseEvents)   # the view under it gets the mouse
         self.label.hide()
@@ -40,7 +43,7 @@ class QtStillPicture:
         self.step.setSingleShot(True)
         self.step.setInterval(0)
         self.step.timeout.connect(self._next_step)
-        viewer.plotter.ren_win.AddObserver("StartEvent", lambda *a: self.drop())
+        viewer.plotter.ren_win.AddObserver("StartEvent", lambda *a: self._view_renders())
 
     def start(self) -> None:
         """A new result: its picture in steps of their own (one render asked)."""
@@ -62,6 +65,7 @@ class QtStillPicture:
         renders it); the render was counted when it was asked for."""
         self.drop()
         if not self.in_thread():
+            self._uncover()
             self.viewer.widget.update()
             return
         v = self.viewer
@@ -71,6 +75,7 @@ class QtStillPicture:
         except Exception:  # noqa: BLE001 - the window draws it itself
             job = None
         if job is None or job.declined:   # (the presentation draws over the view: the window's own render)
+            self._uncover()
             self.viewer.widget.update()
             return
         self.job = job
@@ -81,6 +86,15 @@ class QtStillPicture:
             self.steps.pop(0)()
         if self.steps:     # (started after the step: a timer due meanwhile, the GUI's, goes first)
             self.step.start()
+
+    def _uncover(self) -> None:
+        if self.cover is not None and self.cover.shown():
+            self.cover.hide()
+
+    def _view_renders(self) -> None:
+        self.drop()
+        if not self.settling:
+            self._uncover()
 
     def drop(self) -> None:
         """The view renders itself (or changed): a still picture on its way or on screen is no longer it."""
@@ -118,6 +132,7 @@ class QtStillPicture:
         self.label.setPixmap(pix)
         self.label.show()
         self.label.raise_()
+        self._uncover()
 
     def settle(self) -> None:
         """One cheap render of a new result, not shown, with the complex shrunk to a point: the colour bar lays

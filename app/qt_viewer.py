@@ -101,6 +101,7 @@ class QtViewer:
         # a see-through result's still picture is drawn in a thread and shown over the view until the
         # view renders again
         self.still = QtStillPicture(self)
+        self.still.cover = self.waiting     # (it goes when the first result's picture is on screen)
         if self.still.off_thread:
             warm_background()
         self.angles = angle_look(model)
@@ -187,7 +188,6 @@ class QtViewer:
         (and, with "keep camera", the whole camera). ``moving``: one of a stream of results (a parameter
         slider held): drawn with the moving look, the still one coming back when the stream rests."""
         first = self.scene.mesh is None and self._mapping is None
-        self.waiting.hide()
         held = None if first or not self.keep_camera() else camera_state(self.plotter.camera)
         with self.scene.held_render(render=False):
             self.scene.set_complex(self.model.result, self.model.names, self.model.projection.view(), self.style(),
@@ -205,6 +205,7 @@ class QtViewer:
             self.scene.set_moving(moving)
         self._mapping = self.model.projection.view().mapping
         if moving:
+            self.waiting.hide()
             self.render()
             self._settle.start()
         else:   # in short steps of their own (one render asked): the picture drawn in a thread, or the

@@ -33,8 +33,6 @@ def _load(qtbot, window, name):
     assert b.args[0] == "done", window.last_status
 
 
-@pytest.mark.xfail(reason="known regression (session 10 note): the window's FXAA stays off after the "
-                   "moving look, so no still picture is drawn in a thread", strict=False)
 def test_still_pictures_survive_steps_releases_switches_and_windows(qtbot, small_window, monkeypatch):
     from gcmh_studio import offscreen
     from gcmh_studio.qt_main_window import QtMainWindow

@@ -290,8 +290,6 @@ def test_a_see_through_view_moves_under_one_headlight_and_rests_as_the_same_pict
         pl.close()
 
 
-@pytest.mark.xfail(reason="known regression (session 10 note): the window's FXAA stays off after the "
-                   "moving look, so no still picture is drawn in a thread", strict=False)
 def test_an_opaque_surface_moves_with_its_own_lights_and_only_fxaa_paused():
     """An opaque surface keeps its lights and its full mesh while moving; only the FXAA pass pauses, and the
     still picture comes back pixel for pixel."""

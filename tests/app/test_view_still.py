@@ -43,8 +43,6 @@ def _run_three_torus(qtbot, window):
     assert b.args[0] == "done", window.last_status
 
 
-@pytest.mark.xfail(reason="known regression (session 10 note): the window's FXAA stays off after the "
-                   "moving look, so no still picture is drawn in a thread", strict=False)
 def test_the_picture_is_drawn_off_the_gui_thread_and_is_the_windows_own(qtbot, window):
     v = window.viewer
     frames = _shown_frames(window)
@@ -70,8 +68,6 @@ def test_the_picture_is_drawn_off_the_gui_thread_and_is_the_windows_own(qtbot, w
     assert np.array_equal(v.screenshot_array(), own)
 
 
-@pytest.mark.xfail(reason="known regression (session 10 note): the window's FXAA stays off after the "
-                   "moving look, so no still picture is drawn in a thread", strict=False)
 def test_a_change_takes_the_picture_away_and_a_late_picture_never_shows(qtbot, window):
     v = window.viewer
     _run_three_torus(qtbot, window)
@@ -95,8 +91,6 @@ def test_a_change_takes_the_picture_away_and_a_late_picture_never_shows(qtbot, w
     assert not v.still_shown()
 
 
-@pytest.mark.xfail(reason="known regression (session 10 note): the window's FXAA stays off after the "
-                   "moving look, so no still picture is drawn in a thread", strict=False)
 def test_a_screenshot_while_the_picture_is_drawn_waits_for_it(qtbot, window, tmp_path):
     from PIL import Image
 

@@ -121,7 +121,10 @@ def test_the_view_shows_the_examples_picture_until_its_first_result(qtbot, small
         assert w.load_example("torus-angles", div=small_div(ex))
         assert waiting.shown() and waiting.example.name == "torus-angles"   # (before the result comes)
     assert b.args[0] == "done"
-    assert not waiting.shown()
+    # it stays until the result's first picture is on screen (hiding it earlier repainted the view on the GUI
+    # thread, and the see-through result's picture drawn in a thread was dropped)
+    qtbot.waitUntil(lambda: not waiting.shown(), timeout=60_000)
+    assert not w.viewer.still_pending()
     img = w.viewer.waiting.card(400, 300).toImage()
     assert img.width() == 400
 
