@@ -13,9 +13,9 @@ tested without a display (tests/app/test_controller.py, with a synchronous runne
 - an example becomes the Manifold tab's state (:func:`example_state`); Undo and
   Redo step through :class:`gcmh_studio.model.History`; a session is opened
   (its view restored once its run is done) and saved;
-- refinements, and the Animate tab's live play (the clock moves the model's angles
-  or slice, or a parameter: ``events.sweep`` asks for its coarse steps while it plays and
-  the full one when it stops).
+- refinements, and the Animate tab's live play (:class:`gcmh_studio.live_play.LivePlay`:
+  the clock moves the model's angles or slice, or a parameter: ``events.sweep`` asks for
+  its coarse steps while it plays and the full one when it stops).
 
 It talks to a *runner* (:class:`Runner`: the window's
 :class:`gcmh_studio.qt_run_controller.QtRunController`, or a fake) and to a *view*
@@ -29,14 +29,13 @@ import copy
 import time
 from typing import Any, Protocol
 
-import numpy as np
 from psygnal import Signal, SignalGroup
 
 from . import studio_io
-from .animation import PARAM_PERIOD
 from .jobs import COMPILING, WAITING_PHASES, continuation_methods, current_warm_up
 from .labels import gluing_title
-from .model import EMPTY_RESULT, StudioModel, animation_frames, slice_params
+from .live_play import LivePlay
+from .model import EMPTY_RESULT, StudioModel
 from .steps import CoarseAim, critical_notice, step_key
 
 
@@ -116,8 +115,7 @@ class StudioController:
         self._step_t0 = 0.0
         self.last_step_seconds: float | None = None   # from a slider's change to the result drawn (the benchmark)
         self.last_moved: str | None = None            # the parameter the user moved last
-        self.playing = False                          # the Animate tab plays (its frames are not steps to undo)
-        self._sweeping: tuple[str, float] | None = None   # a playing parameter sweep's last value
+        self.live = LivePlay(model, self.events.sweep.emit)   # the Animate tab's live play
         model.events.checks.connect(self._on_checks)
 
     # ------------------------------------------------------------ runs
@@ -429,80 +427,15 @@ class StudioController:
             self.events.refined.emit("failed")
 
     # ------------------------------------------------------------ the Animate tab's live play
+    # (gcmh_studio.live_play: the window's Animate tab and the exports call them here)
     def play(self, on: bool) -> tuple[bool, str]:
-        """The animation starts (``on``) or stops: (may it play, what to say in the Animate tab)."""
-        m = self.model
-        m.clock.start(m.projection.angles)
-        if not on:
-            if self.playing:   # its end is a step to undo (not its frames)
-                self.playing, m.recording = False, True
-                if self._sweeping is not None:   # at rest: the full grid at the value reached
-                    name, value = self._sweeping
-                    self._sweeping = None
-                    self.events.sweep.emit(name, value, True)
-                m.record()
-            return False, ""
-        if m.animation.mode == "slice" and not m.slice.on:
-            return False, "Turn the slice on in the View tab first."
-        if m.result is None:
-            return False, "Nothing to animate yet: run first."
-        if m.animation.mode == "slice":   # start the sweep where the slider is
-            m.clock.start(m.projection.angles, slice_centre=m.slice.c)
-        if m.animation.mode == "param":
-            sweep = self._sweep()
-            if sweep is None:
-                return False, "A parameter sweep needs a run of a system with parameters: run first."
-            name, lo, hi, value = sweep   # start where the parameter is (within the sweep's range)
-            m.clock.start(m.projection.angles, slice_centre=min(max((value - lo) / (hi - lo), 0.0), 1.0))
-        self.playing, m.recording = True, False
-        return True, ("Both axes of this plane are hidden: turning it moves nothing on screen. "
-                      "Pick a plane with a shown axis." if self.still_plane() else "")
-
-    def still_plane(self) -> bool:
-        """The plane to rotate shows nothing turning (both its axes hidden in an orthographic view)."""
-        m = self.model
-        plane = m.animation.plane
-        return (m.animation.mode == "rotate" and plane is not None and m.projection.mapping == "orthographic"
-                and bool(np.allclose(m.projection.matrix()[:, list(plane)], 0.0)))
+        """:meth:`gcmh_studio.live_play.LivePlay.play`: (may it play, what to say in the Animate tab)."""
+        return self.live.play(on)
 
     def tick(self, dt: float) -> None:
-        """Advance the playing animation by ``dt`` seconds (times the speed), in place."""
-        m = self.model
-        if m.result is None:
-            return
-        mode, clock = m.animation.mode, m.clock
-        if mode == "rotate":
-            plane = m.animation.plane
-            if plane is not None:
-                row = m.projection.planes.index((plane[0], plane[1]))
-                m.set_angles(clock.rotate_step(m.projection.angles, row, dt))
-        elif mode == "tour":
-            m.set_angles(clock.tour_step(dt))
-        elif mode == "slice":
-            m.set_slice(c=min(max(clock.sweep_step(dt), 0.0), 1.0))
-        elif mode == "param":
-            sweep = self._sweep()
-            if sweep is not None:   # there and back, eased as the slice sweep; each value a coarse step
-                name, lo, hi, _ = sweep
-                value = lo + (hi - lo) * min(max(clock.sweep_step(dt, PARAM_PERIOD), 0.0), 1.0)
-                self._sweeping = (name, value)
-                self.events.sweep.emit(name, value, False)
-
-    def _sweep(self) -> tuple[str, float, float, float] | None:
-        """(parameter, from, to, its value now) of the Animate tab's sweep, or None: no parameter of the
-        system on show to sweep, or an empty range."""
-        m = self.model
-        sweep = m.animation.sweep
-        params = (m.system.get("params") or {}) if m.job is not None else {}
-        if sweep is None or sweep[0] not in params or sweep[1] == sweep[2]:
-            return None
-        name, lo, hi = sweep
-        return name, float(lo), float(hi), float(params[name].get("value", lo))
+        """:meth:`gcmh_studio.live_play.LivePlay.tick`: the playing animation ``dt`` seconds on."""
+        self.live.tick(dt)
 
     def animation_frames(self, n_frames: int, projection=None):
-        """Frames of the Animate tab's animation (from the current view) and the slice window to use."""
-        m = self.model
-        projection = projection or m.projection
-        vertices = None if m.result is None else m.result.vertices
-        prm = slice_params(m.slice.window(), vertices, projection, (m.slice.c, m.slice.w))
-        return animation_frames(m.animation.mode, m.animation.plane, projection, n_frames, prm)
+        """:meth:`gcmh_studio.live_play.LivePlay.animation_frames`: an exported animation's frames."""
+        return self.live.animation_frames(n_frames, projection)
