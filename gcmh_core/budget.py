@@ -40,6 +40,7 @@ import numpy as np
 
 from ._cost import (
     _KERNEL_SECONDS_PER_ENTRY,
+    DEFAULT_CHECK_SHARE,
     _functionals,
     check_seconds,
     checks_cells,
@@ -399,7 +400,8 @@ def estimate_run(
     div_t = tuple(int(d) for d in np.broadcast_to(np.asarray(div, np.int64), (n,)))
     vertices = math.prod(d + 1 for d in div_t)
     simplicial = method in SIMPLICIAL_METHODS
-    checked = checks_cells(n, k, simplicial, check_cells)
+    # what the cell check costs: "all" candidate cubes compared with CMS, or the certificate first
+    checked = checks_cells(n, k, simplicial, check_cells) and ("all" if check_cells else "certified")
     if index_room(n, k, vertices, simplicial) >= _KEY_LIMIT:
         raise InputError(f"the grid is too large to index ({_count(vertices)} vertices in R^{n}): use a smaller div"
                          + (" or fewer variables" if n > 62 else ""))
@@ -505,13 +507,16 @@ def _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, exp
     if not simplicial and expected:  # each kernel thread's scratch, written for every cube
         grid += int(min(_threads(), max(expected, 1.0)) * kernel_scratch(n, k))
     peak = max(table_peak, tables_held + grid + records) + _RUN_OVERHEAD
+    kernel_seconds = 0.0 if simplicial else expected * kernel_entries(n, k) * _KERNEL_SECONDS_PER_ENTRY
     seconds = (
         table_seconds
         + work_vertices * k * _VERTEX_SECONDS
         + records * _RECORD_SECONDS_PER_N * n
-        + (0.0 if simplicial else expected * kernel_entries(n, k) * _KERNEL_SECONDS_PER_ENTRY)
-        # the cells' Euler check (`_cost.checks_cells`): CMS's count of each candidate cube's simplices
-        + (expected * check_seconds(n, k) if checked else 0.0)
+        + kernel_seconds
+        # the cells' Euler check (`_cost.checks_cells`): CMS's count of each candidate cube's simplices when
+        # asked for every cube; by default the certificate, and CMS where it can't vouch
+        + (0.0 if not checked else expected * check_seconds(n, k) if checked == "all"
+           else kernel_seconds * DEFAULT_CHECK_SHARE)
     )
     return Estimate(
         n=n,

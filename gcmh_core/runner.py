@@ -107,7 +107,7 @@ class Grid:
         # cells are checked against CMS's Euler characteristic face by face where they can be wrong:
         # by default every cube the certificate can't vouch for (`graph_certified`), asked for: all
         self.check_request = check_cells  # (what the caller asked: a distributed run's tasks get it)
-        self.check_cells = checks_cells(n, k, self.simplicial, True if check_cells is None else check_cells)
+        self.check_cells = checks_cells(n, k, self.simplicial, check_cells)
         self.check_all = bool(check_cells)
         self.axes_arr = np.zeros((n, int(self.dims.max())))
         for a in range(n):
@@ -338,8 +338,7 @@ def unchecked_reason(n: int, k: int, simplicial: bool, check_request: bool | Non
     """Why GCMH's cells were not checked against CMS's where they can be wrong (a piece of M in a
     cube that is not a ball gives a wrong chi or count of pieces), or None: they were, or can't be
     wrong (curves; the simplicial baselines, whose cells are convex)."""
-    if simplicial or n - k < 2 or n <= 3 or checks_cells(n, k, simplicial, True if check_request is None
-                                                          else check_request):
+    if simplicial or n - k < 2 or n <= 3 or checks_cells(n, k, simplicial, check_request):
         return None
     if check_request is False:
         return "the cell check was turned off (check_cells=False)"

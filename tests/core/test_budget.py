@@ -292,3 +292,11 @@ def test_glued_axes_are_counted_in_the_estimate():
     cut = estimate(ex.formulas, ex.bounds, ex.div, variables=ex.variables)
     glued = estimate(ex.formulas, ex.bounds, ex.div, variables=ex.variables, periodic=list(ex.periodic))
     assert glued.seconds > 2 * cut.seconds
+
+
+def test_the_estimate_prices_the_cell_check_as_the_run_does():
+    """The default check (the certificate, CMS where it can't vouch) costs a share of the kernel; asked for
+    every cube it costs CMS's simplices; off, nothing (solids in R^4, surfaces in R^5)."""
+    for n, k in [(4, 1), (5, 3)]:
+        sec = {c: budget.estimate_run(n, k, 8, probe=False, check_cells=c).seconds for c in (False, None, True)}
+        assert sec[False] < sec[None] < sec[True], (n, k, sec)
