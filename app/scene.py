@@ -5,18 +5,18 @@
 surfaces (dim 2), the 2-skeleton for higher dimensions. Moving a projection
 slider calls :meth:`Scene.set_projection`, which writes the projected points
 (and, for surfaces, the vertex normals of the projected mesh) in place into the
-mesh's VTK arrays and re-renders: no new mesh, no new actor, same topology.
+mesh's VTK arrays and re-renders: no new mesh, no new actor, same topology
+(the mesh and its writing are :mod:`gcmh_studio.complex_mesh`'s).
 
 A slice (:meth:`Scene.set_slice`) clips the oriented loops of the full result
 to a window of a linear functional (:mod:`gcmh_studio.slicing`) and draws that instead:
 new topology, so a new mesh, but the same centre and scales, so nothing jumps.
 Overlays (boundary facets, the grid cubes, a picked cell) are small line meshes
 projected with the same view and clipped by the same slice (:mod:`gcmh_studio.overlays`).
+Periodic axes may be drawn as circles, with their glued seam (:mod:`gcmh_studio.scene_angles`).
 While the view moves it is drawn in a cheaper look (:mod:`gcmh_studio.moving_look`).
 
 A view is a :class:`gcmh_studio.projection.View` (or a plain (3, n) matrix: linear).
-Nonlinear views get their normals from the projected mesh
-(:class:`gcmh_studio.geometry.MeshNormals`), linear ones from the bivectors.
 
 The same class renders into the Qt window (a ``pyvistaqt.QtInteractor``) and
 into an off-screen ``pyvista.Plotter`` for headless screenshots and animations,
@@ -36,13 +36,16 @@ import numpy as np
 import pyvista as pv
 
 from . import picking
-from .angles import CircleProjector, cyclic_colour, seam_lines, seam_spec
+from .angles import cyclic_colour
 from .background import wait_background
-from .geometry import Geometry, MeshNormals, NormalField, display_complex
+from .complex_mesh import SHEET_GAP as SHEET_GAP  # (the views' tests read it here)
+from .complex_mesh import ComplexMesh
+from .geometry import Geometry, display_complex
 from .labels import SceneTexts, axes_labels, with_meaning
 from .moving_look import MovingLook
 from .overlays import SceneOverlays
 from .projection import Projector, View
+from .scene_angles import SceneAngles
 from .slicing import clip_polygons, clip_segments
 
 if TYPE_CHECKING:
@@ -53,9 +56,7 @@ BACKGROUND_TOP = "#4a5468"
 SURFACE_COLOR = "#d9a441"
 LINE_COLOR = "#f0c05a"
 BACK_COLOR = "#3f7fd0"       # back faces when two-sided colouring is on
-SEAM_COLOR = "#ff5cf0"       # the glued seam of identified axes
 CMAP = "viridis"
-SHEET_GAP = 2e-3             # coincident sheets held apart by this much of the object's radius (no z-fighting)
 
 
 def colour_range(values) -> list[float]:
@@ -202,24 +203,18 @@ class Scene:
         self.plotter = plotter
         self.complex: CellComplex | None = None
         self.names: list[str] = []
-        self.mesh: pv.PolyData | None = None
         self.actor: pv.Actor | None = None
         self.style = Style()
-        self.projector: Projector | None = None
-        self._pts: np.ndarray | None = None        # the mesh's points: written in place
-        self._normals: np.ndarray | None = None    # its normals, for surfaces
-        self._normal_field: NormalField | None = None
         self.P: np.ndarray | None = None         # the view's matrix (3, n)
         self.texts = SceneTexts(plotter)
         self.geometry: Geometry | None = None      # of the whole result
-        self.draw_geo: Geometry | None = None      # what is drawn (the slice, or the whole)
         self.source = None                         # the result as computed (display_complex draws a copy)
-        self._seam: tuple | None = None            # (projector, mesh, actor) of the glued seam
         self.view: View | None = None
         self.slice: tuple | None = None            # (direction (n,), c, w) or None
-        self._mesh_normals: MeshNormals | None = None
+        self.drawn = ComplexMesh(self)             # the complex's mesh, written in place for each view
         self.overlay_meshes = SceneOverlays(self)  # boundary, grid cubes, a picked cell; the slice's ghost
         self.look = MovingLook(self)               # cheaper while the view moves
+        self.angles = SceneAngles(self)            # periodic axes as circles, the glued seam
         self.actor_kw: dict = {}                   # how the complex's actor was added (its coarse copy's too)
         plotter.set_background(BACKGROUND, top=BACKGROUND_TOP)
         self.anti_aliasing: str | None = None
@@ -262,15 +257,12 @@ class Scene:
             self.plotter.remove_actor(self.actor, render=False)
         self.texts.remove_bar()
         self.actor = None
-        self.mesh = None
+        self.drawn.clear()
         self.complex = None
-        self.projector = None
-        self._pts = self._normals = self._normal_field = None
-        self.geometry = self.draw_geo = None
+        self.geometry = None
         self.source = None
-        self._drop_seam()
+        self.angles.drop_seam()
         self.slice = None
-        self._mesh_normals = None
         self.look.drop_coarse()
         self.look.restore_lights()
         self.overlay_meshes.clear()
@@ -294,8 +286,9 @@ class Scene:
         self.complex = cx
         self.names = list(names)
         self.geometry = geo
-        self._show_geometry(geo, np.asarray(cx.vertices), self._set_view(P))
-        self._show_seam()
+        self._set_view(P)
+        self._show_geometry(geo, np.asarray(cx.vertices))
+        self.angles.show_seam()
         self._update_axes_labels()
         self.plotter.renderer.reset_camera(render=False)   # (the plotter's wrapper renders)
 
@@ -305,129 +298,57 @@ class Scene:
         self.P = np.asarray(view.P, dtype=float)
         return view
 
-    def _show_geometry(self, geo: Geometry, V: np.ndarray, view: View) -> None:
-        """Make the mesh for ``geo`` (vertices ``V`` (V, n) for the colour data) at ``view``, and its actor."""
-        self.draw_geo = geo
-        self.projector = self._projector_for(V, geo.projector)
-        self._mesh_normals = None
-        if geo.projector.XT.shape[1] == 0 or len(geo.cells) == 0:   # an empty slice: draw nothing
+    def _show_geometry(self, geo: Geometry, V: np.ndarray) -> None:
+        """Make the mesh for ``geo`` (vertices ``V`` (V, n) for the colour data) at the view, and its actor."""
+        self.drawn.build(geo, V, self.angles.projector_for(V, geo.projector))
+        if self.drawn.mesh is None:   # an empty slice: draw nothing
             if self.actor is not None:
                 self.plotter.remove_actor(self.actor, render=False)
             self.texts.remove_bar()
             self.actor = None
-            self.mesh = None
-            self._pts = self._normals = self._normal_field = None
             return
-        pts = self.projector.project_view(view)
-        if geo.kind == "lines":
-            mesh = pv.PolyData(pts, lines=geo.cells)
-        else:
-            mesh = pv.PolyData(pts, faces=geo.cells)
-        self._normal_field = geo.normals
-        if self._normal_field is not None:
-            mesh.point_data["Normals"] = np.zeros((len(V), 3), dtype=np.float32)
-            mesh.point_data.active_normals_name = "Normals"
-        for i, name in enumerate(self.names):
-            mesh.point_data[name] = np.ascontiguousarray(V[:, i])
-        mesh.cell_data["cell_id"] = np.asarray(geo.cell_ids if geo.cell_ids is not None
-                                                else np.arange(mesh.n_cells), dtype=np.int64)
-        self.mesh = mesh
-        self._pts = mesh.points  # a view of the VTK buffer: written in place
-        self._normals = mesh.point_data["Normals"] if self._normal_field is not None else None
-        self._write_normals()
-        self._separate_sheets()
         self._add_actor()
 
     @property
-    def circles_on(self) -> bool:
-        """Periodic axes are drawn as circles (the style asks and the result has some)."""
-        return bool(self.style.circles) and self.source is not None and bool(seam_spec(self.source))
+    def mesh(self) -> pv.PolyData | None:
+        """The complex's mesh on show (:class:`gcmh_studio.complex_mesh.ComplexMesh`), None when nothing is."""
+        return self.drawn.mesh
 
-    def _projector_for(self, V: np.ndarray, projector: Projector) -> Projector:
-        """``projector`` (of vertices ``V``), or with "angles as circles" one of their circles."""
-        if not self.circles_on:
-            return projector
-        return CircleProjector(V, seam_spec(self.source), center=projector.center)
+    @property
+    def projector(self) -> Projector | None:
+        return self.drawn.projector
+
+    @property
+    def draw_geo(self) -> Geometry | None:
+        """What is drawn: the slice, or the whole result."""
+        return self.drawn.geometry
+
+    @property
+    def circles_on(self) -> bool:
+        """Periodic axes are drawn as circles (:class:`gcmh_studio.scene_angles.SceneAngles`)."""
+        return self.angles.circles_on
+
+    @property
+    def _seam(self) -> tuple | None:
+        return self.angles.seam
 
     def set_angle_look(self, circles: bool, seam: bool, render: bool = True) -> None:
         """Periodic axes as circles or as numbers; the glued seam drawn or not (a new mesh for circles)."""
-        st = self.style
-        changed = bool(circles) != bool(st.circles)
-        st.circles, st.seam = bool(circles), bool(seam)
-        if self.complex is not None and changed:
-            sl = self.slice
-            if sl is None:
-                self.set_slice(None, render=False)
-            else:
-                self.set_slice(*sl, render=False)
-        self._show_seam()
-        self._circle_overlays()
+        self.angles.set(circles, seam)
         if render:
             self.plotter.render()
-
-    def _circle_overlays(self) -> None:
-        """The overlays (a picked cell, the boundary, the grid cubes) drawn as the complex is: through the
-        circles of "angles as circles", or plainly again."""
-        if self.geometry is None or self.view is None:
-            return
-        center, radii = self.geometry.projector.center, self.geometry.projector.radii()
-        for geo, mesh, *_ in self.overlay_meshes.items.values():
-            pr = geo.projector
-            is_circle = isinstance(pr, CircleProjector)
-            if is_circle == self.circles_on:
-                continue
-            raw = pr.raw if is_circle else np.asarray(pr.XT.T, dtype=np.float64) + pr.center
-            new = self._projector_for(raw, Projector(raw, center=center))
-            new.set_radii(radii)
-            geo.projector = new
-            if mesh is not None:
-                new.project_view(self.view, out=mesh.points)
-                mesh.GetPoints().Modified()
-                mesh.Modified()
-
-    def _drop_seam(self) -> None:
-        if self._seam is not None and self._seam[2] is not None and self.plotter is not None:
-            self.plotter.remove_actor(self._seam[2], render=False)
-        self._seam = None
-
-    def _show_seam(self) -> None:
-        """The glued seam (:func:`gcmh_studio.angles.seam_lines`) as thick lines, when the style asks."""
-        self._drop_seam()
-        if not self.style.seam or self.source is None or self.geometry is None or self.view is None:
-            return
-        X, E = seam_lines(self.source)
-        if len(E) == 0:
-            return
-        proj = self._projector_for(X, Projector(X, center=self.geometry.projector.center))
-        lines = np.empty((len(E), 3), dtype=np.int64)
-        lines[:, 0] = 2
-        lines[:, 1:] = E
-        mesh = pv.PolyData(proj.project_view(self.view), lines=lines.ravel())
-        actor = self.plotter.add_mesh(mesh, color=SEAM_COLOR, line_width=4.0, render_lines_as_tubes=True,
-                                      render=False, reset_camera=False, name="gcmh-seam", pickable=False)
-        self._seam = (proj, mesh, actor)
-
-    def _project_seam(self) -> None:
-        if self._seam is not None and self.view is not None:
-            proj, mesh, _ = self._seam
-            proj.project_view(self.view, out=mesh.points)
-            mesh.GetPoints().Modified()
-            mesh.Modified()
 
     def detached(self) -> Scene:
         """A copy for another thread to draw with :meth:`adopt`: its meshes deep copies, sharing no VTK object
         with this scene (the GUI thread goes on moving this one's points), and no plotter of its own."""
         other = copy.copy(self)
         other.plotter = other.actor = None
-        other._seam = None
+        other.angles = SceneAngles(other)
         other.texts = SceneTexts(None)
         other.look = MovingLook(other)
         other.style = copy.copy(self.style)
         other.P = None if self.P is None else np.array(self.P)
-        if self.mesh is not None:
-            other.mesh = self.mesh.copy(deep=True)
-            other._pts = other.mesh.points
-            other._normals = other.mesh.point_data["Normals"] if self._normals is not None else None
+        other.drawn = self.drawn.detached(other)
         other.overlay_meshes = self.overlay_meshes.detached(other)
         return other
 
@@ -436,11 +357,9 @@ class Scene:
         self.complex = other.complex
         self.source = other.source
         self.names = list(other.names)
-        self.mesh = other.mesh
-        self.projector = other.projector
-        self._pts, self._normals, self._normal_field = other._pts, other._normals, other._normal_field
+        self.drawn = other.drawn.shared(self)
         self.P = other.P
-        self.view, self.geometry, self.draw_geo, self.slice = other.view, other.geometry, other.draw_geo, other.slice
+        self.view, self.geometry, self.slice = other.view, other.geometry, other.slice
         self.style = style if style is not None else other.style
         self._add_actor()
         self.overlay_meshes.adopt(other.overlay_meshes)
@@ -468,7 +387,7 @@ class Scene:
         self.actor_kw = {k: v for k, v in kw.items() if k not in ("show_scalar_bar", "scalar_bar_args", "name")}
         self.actor = self.plotter.add_mesh(self.mesh, **kw)
         self.texts.bar_added(st.label(color_by) if color_by is not None and st.scalar_bar else None)
-        if self._normals is not None:
+        if self.drawn.normals is not None:
             self.actor.prop.interpolation = "phong"
         self.mesh.set_active_scalars(color_by) if color_by else None
         self.texts.set_title(self.style.title, self.style.subtitle)
@@ -482,21 +401,16 @@ class Scene:
         slice along a direction that depends on the view is the caller's to redo
         (:meth:`set_slice`); overlays follow here.
         """
-        view = self._set_view(P)
+        self._set_view(P)
         coarse = moving and self.look.lod_available()
         self.look.set_lights(moving)
         if coarse:
             self.look.show_coarse()
         else:
             self.look.hide_coarse()
-            if self.mesh is not None and self.projector is not None:
-                self.projector.project_view(view, out=self._pts)
-                self.mesh.GetPoints().Modified()
-                self._write_normals()
-                self._separate_sheets()
-                self.mesh.Modified()
+            self.drawn.project()
         self.overlay_meshes.project()
-        self._project_seam()
+        self.angles.project()
         self._update_axes_labels()
         if render:
             self.plotter.renderer.ResetCameraClippingRange()
@@ -524,45 +438,8 @@ class Scene:
         """The complex is drawn see-through (a lit surface or 2-skeleton with opacity below 1)."""
         return self.look.see_through()
 
-    def lod_available(self) -> bool:
-        """A coarse copy exists for the whole result on screen (no slice, an actor to stand in for)."""
-        return self.look.lod_available()
-
     def coarse_shown(self) -> bool:
         return self.look.coarse_on
-
-    def _write_normals(self) -> None:
-        mesh, pts, normals, normal_field, geo = self.mesh, self._pts, self._normals, self._normal_field, self.draw_geo
-        if mesh is None or pts is None or normals is None or normal_field is None or geo is None or self.P is None:
-            return
-        if self.view is not None and (not self.view.linear or self.circles_on):
-            # the bivector identity needs a linear map: take the normals of the projected mesh
-            if self._mesh_normals is None:
-                self._mesh_normals = geo.mesh_normals()
-            assert self._mesh_normals is not None   # (normals are a surface's: its polygons have them)
-            self._mesh_normals.write(pts, normals)
-        else:
-            normal_field.write(self.P, normals)
-        mesh.GetPointData().GetNormals().Modified()
-
-    def _separate_sheets(self) -> None:
-        """Hold apart sheets that a linear view lays onto each other (the Clifford torus in Orthographic is a
-        cylinder covered twice): each point moves ``SHEET_GAP`` of the object's radius along its normal, turned
-        away from the centre, outwards where the first hidden coordinate is positive and inwards where it is
-        negative. The depth test then draws one sheet in front everywhere instead of a speckle of both
-        (z-fighting); the move is far below a pixel."""
-        view, pts, normals, proj = self.view, self._pts, self._normals, self.projector
-        if (view is None or pts is None or normals is None or proj is None or not view.linear
-                or view.frame.shape[0] < 4 or self.circles_on):
-            return
-        h = np.asarray(view.frame[3], dtype=proj.XT.dtype) @ proj.XT          # (V,) the first hidden coordinate
-        side = np.where(h >= 0, 1.0, -1.0).astype(pts.dtype)
-        out = np.einsum("ij,ij->i", normals, pts)
-        side *= np.where(out >= 0, 1.0, -1.0).astype(pts.dtype)
-        length = np.sqrt(np.einsum("ij,ij->i", normals, normals))               # (the normals' lengths vary)
-        side /= np.where(length > 0, length, np.inf).astype(pts.dtype)
-        gap = SHEET_GAP * proj.radii()[0]
-        pts += (gap * side)[:, None] * normals
 
     # ------------------------------------------------------------------ slicing
     def set_slice(self, direction=None, c: float = 0.0, w: float = 0.0, render: bool = True) -> int:
@@ -577,7 +454,7 @@ class Scene:
         V = np.asarray(cx.vertices)
         if direction is None:
             self.slice = None
-            self._show_geometry(geo, V, view)
+            self._show_geometry(geo, V)
         else:
             u = np.asarray(direction, dtype=float)
             self.slice = (u, float(c), float(w))
@@ -587,9 +464,9 @@ class Scene:
                 sl = clip_polygons(V, geo.offsets, geo.vids, u, c, w)
             sgeo = Geometry.from_slice(sl, geo.dim, geo.n, geo.projector.center, geo.projector.radii(),
                                        cell_ids=geo.cell_ids)
-            self._show_geometry(sgeo, sl.vertices, view)
+            self._show_geometry(sgeo, sl.vertices)
         self.overlay_meshes.rebuild()
-        self._circle_overlays()
+        self.angles.fit_overlays()
         self.overlay_meshes.set_ghost(self.slice is not None and self.style.slice_context and geo.kind == "polygons")
         if render:
             self.plotter.render()
@@ -609,7 +486,7 @@ class Scene:
                     opacity: float = 1.0, render: bool = True) -> None:
         """Line segments in R^n (vertices (m, n), edges (E, 2)) drawn with the view and clipped by the slice."""
         self.overlay_meshes.set(name, vertices, edges, color, width, opacity)
-        self._circle_overlays()
+        self.angles.fit_overlays()
         if render:
             self.plotter.render()
 

@@ -288,7 +288,7 @@ class SectionScene(Scene):
         u = np.asarray(direction, dtype=float)
         self.slice = (u, float(c), float(w))
         empty = Geometry.from_slice(_no_slab(geo.n), geo.dim, geo.n, geo.projector.center, geo.projector.radii())
-        self._show_geometry(empty, np.empty((0, geo.n)), view)    # the section stands for the slab
+        self._show_geometry(empty, np.empty((0, geo.n)))    # the section stands for the slab
         drawn = self.sections.show(u, float(c))
         self.overlay_meshes.rebuild()
         self.overlay_meshes.set_ghost(self.style.slice_context)
