@@ -25,7 +25,10 @@ second one replaces the first, so installing is idempotent), it adds:
   under way is cancelled first (:class:`gcmh_studio.qt_gallery_walk.QtGalleryWalk`).
 
 The window's menus stay as they are; this controller only adds actions through
-``window.addAction`` and the menus' public ``addAction``.
+``window.addAction`` and the menus' public ``addAction``.  It holds the window's side (actions,
+keys, full screen, the strip, the walk); what the mode draws in the view (the card, a caption,
+the larger type, the axes' framing) is :class:`gcmh_studio.view_decorations.ViewDecorations`,
+and what the card shows :func:`gcmh_studio.presentation.card_key`.
 """
 
 from __future__ import annotations
@@ -34,17 +37,14 @@ from qtpy.QtCore import QEvent, QObject, Qt, QTimer
 from qtpy.QtGui import QKeySequence
 from qtpy.QtWidgets import QAction, QApplication, QSplitter, QWidget
 
-from .bounds_axes import add_axes, frame_axes, update_axes
-from .formula_card import card_actor, place_card
-from .labels import example_for
+from .presentation import card_key
 from .qt_gallery_walk import QtGalleryWalk
 from .qt_presentation_strip import QtPresentationStrip
 from .qt_view_alone import restore_layout, view_alone
+from .view_decorations import FORMULA_ACTOR, ViewDecorations
 
-FORMULA_ACTOR = "gcmh-formula"       # the typeset system, bottom right
-CAPTION_ACTOR = "gcmh-caption"       # what is happening (loading the next example), top right
-TEXT_ACTORS = ("gcmh-title", "gcmh-subtitle", "gcmh-legend")   # the scene's texts, enlarged while presenting
-FONT_SCALE = 1.5                     # larger type for a room
+__all__ = ["FORMULA_ACTOR", "QtPresentation"]
+
 OBJECT_NAME = "gcmh-presentation"
 
 
@@ -82,17 +82,14 @@ class QtPresentation(QObject):
         self.setObjectName(OBJECT_NAME)
         self.window = window
         self.presenting = False
-        self.walk = QtGalleryWalk(window, self._set_caption, self)
         self._saved: dict | None = None
-        self._formula = None                 # (actor, key it was typeset for)
-        self._caption = None
-        self._base_fonts: dict[int, tuple] = {}
-        self._reframe: str | None = None     # "fit" or "out": frame the axes' box at the next render
         self._keys = _Keys(self)
         self._relayout = QTimer(self)
         self._relayout.setSingleShot(True)
         self._relayout.setInterval(80)
         self._relayout.timeout.connect(self._on_resized)
+        self.decorations = ViewDecorations(window.viewer, self._card_resized)   # what it draws in the view
+        self.walk = QtGalleryWalk(window, self.decorations.set_caption, self)
 
         self.present_action = self._action("&Presentation mode", "F11", self.toggle,
                                            "full screen: the view alone, larger type and the formula (F11; Esc leaves)")
@@ -127,7 +124,6 @@ class QtPresentation(QObject):
         window.viewer.widget.installEventFilter(self._keys)
         window.installEventFilter(self._keys)
         window.viewer.picture_decorators.append(self.decorate)   # screenshots and animations show it too
-        self._observer = window.plotter.ren_win.AddObserver("StartEvent", self._before_render)
 
     # ------------------------------------------------------------------ installing
     def _action(self, text: str, shortcut, slot, tip: str) -> QAction:
@@ -245,20 +241,14 @@ class QtPresentation(QObject):
         self.strip.deleteLater()
         if self.decorate in self.window.viewer.picture_decorators:
             self.window.viewer.picture_decorators.remove(self.decorate)
-        try:
-            self.window.plotter.ren_win.RemoveObserver(self._observer)
-        except Exception:  # noqa: BLE001 - the render window is gone already
-            pass
+        self.decorations.detach()
         self.setObjectName("")
 
     def closing(self) -> None:
         """The window closes (its plotter with it): out of presentation mode, and no more render hooks."""
         self.leave()
         self._relayout.stop()
-        try:
-            self.window.plotter.ren_win.RemoveObserver(self._observer)
-        except Exception:  # noqa: BLE001 - the render window is gone already
-            pass
+        self.decorations.detach()
 
     # ------------------------------------------------------------------ presentation mode
     def toggle(self) -> None:
@@ -274,7 +264,7 @@ class QtPresentation(QObject):
         if self.presenting:
             return
         self._saved = view_alone(w, w.viewer.widget, exclude=self.actions())
-        self.presenting = True
+        self.presenting = self.decorations.large_type = True
         QApplication.instance().installEventFilter(self._keys)
         self.axes_action.setShortcut(QKeySequence("A"))
         self.formula_action.setShortcut(QKeySequence("F"))
@@ -296,228 +286,67 @@ class QtPresentation(QObject):
         w = self.window
         if not self.presenting:
             return
-        self.presenting = False
+        self.presenting = self.decorations.large_type = False
         QApplication.instance().removeEventFilter(self._keys)
         for a in (self.formula_action, self.axes_action, self.next_action, self.previous_action, self.strip_action):
             a.setShortcuts([])
         self.strip.hide()
         self.present_action.setChecked(False)
-        self._remove_actor(FORMULA_ACTOR)
-        self._formula = None
-        self._set_caption("")
-        self._restore_fonts()
+        self.decorations.hide_card(render=False)
+        self.decorations.set_caption("")
+        self.decorations.restore_fonts()
         saved, self._saved = self._saved, None
         if saved is None:
             return
         restore_layout(w, saved)
         w.viewer.render()
 
-    # ------------------------------------------------------------------ the formula
+    # ------------------------------------------------------------------ the formula and the axes
     def formula_key(self) -> tuple | None:
         """What the card shows: (formulas, variables, params, complex equations, complex variables)."""
-        w = self.window
-        job = w.model.job
-        if w.result is None or job is None:
-            return None
-        ex = example_for(w.model.title, w.result_names)
-        cplx: tuple = (None, None)
-        if ex is not None and ex.complex and ex.complex_variables:
-            cplx = (tuple(ex.complex), tuple(ex.complex_variables))
-        elif ex is None and w.model.system.get("complex"):   # typed in complex mode (the card checks the split)
-            cplx = (tuple(w.model.system["complex"]), tuple(w.model.system.get("complex_variables") or ()))
-        params = tuple(sorted((job.params or {}).items()))
-        return (tuple(job.formulas), tuple(job.variables), params) + cplx
+        return card_key(self.window.model)
 
     def set_formula_shown(self, on: bool) -> None:
         """The typeset card on or off (it is shown only while presenting)."""
         if self.formula_action.isChecked() != bool(on):
             self.formula_action.setChecked(bool(on))
         if not on:
-            self._remove_actor(FORMULA_ACTOR)
-            self._formula = None
-            self.window.viewer.render()
+            self.decorations.hide_card()
         else:
             self.update_formula()
 
+    def _card_shown(self) -> bool:
+        return self.presenting and self.formula_action.isChecked()
+
     def update_formula(self) -> None:
         """Typeset the system on screen into the corner of the view (while presenting)."""
-        if not self.presenting or not self.formula_action.isChecked():
-            return
-        key = self.formula_key()
-        vw, vh = self._view_size()
-        if key is None:
-            self._remove_actor(FORMULA_ACTOR)
-            self._formula = None
-            return
-        full = key + ((vw, vh),)
-        if self._formula is not None and self._formula[1] == full:
-            return
-        self._remove_actor(FORMULA_ACTOR)
-        self._formula = None
-        actor = card_actor(key, (vw, vh), bool(getattr(self.window.plotter, "scalar_bars", None)))
-        if actor is None:
-            return
-        self.window.plotter.add_actor(actor, name=FORMULA_ACTOR, reset_camera=False, pickable=False, render=False)
-        self._formula = (actor, full)
-        self.window.viewer.render()
+        if self._card_shown():
+            self.decorations.show_card(self.formula_key())
 
     def decorate(self, plotter) -> None:
         """Draw on another plotter (an off-screen copy of the view, for a screenshot or an animation) what
         this mode adds to the view: the card while presenting, the axes when shown."""
-        w, h = (int(s) for s in plotter.window_size)
-        key = self.formula_key() if self.presenting and self.formula_action.isChecked() else None
-        if key is not None:
-            actor = card_actor(key, (w, h), bool(getattr(plotter, "scalar_bars", None)))
-            if actor is not None:
-                plotter.add_actor(actor, name=FORMULA_ACTOR, reset_camera=False, pickable=False, render=False)
-        key = getattr(getattr(self.window.plotter.renderer, "cube_axes_actor", None), "_gcmh_key", None)
-        if key is not None:
-            add_axes(plotter, key)
+        self.decorations.decorate(plotter, self.formula_key() if self._card_shown() else None)
 
     def formula_actor(self):
         """The VTK actor of the typeset card (None when none is shown)."""
-        return None if self._formula is None else self._formula[0]
-
-    def _view_size(self) -> tuple[int, int]:
-        try:
-            w, h = (int(s) for s in self.window.plotter.ren_win.GetSize())
-        except Exception:  # noqa: BLE001
-            w, h = self.window.viewer.size()
-        return max(w, 1), max(h, 1)
-
-    def _remove_actor(self, name: str) -> None:
-        pl = self.window.plotter
-        if name in pl.actors:
-            pl.remove_actor(name, render=False)
-
-    def _set_caption(self, text: str, error: bool = False) -> None:
-        """A line of large type at the top right of the view (while presenting): what is happening."""
-        from vtkmodules.vtkRenderingCore import vtkTextActor
-
-        if not text:
-            if self._caption is not None:   # (no caption: nothing to draw again, every run ends here)
-                self._remove_actor(CAPTION_ACTOR)
-                self._caption = None
-                self.window.viewer.render()
-            return
-        if self._caption is None:
-            a = vtkTextActor()
-            prop = a.GetTextProperty()
-            prop.SetJustificationToRight()
-            prop.SetVerticalJustificationToTop()
-            prop.SetFontFamilyToArial()
-            prop.SetShadow(True)
-            coord = a.GetPositionCoordinate()
-            coord.SetCoordinateSystemToNormalizedViewport()
-            coord.SetValue(0.98, 0.965)
-            self.window.plotter.add_actor(a, name=CAPTION_ACTOR, reset_camera=False, pickable=False, render=False)
-            self._caption = a
-        a = self._caption
-        a.SetInput(text)
-        prop = a.GetTextProperty()
-        prop.SetColor((1.0, 0.55, 0.5) if error else (0.93, 0.95, 1.0))
-        prop.SetFontSize(int(max(14, self._view_size()[1] / 40)))
-        self.window.viewer.render()
+        return self.decorations.card()
 
     def caption(self) -> str:
-        return "" if self._caption is None else self._caption.GetInput()
+        return self.decorations.caption()
 
-    # ------------------------------------------------------------------ before every render
-    def _before_render(self, *_args) -> None:
-        """Keep the enlarged texts, the card's corner and the axes' bounds and titles in step with what
-        the scene drew since (it rebuilds its texts on a new result or style)."""
-        try:
-            if self.presenting:
-                self._scale_fonts()
-                if self._formula is not None:
-                    vw, vh = self._view_size()
-                    place_card(self._formula[0], vw)
-                    if self._formula[1][-1] != (vw, vh) and not self._relayout.isActive():
-                        self._relayout.start()
-            if self.axes_action.isChecked():
-                self._update_axes()
-                how, self._reframe = self._reframe, None
-                if how:
-                    self._frame_axes(how)
-        except Exception:  # noqa: BLE001 - a render must never fail because of the presentation
-            pass
-
-    def _text_props(self) -> list:
-        pl = self.window.plotter
-        props = [pl.actors[n].GetTextProperty() for n in TEXT_ACTORS if n in pl.actors]
-        for bar in getattr(pl, "scalar_bars", {}).values():
-            props += [bar.GetTitleTextProperty(), bar.GetLabelTextProperty()]
-        return props
-
-    def _scale_fonts(self) -> None:
-        for prop in self._text_props():
-            entry = self._base_fonts.get(id(prop))
-            if entry is None or entry[0] is not prop:
-                entry = (prop, prop.GetFontSize())
-                self._base_fonts[id(prop)] = entry
-            size = int(round(entry[1] * FONT_SCALE))
-            if prop.GetFontSize() != size:
-                prop.SetFontSize(size)
-        self._fit_texts()
-
-    def _fit_texts(self) -> None:
-        """The enlarged title and subtitle smaller again where they would leave the view (a long title ran
-        off its right edge and its top was cut)."""
-        pl = self.window.plotter
-        W, H = self._view_size()
-        boxes = {}
-        for name in TEXT_ACTORS:
-            actor = pl.actors.get(name)
-            if actor is None or not actor.GetInput():
-                continue
-            bb = [0.0] * 4
-            actor.GetBoundingBox(pl.renderer, bb)   # (x0, x1, y0, y1) in pixels
-            over = max(bb[1] / (0.98 * W), bb[3] / (0.97 * H))   # (the box is a few pixels short of the glyphs)
-            if over > 1.0:
-                prop = actor.GetTextProperty()
-                prop.SetFontSize(max(6, int(prop.GetFontSize() / over)))
-                actor.GetBoundingBox(pl.renderer, bb)
-            boxes[name] = (actor, bb)
-        if "gcmh-title" in boxes and "gcmh-subtitle" in boxes:   # the subtitle's top below the title
-            (_, t), (sub, b) = boxes["gcmh-title"], boxes["gcmh-subtitle"]
-            room = t[2] - b[2] - 2.0
-            if b[3] - b[2] > room > 0:
-                prop = sub.GetTextProperty()
-                prop.SetFontSize(max(6, int(prop.GetFontSize() * room / (b[3] - b[2]))))
-
-    def _restore_fonts(self) -> None:
-        for prop, base in self._base_fonts.values():
-            prop.SetFontSize(base)
-        self._base_fonts = {}
-
-    # ------------------------------------------------------------------ axes with ticks
     def set_axes(self, on: bool) -> None:
         """Bounds axes (ticks and labels in the projected coordinates) on or off."""
-        pl = self.window.plotter
-        on = bool(on)
-        if self.axes_action.isChecked() != on:
-            self.axes_action.setChecked(on)
-        if not on:
-            if getattr(pl.renderer, "cube_axes_actor", None) is not None:
-                pl.remove_bounds_axes()
-            self.window.viewer.render()
-            return
-        self._reframe = "fit"
-        self._update_axes()
-        self.window.viewer.render()
+        if self.axes_action.isChecked() != bool(on):
+            self.axes_action.setChecked(bool(on))
+        self.decorations.set_axes(on)
 
     def axes_shown(self) -> bool:
-        return getattr(self.window.plotter.renderer, "cube_axes_actor", None) is not None
+        return self.decorations.axes_shown()
 
-    def _update_axes(self) -> None:
-        update_axes(self.window.plotter, self.window.scene, FONT_SCALE if self.presenting else 1.0)
-
-    def _frame_axes(self, how: str) -> None:
-        """Frame the axes' box (:func:`gcmh_studio.bounds_axes.frame_axes`): ``"fit"`` on a new result, base,
-        size, or the axes just turned on; ``"out"`` on a turn of the projection. Nothing with the View tab's
-        "keep camera", and never on the user's own zoom or turn of the camera."""
-        if not self.window.viewer.keep_camera():
-            frame_axes(self.window.plotter, how, self._view_size())
+    def _card_resized(self) -> None:
+        if not self._relayout.isActive():
+            self._relayout.start()
 
     # ------------------------------------------------------------------ walking the gallery
     def next_example(self) -> str | None:
@@ -535,25 +364,25 @@ class QtPresentation(QObject):
         if self.walk.run_finished():
             return
         if how == "done" or not self.presenting:
-            self._set_caption("")
+            self.decorations.set_caption("")
         else:
-            self._set_caption(self.window.last_status or f"run {how}", error=True)
+            self.decorations.set_caption(self.window.last_status or f"run {how}", error=True)
 
     def _on_result(self, _cx) -> None:
-        self._reframe = "fit"
+        self.decorations.reframing.fit()
         if self.presenting:
             self.update_formula()
 
     def _on_turned(self) -> None:
-        self._reframe = self._reframe or "out"
+        self.decorations.reframing.turned()
 
     def _on_new_base(self) -> None:
-        self._reframe = "fit"
+        self.decorations.reframing.fit()
 
     def _on_resized(self) -> None:
         """The view has its new size (after the viewer's own refit): the card and the axes follow."""
         if not (self.presenting or self.axes_shown()):
             return
-        self._reframe = "fit"
+        self.decorations.reframing.fit()
         self.update_formula()
         self.window.viewer.render()
