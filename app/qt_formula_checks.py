@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from qtpy.QtCore import QObject, QTimer, Signal
 
+from .formula_names import did_you_mean as did_you_mean  # (its home was here: the tests import it from here)
+from .formula_names import one_edit_apart as one_edit_apart
 from .qt_widgets import QtLatestCall
 
 CHECK_DELAY_MS = 200   # the check starts this long after the last keystroke
@@ -118,24 +120,3 @@ class QtFormulaChecks(QObject):
         self._waiting = self._waiting - {key}
         self.answered.emit()
 
-
-def one_edit_apart(a: str, b: str) -> bool:
-    """``a`` becomes ``b`` by one insertion, deletion, substitution or swap of neighbours."""
-    if a == b or abs(len(a) - len(b)) > 1:
-        return False
-    if len(a) == len(b):
-        diff = [i for i, (x, y) in enumerate(zip(a, b)) if x != y]
-        return len(diff) == 1 or (len(diff) == 2 and diff[1] == diff[0] + 1
-                                  and a[diff[0]] == b[diff[1]] and a[diff[1]] == b[diff[0]])
-    short, long = (a, b) if len(a) < len(b) else (b, a)
-    return any(long[:i] + long[i + 1:] == short for i in range(len(long)))
-
-
-def did_you_mean(name: str, variables) -> str | None:
-    """The variable a free name is probably a typo of ("yy" -> "y", "x12" -> "x1"), or None.
-
-    One edit away, and not two one-letter names (a parameter "a" beside a variable "x" is no typo)."""
-    for v in variables:
-        if max(len(v), len(name)) >= 2 and one_edit_apart(name, v):
-            return v
-    return None

@@ -36,7 +36,7 @@ session file stores it; in complex mode the equations as typed, not their split)
 
 from __future__ import annotations
 
-import re
+from contextlib import contextmanager
 
 from qtpy.QtCore import Signal
 from qtpy.QtWidgets import (
@@ -44,11 +44,12 @@ from qtpy.QtWidgets import (
 )
 
 from . import inputs
+from .formula_names import VariableNames, hold_typos
 from .jobs import Job, engine_methods
 from .model import StudioModel
 from .qt_complex_box import QtComplexBox, default_real_names
 from .qt_domain_box import QtDomainBox, format_number
-from .qt_formula_checks import QtFormulaChecks, did_you_mean
+from .qt_formula_checks import QtFormulaChecks
 from .qt_formula_rows import N_MAX, QtFormulaRows
 from .qt_method_box import QtMethodBox, work_estimate
 from .qt_parameters import QtParameterPanel
@@ -69,9 +70,8 @@ class QtFormulaPanel(QWidget):
         self._building = False
         self._valid = False
         self.errors: dict[str, str] = {}
-        self._auto_names = True
         self.methods = engine_methods()
-        self._kept_names: list[str] = []   # the names a smaller n hid, to bring back
+        self.variable_names = VariableNames()   # (the defaults until the user types their own)
         self.checks = QtFormulaChecks(self)   # (off the GUI thread: sympy may take a moment on a long formula)
         self.checks.answered.connect(self._validate)
 
@@ -86,7 +86,6 @@ class QtFormulaPanel(QWidget):
         self.cvars_edit, self.ceq_edit, self.creal_edit = cm.cvars_edit, cm.ceq_edit, cm.creal_edit
         self.cvars_error, self.ceq_error = cm.cvars_error, cm.ceq_error
         self._split: dict | None = None   # the complex check's answer for the equations on show
-        self._auto_complex_names = ""      # the real names complex mode made (replaced while not edited)
 
         self.shape = QtSystemShape()
         sl.addWidget(self.shape)
@@ -117,12 +116,12 @@ class QtFormulaPanel(QWidget):
         # signals
         self.n_spin.valueChanged.connect(self._on_nk)
         self.k_spin.valueChanged.connect(self._on_nk)
-        self.vars_edit.textEdited.connect(self._on_vars_edited)
+        self.vars_edit.textEdited.connect(self.variable_names.typed)
         self.vars_edit.textChanged.connect(self._validate)
         self.domain.edited.connect(self._validate)
         self.method_box.edited.connect(self._validate)
         self.parameters.changed.connect(self._on_parameters)
-        self.typo_prompt.replace.connect(self.replace_name)
+        self.typo_prompt.replace.connect(lambda name, variable: self.formula_box.replace_name(name, variable, self.k))
         self.typo_prompt.keep.connect(self.keep_parameter)
         self.complex_mode.toggled.connect(self._on_complex)
         self.complex_mode.edited.connect(self._validate)
@@ -137,6 +136,16 @@ class QtFormulaPanel(QWidget):
 
         self._rebuild(3, 1)
         self._validate()
+
+    @contextmanager
+    def _filling(self):
+        """The panel fills its own fields: no check, no history entry, for the half-filled panel (nested: the
+        outer filling goes on)."""
+        before, self._building = self._building, True
+        try:
+            yield
+        finally:
+            self._building = before
 
     # ------------------------------------------------------------ the model
     def _write_model(self) -> None:
@@ -170,9 +179,6 @@ class QtFormulaPanel(QWidget):
     def formula_errors(self):
         return self.formula_box.formula_errors
 
-    def _on_vars_edited(self, *_):
-        self._auto_names = False
-
     # ------------------------------------------------------------ complex mode
     def is_complex(self) -> bool:
         return self.complex_mode.is_complex()
@@ -198,7 +204,7 @@ class QtFormulaPanel(QWidget):
         if on and not self.complex_equations():
             self.complex_mode.set_equations(["z", "w"], ["z^2 = w"], [])
         if on:
-            self._auto_complex_names = self.vars_edit.text()   # (the real mode's names give way)
+            self.variable_names.auto_complex = self.vars_edit.text()   # (the real mode's names give way)
         self._show_mode()
         if on:
             self._sync_complex_shape()
@@ -221,23 +227,18 @@ class QtFormulaPanel(QWidget):
             return
         n = 2 * len(cv)
         k = max(1, 2 * len(self.complex_equations()) + len(self.real_equations()))
-        auto = self.vars_edit.text() in (self._auto_complex_names, "")
-        self._building = True
-        try:
+        auto = self.variable_names.complex_own(self.vars_edit.text())
+        with self._filling():
             if (n, k) != (self.n, self.k) and n <= N_MAX and k <= N_MAX:
                 self.n_spin.setValue(n)
                 self.k_spin.setValue(k)
-                self._building = False
                 self._rebuild(n, k)   # (which may rename the variables: named again below)
-                self._building = True
             # (textChanged comes before textEdited: whether the names are the user's is read off the text)
             if auto:
                 names = ", ".join(default_real_names(cv, self.complex_equations()))
                 if names != self.vars_edit.text():
                     self.vars_edit.setText(names)
-                self._auto_complex_names = names
-        finally:
-            self._building = False
+                self.variable_names.auto_complex = names
 
     def _apply_split(self, split: dict) -> None:
         """The complex check's answer: its real formulas go into the (hidden) formula fields."""
@@ -258,31 +259,14 @@ class QtFormulaPanel(QWidget):
     def _rebuild(self, n: int, k: int, fresh: bool = False, texts=None) -> None:
         """Resize the variable list, the formula fields and the table, keeping what was typed (and what an
         earlier n or k hid). ``fresh``: a new system: its formulas are ``texts``."""
-        self._building = True
-        try:
-            names = self.variables()
-            if self._auto_names or not names:
-                names = inputs.default_variables(n)
-            else:
-                self._kept_names = names + self._kept_names[len(names):]
-                names = (self._kept_names + [f"x{i + 1}" for i in range(len(self._kept_names), n)])[:n]
-                # fill in defaults that would clash
-                for i in range(len(names)):
-                    if names[i] in names[:i]:
-                        names[i] = f"x{i + 1}"
-            self.vars_edit.setText(", ".join(names))
+        with self._filling():
+            self.vars_edit.setText(", ".join(self.variable_names.resized(self.variables(), n)))
             self.formula_box.rebuild(k, fresh, texts)
             self.domain.resize_rows(n, fresh, self.is_complex())
             self._update_table_headers()
-        finally:
-            self._building = False
 
     def _update_table_headers(self) -> None:
         self.domain.set_headers(self.variables(), self.labels())
-
-    def continuation(self) -> bool:
-        """Does the chosen method start from points (GCCH, CCS)?"""
-        return self.method_box.continuation()
 
     def method(self) -> str:
         return self.method_box.method()
@@ -327,13 +311,13 @@ class QtFormulaPanel(QWidget):
         else:
             more, wanted, found = self.formula_box.check(k, names, self.checks, "variables" not in errs)
             errs.update(more)
-            found = self._hold_typos(found, names, errs)
+            typo, found = hold_typos(found, names, self._kept_params)   # (Run waits for the prompt's answer)
+            self.typo_prompt.ask(*(typo or (None,)))
+            if typo:
+                errs["typo"] = self.typo_prompt.message()
         self.checks.ask(wanted)
-        self._building = True   # (new rows bring their values: one change, emitted below)
-        try:
+        with self._filling():   # (new rows bring their values: one change, emitted below)
             self.parameters.set_names(found)
-        finally:
-            self._building = False
 
         errs.update(self.domain.check(names, n))
         errs.update(self.method_box.check(n))
@@ -344,26 +328,6 @@ class QtFormulaPanel(QWidget):
         self._valid = valid
         self.changed.emit()
         return valid
-
-    # ------------------------------------------------------------ typos of variables
-    def _hold_typos(self, found, names, errs: dict) -> list:
-        """``found`` without the names that look like typos of a variable (the prompt asks about the first;
-        Run waits for the answer)."""
-        typo = next(((f, s) for f in dict.fromkeys(found) if f not in self._kept_params
-                     and (s := did_you_mean(f, names)) is not None), None)
-        self.typo_prompt.ask(*typo) if typo else self.typo_prompt.ask(None)
-        if typo is None:
-            return list(found)
-        errs["typo"] = self.typo_prompt.message()
-        return [f for f in found if f in self._kept_params or did_you_mean(f, names) is None]
-
-    def replace_name(self, name: str, variable: str) -> None:
-        """Write ``variable`` for the free name ``name`` in every formula (whole names only)."""
-        pattern = re.compile(rf"(?<![A-Za-z0-9_]){re.escape(name)}(?![A-Za-z0-9_])")
-        for ed in self.formula_edits[:self.k]:
-            new = pattern.sub(variable, ed.text())
-            if new != ed.text():
-                ed.setText(new)
 
     def keep_parameter(self, name: str) -> None:
         """``name`` is a parameter, not a typo: it gets its slider."""
@@ -450,32 +414,22 @@ class QtFormulaPanel(QWidget):
         else:
             n = int(d.get("n", self.n))
             k = int(d.get("k", self.k))
-        self._building = True
-        try:
+        with self._filling():
             self.complex_check.setChecked(on)
             if on:
                 self.complex_mode.set_equations(cvars, cx_eqs, extras)
             self.n_spin.setValue(n)
             self.k_spin.setValue(k)
-        finally:
-            self._building = False
         self._show_mode()
         defaults = default_real_names(cvars, self.complex_equations()) if on else inputs.default_variables(n)
         variables = d.get("variables") or defaults
-        self._auto_names = not on and list(variables) == defaults
-        self._auto_complex_names = ", ".join(defaults) if on else ""
-        self._building = True   # (no check, no history entry, for the half-filled panel)
-        try:
+        self.variable_names.reset(variables, defaults, on)   # (a new system: what an earlier one hid stays hidden)
+        with self._filling():
             self.vars_edit.setText(", ".join(variables))
-        finally:
-            self._building = False
-        # a new system: what an earlier one hid does not come back in it
         formulas = [] if on else [str(t) for t in d.get("formulas", [])]   # (complex: the split fills them)
-        self._kept_names = list(variables)
         self.complex_mode.show_split([])
         self._rebuild(n, k, fresh=True, texts=formulas)
-        self._building = True
-        try:
+        with self._filling():
             self.domain.set_state(d, n)
             self.method_box.set_state(d, format_number)
             params = d.get("params") or {}
@@ -483,6 +437,4 @@ class QtFormulaPanel(QWidget):
                 params = inputs.check_params(params, variables)[1]
             self._kept_params.update(params)   # (a file's or a session's parameters are no typos)
             self.parameters.set_state(dict(params))
-        finally:
-            self._building = False
         self._validate()

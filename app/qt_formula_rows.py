@@ -10,6 +10,7 @@ from __future__ import annotations
 from qtpy.QtCore import Signal
 from qtpy.QtWidgets import QHBoxLayout, QLabel, QLineEdit, QVBoxLayout, QWidget
 
+from .formula_names import replace_name
 from .qt_widgets import blocked, clear_layout, error_label, mark
 
 N_MAX = 12   # (the largest n and k)
@@ -68,6 +69,13 @@ class QtFormulaRows(QWidget):
             if e.text() != t:
                 with blocked(e):
                     e.setText(t)
+
+    def replace_name(self, name: str, variable: str, k: int) -> None:
+        """Write ``variable`` for the free name ``name`` in the first k fields (whole names only)."""
+        for ed in self.formula_edits[:k]:
+            new = replace_name(ed.text(), name, variable)
+            if new != ed.text():
+                ed.setText(new)
 
     def clear_marks(self) -> None:
         for ed, lab in zip(self.formula_edits, self.formula_errors):
