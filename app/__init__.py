@@ -5,7 +5,10 @@ Modules, model apart from view (napari style); the first group imports no Qt:
 - ``model``: ``StudioModel``, the studio's state (system, checks, projection, style, slice, animation settings,
   result, pick, status) with psygnal events that panels and the view redraw from;
 - ``controller``: ``StudioController``, what the buttons do: runs and parameter steps, examples, undo / redo,
-  sessions, refinement, live play (talks to a runner and a view it is given);
+  sessions, refinement (talks to a runner and a view it is given);
+- ``live_play``: ``LivePlay``, the Animate tab's live play (rotation, tour, slice and parameter sweeps);
+- ``formula_names``: the Manifold tab's variable names and typo checks ("did you mean y?");
+- ``presentation``: what the presentation's card shows and when its axes are framed again;
 - ``latest``: ``LatestCall``, "the newest request wins" for work off the GUI thread;
 - ``jobs``: ``Job``, one extraction as data, ``run_job`` and ``view_data`` (what showing a result needs);
 - ``inputs``: checks for what the user types (numbers through ``gcmh_core.formula.evaluate_constant``);

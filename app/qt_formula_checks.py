@@ -10,8 +10,6 @@ from __future__ import annotations
 
 from qtpy.QtCore import QObject, QTimer, Signal
 
-from .formula_names import did_you_mean as did_you_mean  # (its home was here: the tests import it from here)
-from .formula_names import one_edit_apart as one_edit_apart
 from .qt_widgets import QtLatestCall
 
 CHECK_DELAY_MS = 200   # the check starts this long after the last keystroke

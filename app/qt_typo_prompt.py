@@ -1,7 +1,7 @@
 """QtTypoPrompt: "yy is not a variable: did you mean y?" under the formulas, before a typo becomes a parameter.
 
 A free name in a formula becomes a parameter with a slider. When that name is one edit away from a
-variable (:func:`gcmh_studio.qt_formula_checks.did_you_mean`) it is more likely a typo: the panel holds it
+variable (:func:`gcmh_studio.formula_names.did_you_mean`) it is more likely a typo: the panel holds it
 back (no slider, Run disabled) and this prompt asks. "Use y" writes y in the formulas; "Keep yy as a
 parameter" lets it become one (the answer is kept for the name)."""
 

@@ -178,7 +178,7 @@ def test_a_name_one_edit_from_a_variable_asks_before_it_becomes_a_parameter(qtbo
 
 
 def test_which_names_look_like_typos():
-    from gcmh_studio.qt_formula_checks import did_you_mean, one_edit_apart
+    from gcmh_studio.formula_names import did_you_mean, one_edit_apart
 
     assert did_you_mean("yy", ["x", "y", "z"]) == "y"
     assert did_you_mean("x12", ["x1", "x2"]) == "x1"
