@@ -45,8 +45,14 @@ def as_div(div, n: int) -> np.ndarray:
     return per_axis_ints(div, n, "div")
 
 
+# a plain decimal number: read by float() (the formula module, which imports sympy, is for the rest)
+_PLAIN_NUMBER = re.compile(r"\s*[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?\s*")
+
+
 def _number(x, what: str) -> float:
-    if isinstance(x, str):
+    if isinstance(x, str) and _PLAIN_NUMBER.fullmatch(x) and np.isfinite(float(x)):
+        x = float(x)
+    elif isinstance(x, str):
         from .formula import evaluate_constant  # (numbers like "-pi/2", parsed safely)
 
         try:
