@@ -141,31 +141,36 @@ def edge_attribute(cx, cycles) -> np.ndarray:
     return out
 
 
-def w1_lines(cx, loop_edges, orientation=None, shrink: float = 0.45) -> tuple[tuple, tuple]:
+def w1_lines(cx, loop_edges, orientation, shrink: float = 0.45) -> tuple[tuple, tuple]:
     """The w1 loop of a non-orientable surface and the orientation beside it.
 
     Returns ((X, E) of the loop's edges, (X, E) of small oriented loops: in each polygon
-    on either side of the loop, the polygon's loop as `orientation` (an
-    :class:`gcmh_core.analysis.Orientation`) winds it, shrunk towards its centre by
-    `shrink`, with an arrowhead on its first side).  Across the w1 loop these turn the
-    same way round their shared edge: that is where the orientation reverses.
+    on either side of the loop, the polygon's loop as `orientation` (the
+    :attr:`gcmh_core.homology.Homology.orientation` the loop comes with) winds it, shrunk
+    towards its centre by `shrink`, with an arrowhead on its first side).  Across the w1
+    loop these turn the same way round their shared edge: that is where the orientation
+    reverses.
     """
-    from gcmh_core.analysis import orient_2cells
-
     loop_edges = np.asarray(loop_edges, dtype=np.int64)
     line = _compact(cx.vertices, np.asarray(cx.edges)[loop_edges])
-    o = orientation if orientation is not None else orient_2cells(cx)
     off, fac = cx.cells[2]
     owner = np.repeat(np.arange(off.size - 1), np.diff(off))
     polys = np.unique(owner[np.isin(fac, loop_edges)])
     X = np.asarray(cx.vertices, dtype=np.float64)
-    offs, verts = np.asarray(o.offsets), np.asarray(o.vertices)
+    offs, verts = (np.asarray(a) for a in cx.polygons())
+    edges = np.asarray(cx.edges)
+    sense = np.asarray(orientation)
     pts: list[np.ndarray] = []
     segs: list[tuple[int, int]] = []
     for p in polys.tolist():
         ring = verts[offs[p]:offs[p + 1]]
         if ring.size < 3:
             continue
+        # wind the ring as the orientation runs the polygon's first edge (u, v)
+        u, v = edges[fac[off[p]]]
+        forward = bool(np.any((ring == u) & (np.roll(ring, -1) == v)))
+        if forward != (sense[p] > 0):
+            ring = ring[::-1]
         c = X[ring].mean(axis=0)
         R = c + shrink * (X[ring] - c)
         base = int(sum(len(a) for a in pts))

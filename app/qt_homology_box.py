@@ -42,7 +42,7 @@ def compute(cx) -> dict:
         lines.append(row)
     out = {"homology": h, "lines": lines, "w1": None, "curvature": None, "gauss_bonnet": None}
     if h.orientation_cycle is not None:
-        (XL, EL), (XA, EA) = w1_lines(cx, h.orientation_cycle)
+        (XL, EL), (XA, EA) = w1_lines(cx, h.orientation_cycle, h.orientation)
         out["w1"] = (unwrap_segments(cx, XL, EL), unwrap_segments(cx, XA, EA))
     if cx.dim == 2 and cx.count(2):
         values, text = curvature_values(cx)

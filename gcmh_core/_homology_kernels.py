@@ -389,3 +389,64 @@ def _orient_faces(off, fac, sub_off, sub_face, sub_sign, n_sub):
             if sign[eb[e]] != want:
                 return sign, 2, c, 0
     return sign, 0, -1, 0
+
+
+@njit(**JIT)
+def _orient_top(off, fac, sign, n_faces):
+    """Orient the top cells (CSR off, fac over their faces, incidences sign = +-1) coherently.
+
+    A breadth-first walk over the dual graph, from the lowest cell not reached yet, faces
+    in their order: across a face f on exactly two cell entries (c, s) and (c', s'), c'
+    gets eps[c'] = -eps[c] s s' so that eps[c] s + eps[c'] s' = 0 (f cancels).  Returns
+    (eps (C,) int8, conflict): conflict lists the faces on two entries that still do not
+    cancel (sorted): empty iff the complex is orientable (faces on one entry are boundary,
+    on three or more are left out).
+    """
+    n_cells = off.size - 1
+    count = np.zeros(n_faces, dtype=np.int64)
+    for j in range(fac.size):
+        count[fac[j]] += 1
+    # each face's first and second entry (the other side of a face on two entries)
+    first = np.full(n_faces, -1, dtype=np.int64)
+    second = np.full(n_faces, -1, dtype=np.int64)
+    owner = np.empty(fac.size, dtype=np.int64)
+    for c in range(n_cells):
+        for j in range(off[c], off[c + 1]):
+            owner[j] = c
+            f = fac[j]
+            if first[f] < 0:
+                first[f] = j
+            else:
+                second[f] = j
+    eps = np.zeros(n_cells, dtype=np.int8)
+    queue = np.empty(n_cells, dtype=np.int64)
+    for start in range(n_cells):
+        if eps[start] != 0:
+            continue
+        eps[start] = 1
+        head = 0
+        tail = 1
+        queue[0] = start
+        while head < tail:
+            c = queue[head]
+            head += 1
+            for j in range(off[c], off[c + 1]):
+                f = fac[j]
+                if count[f] != 2:
+                    continue
+                k = second[f] if first[f] == j else first[f]
+                d = owner[k]
+                if eps[d] == 0:
+                    eps[d] = -eps[c] * sign[j] * sign[k]
+                    queue[tail] = d
+                    tail += 1
+    n_bad = 0
+    bad = np.empty(n_faces, dtype=np.int64)
+    for f in range(n_faces):
+        if count[f] == 2:
+            a = first[f]
+            b = second[f]
+            if eps[owner[a]] * sign[a] + eps[owner[b]] * sign[b] != 0:
+                bad[n_bad] = f
+                n_bad += 1
+    return eps, bad[:n_bad]

@@ -30,7 +30,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .analysis import orient_2cells
 from .complex import CellComplex
 from .errors import InputError
 
@@ -75,11 +74,16 @@ class Homology:
         Per dimension, cycles generating H_q(X; Z): the free summands first (order 0),
         then the torsion summands.  None when computed with ``generators=False``.
     orientation_cycle : (m,) int64 edge ids, or None
-        For a surface that is not orientable: the edges across which the normals of
-        :func:`~gcmh_core.analysis.orient_2cells` flip (a Z/2 cycle, relative to the
-        boundary when there is one, Poincare dual to the first Stiefel-Whitney class
-        w1: a loop on the Klein bottle, an arc across the Moebius band).  None otherwise,
-        and None when computed with ``generators=False``.
+        For a surface that is not orientable: the edges across which the orientation
+        :attr:`orientation` chooses flips (a Z/2 cycle, relative to the boundary when
+        there is one, Poincare dual to the first Stiefel-Whitney class w1: a loop on the
+        Klein bottle, an arc across the Moebius band).  None otherwise, and None when
+        computed with ``generators=False``.
+    orientation : (F,) int64 of +-1, or None
+        For a surface (computed with generators): the orientation of each 2-cell, +1
+        when it runs its first edge (``cx.edges[cx.cells[2][1][cx.cells[2][0][f]]]``,
+        (u, v)) from u to v, -1 when from v to u.  Coherent (each interior edge run
+        both ways) except across :attr:`orientation_cycle`.
     critical : list of int
         Critical cells per dimension after the coreductions (the Morse complex's size).
     """
@@ -90,6 +94,7 @@ class Homology:
     generators: list | None
     orientation_cycle: np.ndarray | None
     critical: list
+    orientation: np.ndarray | None = None
 
     @property
     def euler_characteristic(self) -> int:
@@ -392,9 +397,9 @@ def homology(cx: CellComplex, generators: bool = True) -> Homology:
 def _morse_complex(cx):
     """Incidences, coreductions and the Morse boundary.
 
-    Returns (chain, partner, time, crit, D): chain the global CSR complex, crit[q] the
-    critical q-cells (global ids), D[q] (q = 1..dim) the Morse boundary as a list of
-    rows (len(crit[q-1]) x len(crit[q]), Python ints).
+    Returns (chain, partner, time, crit, D, signs): chain the global CSR complex, crit[q]
+    the critical q-cells (global ids), D[q] (q = 1..dim) the Morse boundary as a list of
+    rows (len(crit[q-1]) x len(crit[q]), Python ints), signs the incidences.
     """
     from ._homology_kernels import _coreduce, _flow
 
@@ -422,11 +427,11 @@ def _morse_complex(cx):
                 rows[int(pos[a])][col] += v
         D.append(rows)
     chain = (base, dims, bd_off, bd, bdv, cb_off, cb)
-    return chain, partner, time, crit, D
+    return chain, partner, time, crit, D, signs
 
 
 def _homology(cx, want_generators):
-    chain, partner, time, crit, D = _morse_complex(cx)
+    chain, partner, time, crit, D, signs = _morse_complex(cx)
     base, dims, bd_off, bd, bdv, _, _ = chain
     top = cx.dim
     size = [int(c.size) for c in crit]
@@ -450,13 +455,17 @@ def _homology(cx, want_generators):
         torsion.append(sorted(f for f in factors[q + 1] if f > 1))
         if want_generators:
             gens.append(_generators(cx, q, top, size, r_q, D, Rs, Rinvs, crit, chain, partner, time))
-    orientation = None
+    loop = sense = None
     if want_generators and top == 2 and cx.count(2):
-        o = orient_2cells(cx)
-        if not o.consistent:
-            orientation = np.array(o.conflict_edges, dtype=np.int64)
+        from ._homology_kernels import _orient_top
+
+        off, fac = cx.cells[2]
+        eps, bad = _orient_top(np.asarray(off), np.asarray(fac), signs[2], cx.count(1))
+        sense = _ro(eps.astype(np.int64) * signs[2][np.asarray(off)[:-1]])
+        if bad.size:
+            loop = _ro(bad)
     return Homology(betti=betti, betti_mod2=betti2, torsion=torsion, generators=gens if want_generators else None,
-                    orientation_cycle=orientation, critical=size)
+                    orientation_cycle=loop, critical=size, orientation=sense)
 
 
 def _generators(cx, q, top, size, r_q, D, Rs, Rinvs, crit, chain, partner, time):

@@ -120,7 +120,7 @@ def test_seam_segments_are_drawn_short(klein):
 
 def test_w1_lines_beside_the_loop(klein):
     h = homology(klein)
-    (XL, EL), (XA, EA) = w1_lines(klein, h.orientation_cycle)
+    (XL, EL), (XA, EA) = w1_lines(klein, h.orientation_cycle, h.orientation)
     assert len(EL) == h.orientation_cycle.size
     assert len(EA) > 2 * len(EL)   # an oriented loop with an arrowhead in each polygon beside it
 

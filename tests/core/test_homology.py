@@ -123,18 +123,26 @@ def test_no_orientation_cycle_on_orientable_results(results, name):
     assert homology(results[name]).orientation_cycle is None
 
 
-def test_orientation_cycle_reverses_orientation(results):
-    """Normals flip across the loop: each of its edges is run the same way by its two polygons."""
-    from gcmh_core.analysis import _incidence_signs, orient_2cells
-
-    cx = results["klein-bottle-closed"]
-    o = orient_2cells(cx)
-    loop = homology(cx).orientation_cycle
-    owner, edge, sign = _incidence_signs(cx, np.asarray(o.offsets), np.asarray(o.vertices))
-    on_loop = np.isin(edge, loop)
+@pytest.mark.parametrize("name", ["klein-bottle-closed", "moebius-band", "torus"])
+def test_orientation_cycle_reverses_orientation(results, name):
+    """The orientation runs each interior edge both ways, except on the w1 loop, whose edges
+    its two polygons run the same way: the normals flip there and nowhere else."""
+    cx = results[name]
+    h = homology(cx)
+    off, fac = cx.cells[2]
+    signs = incidences(cx)[2]
+    first = np.asarray(off)[:-1]
+    # h.orientation is the sense of each cell's first edge; the incidences give the others
+    eps = np.repeat(h.orientation * signs[first], np.diff(off))
     total = np.zeros(cx.count(1), dtype=np.int64)
-    np.add.at(total, edge[on_loop], sign[on_loop])
+    np.add.at(total, np.asarray(fac), eps * signs)
+    on_two = np.bincount(np.asarray(fac), minlength=cx.count(1)) == 2
+    loop = np.zeros(cx.count(1), dtype=bool)
+    if h.orientation_cycle is not None:
+        loop[h.orientation_cycle] = True
     assert np.all(np.abs(total[loop]) == 2)
+    assert not total[on_two & ~loop].any()
+    assert set(np.unique(h.orientation)) <= {-1, 1}
 
 
 def test_real_projective_plane_has_torsion():
