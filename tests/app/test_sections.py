@@ -1,12 +1,7 @@
 """Exact sections in the view (app/sections.py) and the strip of their chi and pieces (app/qt_section_strip.py)."""
 
-import os
-
 import numpy as np
 import pytest
-
-os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
-
 import pyvista as pv
 
 from gcmh_core import extract

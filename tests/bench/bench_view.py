@@ -52,10 +52,10 @@ def bench(V: int, n: int, steps: int = 20, render: bool = False, mapping: str = 
             model.angles[s % len(model.angles)] += 3.0
             view = model.view()
             t0 = time.perf_counter()
-            scene.projector.project_view(view, out=scene._pts)
+            scene.projector.project_view(view, out=scene.drawn.pts)
             t1 = time.perf_counter()
             scene._set_view(view)
-            scene._write_normals()
+            scene.drawn.write_normals()
             t2 = time.perf_counter()
             scene.set_projection(view, render=False)   # the whole step as the window does it
             t3 = time.perf_counter()
