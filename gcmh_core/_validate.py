@@ -260,7 +260,9 @@ def prepare(F, variables, n, k, bounds, div, params=None):
     if isinstance(variables, str):
         variables = [v.strip() for v in variables.split(",")]
     if isinstance(F, np.ndarray) or (hasattr(F, "__array__") and not isinstance(F, (str, list, tuple))):
-        values = np.asarray(F)
+        # values read slice by slice from files (`data_files.MappedValues`): kept so, never whole in memory
+        sliced = bool(getattr(F, "reads_slices", False))
+        values = F if sliced else np.asarray(F)
         if params is not None:
             raise InputError("params go with formulas: sampled values have no parameters")
         if values.dtype.kind not in "fiu":
@@ -282,7 +284,8 @@ def prepare(F, variables, n, k, bounds, div, params=None):
             raise InputError(f"div {div} does not match the sampled array's shape {values.shape}")
         if not 1 <= k_ < n_:
             raise InputError(f"need 1 <= k < n, got n = {n_}, k = {k_}")
-        return n_, k_, as_bounds(bounds, n_), shape_div, None, np.ascontiguousarray(values, np.float64)
+        sampled = values if sliced else np.ascontiguousarray(values, np.float64)
+        return n_, k_, as_bounds(bounds, n_), shape_div, None, sampled
     from .formula import System, parse_system  # (sympy: not for sampled values)
 
     if isinstance(F, System):

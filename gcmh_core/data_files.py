@@ -26,6 +26,7 @@ gcmh_core`` stays numpy, numba and sympy only.
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 import tempfile
@@ -615,12 +616,18 @@ def load_components(specs: str | Sequence[str], levels=None, bounds=None, *,
     return _load(_plan(specs, levels, bounds, components), on_disk)
 
 
-def _load(plan: _Plan, on_disk: bool | None) -> SampledData:
+def _load(plan: _Plan, on_disk: bool | None, mapped: bool = False) -> SampledData:
+    """F's values written (in memory, or to a temporary file when on_disk), or with ``mapped`` read from
+    the files' memory maps as the run asks for them (`MappedValues`: one pass here for the ranges)."""
     fields, lv = plan.fields, plan.levels
-    if on_disk is None:
-        on_disk = plan.value_bytes > IN_MEMORY_SHARE * available_memory()
-    values = _output(plan.shape, on_disk)
-    ranges, nonfinite = _fill(values, fields, lv)
+    if mapped:
+        values, on_disk = MappedValues(plan), True
+        ranges, nonfinite = _fill(None, fields, lv)
+    else:
+        if on_disk is None:
+            on_disk = plan.value_bytes > IN_MEMORY_SHARE * available_memory()
+        values = _output(plan.shape, on_disk)
+        ranges, nonfinite = _fill(values, fields, lv)
     notes = list(plan.notes)
     for j, (lo, hi) in enumerate(ranges):
         src = _component_name(fields, j)
@@ -644,6 +651,12 @@ class _Plan:
     bounds: np.ndarray
     shape: tuple[int, ...]  # F's values: (d1, ..., dn, k)
     notes: list[str]
+    recipe: tuple = ()  # (absolute specs, levels, components): what reopens the same fields elsewhere
+
+    @property
+    def mappable(self) -> bool:
+        """Every field is a memory map of its file: F's values can be read from them slice by slice."""
+        return all(_mapped(f.values) for f in self.fields)
 
     @property
     def value_bytes(self) -> int:
@@ -695,28 +708,66 @@ def _plan(specs, levels, bounds, components) -> _Plan:
         for f in fields[1:]:
             if f.physical and first.physical and not np.allclose(f.bounds, box, rtol=1e-6, atol=1e-9):
                 notes.append(f"{f.source} has other bounds than {first.source}: the first file's are used")
-    return _Plan(fields, lv, box, first.grid_shape + (k,), notes)
+    recipe = (tuple(os.path.abspath(s) for s in specs), tuple(lv), components)
+    return _Plan(fields, lv, box, first.grid_shape + (k,), notes, recipe)
 
 
-class _LazyValues:
-    """F's values (data minus levels) computed for the slices asked for only: what the budget's probe
-    reads (a strided subgrid) without a pass over the whole data."""
+class MappedValues:
+    """F's values (data minus levels, float64) computed for the slices asked for only, from the fields
+    as read (memory maps of the files, where the format allows): what the budget's probe reads (a
+    strided subgrid), a sweep slab by slab and a cluster's tasks block by block, without F's values
+    ever whole in memory.  Indexed like the (d1, ..., dn, k) array it stands for: one index per grid
+    axis (slices or integers), then optionally the components'.  Pickles as its plan's recipe (the
+    files, levels, components): a worker process reopens the memory maps (once) and reads its block."""
+
+    dtype = np.dtype(np.float64)
+    reads_slices = True  # (`_validate.prepare` passes it on as it is)
 
     def __init__(self, plan: _Plan):
         self.plan = plan
         self.shape = plan.shape
         self.ndim = len(plan.shape)
 
+    def __reduce__(self):
+        return _reopen, (self.plan.recipe,)
+
+    def __array__(self, dtype=None, copy=None):
+        return self[()] if dtype is None else self[()].astype(dtype)
+
     def __getitem__(self, index) -> np.ndarray:
         index = index if isinstance(index, tuple) else (index,)
-        parts = []
+        n = self.ndim - 1
+        if len(index) > n + 1 or any(i is Ellipsis or i is None for i in index):
+            raise IndexError(f"index {index!r}: one index per grid axis, then the component's")
+        grid = index[:n]
+        wanted = range(self.shape[-1])[index[n]] if len(index) > n else range(self.shape[-1])
+        columns = [wanted] if isinstance(wanted, int) else list(wanted)
+        if not columns:
+            raise IndexError(f"index {index!r} selects no component")
+        out = None
         j = 0
         for f in self.plan.fields:
-            sub = np.asarray(f.values[index], np.float64)
+            sub = f.values[grid]
             for c in range(f.components):
-                parts.append((sub[..., c] if f.components > 1 else sub) - self.plan.levels[j])
+                if j in columns:
+                    part = sub[..., c] if f.components > 1 else sub
+                    if out is None:
+                        out = np.empty(part.shape + (len(columns),), np.float64)
+                    # (as `_fill` does: the same bytes as F's values written whole)
+                    np.subtract(part, self.plan.levels[j], out=out[..., columns.index(j)], dtype=np.float64,
+                                casting="unsafe")
                 j += 1
-        return np.stack(parts, axis=-1)
+        for f in self.plan.fields:
+            _drop_pages(f.values)
+        return out[..., 0] if isinstance(wanted, int) else out
+
+
+@functools.lru_cache(maxsize=4)
+def _reopen(recipe) -> MappedValues:
+    """The `MappedValues` of a recipe, made once per process (a cluster's worker reads every block of a
+    run from the same memory maps)."""
+    specs, levels, components = recipe
+    return MappedValues(_plan(list(specs), list(levels), None, components))
 
 
 def estimate_data(specs, levels=None, bounds=None, *, components: bool | None = None, method: str = "gcmh",
@@ -729,19 +780,29 @@ def estimate_data(specs, levels=None, bounds=None, *, components: bool | None = 
 
 def _estimate(plan: _Plan, method, scheduler, probe: bool | None = True):
     """The run's estimate plus the data held; probe: True probes a coarse subgrid of F's values (reading
-    the files strided), None takes M to cross the grid like a plane (`budget.estimate_run` without F)."""
+    the files strided), None takes M to cross the grid like a plane (`budget.estimate_run` without F).
+    A run that reads F's values from the files' memory maps (`_reads_maps`) holds none of them."""
     from dataclasses import replace
 
     from .budget import estimate_run
 
     n = len(plan.bounds)
     div = [d - 1 for d in plan.shape[:-1]]
-    sampled = _LazyValues(plan) if probe else None
+    sampled = MappedValues(plan) if probe else None
     cost = estimate_run(n, plan.shape[-1], div, method=method, bounds=plan.bounds, sampled=sampled,
                         scheduler=scheduler, probe=probe)
-    on_disk = plan.value_bytes > IN_MEMORY_SHARE * available_memory()
+    on_disk = _reads_maps(plan, method, scheduler) or plan.value_bytes > IN_MEMORY_SHARE * available_memory()
     held = (0 if on_disk else plan.value_bytes) + plan.read_bytes
     return replace(cost, grid_bytes=cost.grid_bytes + held, peak_bytes=cost.peak_bytes + held)
+
+
+def _reads_maps(plan: _Plan, method, scheduler) -> bool:
+    """A cluster run of a whole-grid method on memory-mapped files reads F's values from the maps, block
+    by block in the workers (`MappedValues`); otherwise they are written whole first (`_load`).
+    (Continuation reads any cube's values at any time: it takes them written.)"""
+    from ._methods import CONTINUATION_METHODS
+
+    return scheduler is not None and method not in CONTINUATION_METHODS and plan.mappable
 
 
 def field_ranges(f: DataField) -> list[tuple[float, float]]:
@@ -786,42 +847,44 @@ def _output(shape, on_disk: bool) -> np.ndarray:
         os.unlink(path)
 
 
-def _fill(out: np.ndarray, fields, levels) -> tuple[list[tuple[float, float]], int]:
-    """out[..., j] = component j - level j, slab by slab along axis 0; returns each component's
-    finite (min, max) of the data and the count of grid points where some value is not finite."""
-    d0 = out.shape[0]
-    layer = math.prod(out.shape[1:-1])
+def _fill(out: np.ndarray | None, fields, levels) -> tuple[list[tuple[float, float]], int]:
+    """out[..., j] = component j - level j, slab by slab along axis 0 (out None: nothing written);
+    returns each component's finite (min, max) of the data and the count of grid points where some
+    value is not finite."""
+    grid = fields[0].grid_shape
+    d0 = grid[0]
+    layer = math.prod(grid[1:])
     step = max(1, _SLAB_SAMPLES // max(layer, 1))
-    k = out.shape[-1]
+    k = len(levels)
     lo = np.full(k, np.inf)
     hi = np.full(k, -np.inf)
     bad = 0
     for i0 in range(0, d0, step):
         i1 = min(d0, i0 + step)
-        slab = out[i0:i1]
+        slab = None if out is None else out[i0:i1]
         j = 0
-        some_nonfinite = False
+        bad_points = None  # (grid points of the slab where some component is not finite)
         for f in fields:
             src = f.values[i0:i1]
             for c in range(f.components):
                 part = src[..., c] if f.components > 1 else src
-                dst = slab[..., j]
                 try:
                     # the data's range in their own type (float32: half the bytes of F's values)
                     a, b = float(part.min()), float(part.max())
-                    np.subtract(part, levels[j], out=dst, dtype=np.float64, casting="unsafe")
+                    if slab is not None:
+                        np.subtract(part, levels[j], out=slab[..., j], dtype=np.float64, casting="unsafe")
                 except OSError as err:  # (a memory-mapped file that shrank or a read error)
                     raise InputError(f"{f.source}: cannot read the data ({_first_line(err)})") from None
                 if not (math.isfinite(a) and math.isfinite(b)):  # (NaN or inf: min or max says so)
-                    some_nonfinite = True
                     finite = np.isfinite(part)
+                    bad_points = ~finite if bad_points is None else bad_points | ~finite
                     a = float(part.min(initial=np.inf, where=finite))
                     b = float(part.max(initial=-np.inf, where=finite))
                 lo[j] = min(lo[j], a)
                 hi[j] = max(hi[j], b)
                 j += 1
-        if some_nonfinite:
-            bad += int(np.count_nonzero(~np.isfinite(slab).all(axis=-1)))
+        if bad_points is not None:
+            bad += int(np.count_nonzero(bad_points))
         for f in fields:
             _drop_pages(f.values)
     return [(float(a), float(b)) for a, b in zip(lo, hi)], bad
@@ -866,7 +929,7 @@ def extract_data(specs, levels=None, bounds=None, *, components: bool | None = N
                      bool(kwargs.get("force", False)))
         if variables is not None:
             _check_names(variables, len(plan.bounds))
-        data = _load(plan, None)
+        data = _load(plan, None, _reads_maps(plan, kwargs.get("method", "gcmh"), kwargs.get("scheduler")))
     names = list(data.variables) if variables is None else _check_names(variables, data.n)
     cx = extract(data.values, data.bounds, **kwargs)
     cx.meta["variables"] = names

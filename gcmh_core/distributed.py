@@ -25,7 +25,11 @@ Sampled data (an array of F's values): with scheduler="local" the array is saved
 once to a temporary .npy that workers open with mmap (they read only their
 block); with a remote scheduler the workers may not share the client's disk, so
 each block's slice is scattered to the cluster (continuation scatters the whole
-array once to every worker, since a wave can touch any part of it).
+array once to every worker, since a wave can touch any part of it).  Values read
+from memory-mapped files (`data_files.MappedValues`, what `extract_data` runs on
+a cluster) are never written whole: local workers reopen the files' maps (the
+object pickles as its recipe) and read their block from them; for a remote
+scheduler the client reads each block's slice from its maps and scatters it.
 
 Memory per block of b_1 x ... x b_n cubes, V = (b_1+1)...(b_n+1) vertices:
 F's values 8k V bytes, the candidate pass about (k + 6) V bytes (sign codes,
@@ -269,13 +273,16 @@ class _Session:
         return client
 
     def sampled_for_tasks(self, whole: bool):
-        """What a task needs to read the sampled array: ("npy", path), a future of the
-        whole array (remote continuation), or None (remote blocks get their own slices)."""
+        """What a task needs to read the sampled array: ("npy", path), the values read from files
+        (a `data_files.MappedValues`, which the workers reopen), a future of the whole array
+        (remote continuation), or None (remote blocks get their own slices)."""
         if self.sampled is None:
             return None
         if self.sampled_ref is None:
             client = self.client
-            if self.cluster is not None:  # workers share this disk
+            if self.cluster is not None and not isinstance(self.sampled, np.ndarray):  # read from the files' maps
+                self.sampled_ref = self.sampled
+            elif self.cluster is not None:  # workers share this disk
                 self.tmpdir = tempfile.mkdtemp(prefix="gcmh-dask-")
                 path = os.path.join(self.tmpdir, "sampled.npy")
                 np.save(path, self.sampled)
@@ -523,7 +530,7 @@ def _block_task(n, k, method, axes, formula, data, lo, hi, threads, ident=None, 
     t = time.perf_counter()
     system = None if formula is None else parse_system(formula[0], formula[1], params=formula[2])
     sampled = _sampled_array(data)
-    if sampled is not None and not isinstance(data, tuple):  # a remote block's own slice
+    if isinstance(data, np.ndarray):  # a remote block's own slice
         values = sampled
     elif ident is not None:  # a seam's values are copies from the other side (`IdentifiedGrid.block_values`)
         values = grid.block_values(system, lo, hi)
