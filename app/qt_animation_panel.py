@@ -25,7 +25,6 @@ import time
 
 from qtpy.QtCore import QSignalBlocker, QTimer, Signal
 from qtpy.QtWidgets import (
-    QComboBox,
     QDoubleSpinBox,
     QFormLayout,
     QHBoxLayout,
@@ -36,7 +35,7 @@ from qtpy.QtWidgets import (
 )
 
 from .model import AnimationSettings, StudioModel, telling_plane
-from .qt_widgets import connect_all, error_label, group, labelled_row, panel_layout, slider_row
+from .qt_widgets import connect_all, error_label, group, labelled_row, narrow_combo, panel_layout, slider_row
 
 MODES = {"rotate": "Rotate in a plane", "tour": "Grand tour (smooth path through projections)",
          "slice": "Sweep the slice window"}
@@ -58,14 +57,14 @@ class QtAnimationPanel(QWidget):
         lay = panel_layout(self)
 
         _, pf = group(lay, "Play", QFormLayout)
-        self.mode_combo = QComboBox()
+        self.mode_combo = narrow_combo()
         for k, label in MODES.items():
             self.mode_combo.addItem(label, k)
         pf.addRow("animation", self.mode_combo)
-        self.plane_combo = QComboBox()
+        self.plane_combo = narrow_combo()
         self.plane_combo.setToolTip("the plane of the rotation")
         self.plane_label = labelled_row(pf, "plane", self.plane_combo)
-        self.param_combo = QComboBox()
+        self.param_combo = narrow_combo()
         self.param_combo.setToolTip("the parameter of the formulas that the animation sweeps (coarse while "
                                     "playing, the full grid where it stops)")
         self.param_label = labelled_row(pf, "parameter", self.param_combo)

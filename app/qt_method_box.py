@@ -10,11 +10,11 @@ one changes; the formula panel reads it.
 from __future__ import annotations
 
 from qtpy.QtCore import QTimer, Signal
-from qtpy.QtWidgets import QComboBox, QFormLayout, QGroupBox, QLabel, QLineEdit, QSpinBox
+from qtpy.QtWidgets import QFormLayout, QGroupBox, QLabel, QLineEdit, QSpinBox
 
 from . import inputs
 from .jobs import Job, continuation_methods, estimate_job
-from .qt_widgets import QtLatestCall, error_label, mark
+from .qt_widgets import QtLatestCall, error_label, mark, narrow_combo
 
 METHOD_LABELS = {"gcmh": "GCMH (whole grid)", "gcch": "GCCH (continuation from a start point)",
                  "cms": "CMS (baseline)", "ccs": "CCS (baseline)"}
@@ -58,7 +58,7 @@ class QtMethodBox(QGroupBox):
     def __init__(self, methods, parent=None):
         super().__init__("Method", parent)
         ml = QFormLayout(self)
-        self.method_combo = QComboBox()
+        self.method_combo = narrow_combo()
         for m in methods:
             self.method_combo.addItem(METHOD_LABELS.get(m, m.upper()), m)
         ml.addRow("method", self.method_combo)

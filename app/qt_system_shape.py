@@ -36,6 +36,7 @@ class QtSystemShape(QWidget):
         row.addWidget(self.k_spin)
         self.dim_label = QLabel("")
         self.dim_label.setStyleSheet("color: #666;")
+        self.dim_label.setWordWrap(True)   # ("2-dimensional manifold in R^10" beside n and k: two lines if need be)
         row.addSpacing(12)
         row.addWidget(self.dim_label, 1)
         lay.addLayout(row)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from contextlib import ExitStack, contextmanager
 
 from qtpy.QtCore import QObject, QSignalBlocker, Qt, Signal
-from qtpy.QtWidgets import QGroupBox, QLabel, QScrollArea, QSlider, QVBoxLayout
+from qtpy.QtWidgets import QComboBox, QGroupBox, QLabel, QScrollArea, QSlider, QVBoxLayout
 
 from .latest import LatestCall
 
@@ -51,6 +51,15 @@ def slider(lo: int, hi: int, value: int, tip: str = "") -> QSlider:
     s.setValue(value)
     s.setToolTip(tip)
     return s
+
+
+def narrow_combo(chars: int = 18) -> QComboBox:
+    """A combo box as wide as ``chars`` characters when closed (its list shows the whole labels): long
+    labels ("GCCH (continuation from a start point)") widened every side panel past a third of 1024 px."""
+    combo = QComboBox()
+    combo.setSizeAdjustPolicy(QComboBox.AdjustToMinimumContentsLengthWithIcon)
+    combo.setMinimumContentsLength(chars)
+    return combo
 
 
 def labelled_row(form, text: str, field):

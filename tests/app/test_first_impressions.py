@@ -75,6 +75,23 @@ def test_the_view_tab_fits_a_third_of_1024_pixels(qtbot, n):
     assert panel.minimumSizeHint().width() <= 1024 // 3, panel.minimumSizeHint().width()
 
 
+def test_every_side_tab_fits_a_third_of_1024_pixels(qtbot, window):
+    """Manifold, View, Animate, Topology (and any later tab): no content wider than a third of a 1024-pixel
+    window with 10 variables (long combo labels and "2-dimensional manifold in R^10" made them 360-420)."""
+    from qtpy.QtWidgets import QScrollArea, QTabWidget
+
+    window.formula_panel.n_spin.setValue(10)
+    window.model.set_view_variables([f"x{i + 1}" for i in range(10)])
+    seen = []
+    for tabs in window.findChildren(QTabWidget):
+        for i in range(tabs.count()):
+            page = tabs.widget(i)
+            inner = page.widget() if isinstance(page, QScrollArea) else page
+            seen.append(tabs.tabText(i))
+            assert inner.minimumSizeHint().width() <= 1024 // 3, (tabs.tabText(i), inner.minimumSizeHint().width())
+    assert {"Manifold", "View", "Animate", "Topology"} <= set(seen)
+
+
 def test_the_title_and_story_follow_the_gluing():
     from gcmh_core.examples import load_example
     from gcmh_studio.labels import gluing_title
