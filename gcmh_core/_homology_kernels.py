@@ -450,3 +450,116 @@ def _orient_top(off, fac, sign, n_faces):
                 bad[n_bad] = f
                 n_bad += 1
     return eps, bad[:n_bad]
+
+
+@njit(**JIT)
+def _edge_classes(order, b1, dims, partner, bd_off, bd, bdv, pos, c1):
+    """The Morse chain map on edges: phi[e] in Z^c1 (coordinates on the critical edges),
+    for the edges in `order` (increasing coreduction time; global ids b1 + e).
+
+    A critical edge is its own coordinate; an edge paired with a vertex maps to 0; an edge
+    e paired with a 2-cell f maps where the rest of f's boundary does, e -> e - [f:e] df
+    (f's other edges left before e: their phi is known).  phi of a cycle is a Morse cycle
+    in its class.  Returns (phi (E, c1) int64, overflow).
+    """
+    n_edges = order.size
+    phi = np.zeros((n_edges, c1), dtype=np.int64)
+    overflow = False
+    for i in range(n_edges):
+        e = order[i]
+        g = b1 + e
+        p = partner[g]
+        if p < 0:
+            phi[e, pos[g]] = 1
+        elif dims[p] == 2:
+            s = 0
+            for j in range(bd_off[p], bd_off[p + 1]):
+                if bd[j] == g:
+                    s = bdv[j]
+            for j in range(bd_off[p], bd_off[p + 1]):
+                h = bd[j]
+                if h == g:
+                    continue
+                t = s * bdv[j]
+                for k in range(c1):
+                    phi[e, k] -= t * phi[h - b1, k]
+                    if abs(phi[e, k]) > _LIMIT:
+                        overflow = True
+    return phi, overflow
+
+
+@njit(**JIT)
+def _tree_xor(order, pred, tree_bits):
+    """path[x] = path[pred[x]] ^ tree_bits[x] along a shortest-path tree, vertices in
+    `order` (by distance from the root: a parent before its children; pred < 0 at the
+    root and at vertices not reached)."""
+    path = np.zeros(pred.size, dtype=np.uint64)
+    for i in range(order.size):
+        x = order[i]
+        if pred[x] >= 0:
+            path[x] = path[pred[x]] ^ tree_bits[x]
+    return path
+
+
+@njit(**JIT)
+def _shortest_tree(adj_off, adj_to, adj_edge, weight, root):
+    """Dijkstra from `root` over a graph in CSR (adj_to, adj_edge: the neighbour and the
+    edge to it; weight per edge, >= 0).  Returns (dist (V,) float64, inf where not
+    reached; pred_edge (V,) int64, the tree edge into each vertex, -1 at the root and
+    where not reached; pred (V,) int64 likewise; order: the vertices settled, nearest
+    first)."""
+    n = adj_off.size - 1
+    dist = np.full(n, np.inf)
+    pred = np.full(n, -1, dtype=np.int64)
+    pred_edge = np.full(n, -1, dtype=np.int64)
+    done = np.zeros(n, dtype=np.bool_)
+    order = np.empty(n, dtype=np.int64)
+    n_done = 0
+    cap = adj_to.size + 1   # one push per edge end at most, and the root
+    hkey = np.empty(cap, dtype=np.float64)
+    hval = np.empty(cap, dtype=np.int64)
+    size = 1
+    hkey[0] = 0.0
+    hval[0] = root
+    dist[root] = 0.0
+    while size > 0:
+        d = hkey[0]
+        u = hval[0]
+        size -= 1
+        hkey[0] = hkey[size]
+        hval[0] = hval[size]
+        i = 0
+        while True:   # sift down: the least key at the top
+            small = i
+            for c in (2 * i + 1, 2 * i + 2):
+                if c < size and hkey[c] < hkey[small]:
+                    small = c
+            if small == i:
+                break
+            hkey[i], hkey[small] = hkey[small], hkey[i]
+            hval[i], hval[small] = hval[small], hval[i]
+            i = small
+        if done[u] or d > dist[u]:
+            continue
+        done[u] = True
+        order[n_done] = u
+        n_done += 1
+        for j in range(adj_off[u], adj_off[u + 1]):
+            v = adj_to[j]
+            nd = d + weight[adj_edge[j]]
+            if nd < dist[v] and not done[v]:
+                dist[v] = nd
+                pred[v] = u
+                pred_edge[v] = adj_edge[j]
+                hkey[size] = nd
+                hval[size] = v
+                i = size
+                size += 1
+                while i > 0:   # sift up
+                    p = (i - 1) // 2
+                    if hkey[p] <= hkey[i]:
+                        break
+                    hkey[i], hkey[p] = hkey[p], hkey[i]
+                    hval[i], hval[p] = hval[p], hval[i]
+                    i = p
+    return dist, pred_edge, pred, order[:n_done]

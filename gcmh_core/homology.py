@@ -481,9 +481,10 @@ def _generators(cx, q, top, size, r_q, D, Rs, Rinvs, crit, chain, partner, time)
         coords = _matmul(Rinvs[q], D[q + 1], size[q], size[q], size[q + 1]) if q > 0 else \
             [row[:] for row in D[q + 1]]
         A = coords[r_q:]
+        image = [row[:] for row in A]   # (the Smith form works in place)
         s, _, _, Linv = _smith(A, n_ker, size[q + 1], True)
     else:
-        s, Linv = [], _identity(n_ker)
+        s, Linv, image = [], _identity(n_ker), [[] for _ in range(n_ker)]
     basis = _matmul(K, Linv, size[q], n_ker, n_ker)  # columns: the new basis of ker
     wanted = [(i, 0) for i in range(len(s), n_ker)] + [(i, f) for i, f in enumerate(s) if f > 1]
     chains_off, chains_cells, chains_coefs = [0], [], []
@@ -502,17 +503,219 @@ def _generators(cx, q, top, size, r_q, D, Rs, Rinvs, crit, chain, partner, time)
     lift_off, lift_cells, lift_coefs, overflow = out[3], out[4], out[5], out[6]
     if overflow:
         raise InputError("homology: a generator's coefficient passed 2^60 (int64 would overflow)")
+    chains = [(lift_cells[lift_off[k]:lift_off[k + 1]], lift_coefs[lift_off[k]:lift_off[k + 1]])
+              for k in range(len(wanted))]
+    if q == 1 and top >= 2:
+        weight = _edge_weights(cx)
+        chains = [_shorten(cells, coefs, chain, weight) for cells, coefs in chains]
+        n_free = n_ker - len(s)
+        if n_free:
+            tors = [i for i, _ in wanted[n_free:]]
+            classes = _Classes(crit[q], Rinvs[q][r_q:], image, [[row[i] for row in Linv] for i in tors],
+                               [[row[i] for row in basis] for i in tors], D[2])
+            loops = _short_loops(cx, chain, partner, time, classes, n_free,
+                                 [c for c, _ in chains[:n_free]])
+            if loops is not None:
+                chains[:n_free] = loops
     cycles = []
-    weight = _edge_weights(cx) if q == 1 and top >= 2 else None
-    for k, (_, order) in enumerate(wanted):
-        cells = lift_cells[lift_off[k]:lift_off[k + 1]]
-        coefs = lift_coefs[lift_off[k]:lift_off[k + 1]]
-        if q == 1 and top >= 2:
-            cells, coefs = _shorten(cells, coefs, chain, weight)
+    for (cells, coefs), (_, order) in zip(chains, wanted):
         cells = cells - base[q]
         o = np.argsort(cells)
         cycles.append(Cycle(q, _ro(cells[o]), _ro(coefs[o]), int(order)))
     return tuple(cycles)
+
+
+@dataclass(frozen=True)
+class _Classes:
+    """What tells H1 classes apart, from the Morse complex: ``crit`` the critical edges
+    (global ids), ``ker_rows`` the rows of R^-1 that give a Morse cycle's coordinates in
+    the kernel's basis, ``image`` the boundaries in those coordinates (n_ker x c2),
+    ``torsion`` the torsion generators' coordinates and ``torsion_cycles`` the same as
+    Morse cycles (Z^c1 each), ``D2`` the Morse boundary of the critical 2-cells (c1 x c2)."""
+
+    crit: np.ndarray
+    ker_rows: list
+    image: list
+    torsion: list
+    torsion_cycles: list
+    D2: list
+
+    def generate(self, morse_cycles) -> bool:
+        """True if these Morse cycles (Z^c1 each) and the torsion generators generate H1 (the
+        free ones then span a complement of the torsion: a basis of H1 with it)."""
+        n_ker = len(self.ker_rows)
+        cols = [[sum(a * int(b) for a, b in zip(row, m)) for row in self.ker_rows] for m in morse_cycles]
+        cols += self.torsion
+        M = [[c[i] for c in cols] + list(self.image[i]) for i in range(n_ker)]
+        s, *_ = _smith(M, n_ker, len(cols) + (len(self.image[0]) if n_ker else 0), False)
+        return len(s) == n_ker and all(f == 1 for f in s)
+
+
+def _xor_reduce(values, vectors):
+    """Reduce the uint64 bit rows `values` (array) by GF(2) `vectors` in the order given,
+    each reduced by those before it, by its highest bit (Gaussian elimination)."""
+    for b in vectors:
+        pivot = np.uint64(int(b).bit_length() - 1)
+        values ^= np.where((values >> pivot) & np.uint64(1), np.uint64(b), np.uint64(0))
+    return values
+
+
+def _echelon(vectors):
+    """GF(2) vectors (ints) reduced to an elimination order with distinct highest bits."""
+    out: list[int] = []
+    for v in vectors:
+        v = int(_xor_reduce(np.array([v], dtype=np.uint64), out)[0])
+        if v:
+            out.append(v)
+    return out
+
+
+_MAX_ROOTS = 32
+_ROOT_WORK = 4_000_000   # edges x roots: the Dijkstra walks in all
+
+
+def _short_loops(cx, chain, partner, time, classes, n_free, old):
+    """Short free generators of H1 (Erickson and Whittlesey's greedy homology basis, from a
+    few roots): from each root a shortest-path tree, each edge off it closes a loop (root ->
+    u -> v -> root); the loops, shortest first, join while independent mod 2 of those taken,
+    of the torsion generators and of the boundaries.  Roots: points along the cycles of the
+    Smith normal form (`old`, global edge ids) and a few spread out.  Returns the loops as
+    (global edge ids, coefficients), or None when their classes with the torsion are not a
+    basis of H1 over Z (then the Smith form's cycles stay), or when the critical edges are
+    too many for 64-bit class masks.
+    """
+    from ._homology_kernels import _edge_classes, _shortest_tree, _tree_xor
+
+    base, dims, bd_off, bd, bdv, _, _ = chain
+    b1, n_edges, n_vert = int(base[1]), cx.count(1), cx.count(0)
+    c1 = int(classes.crit.size)
+    if c1 == 0 or c1 > 64 or n_edges * c1 > 20_000_000:
+        return None
+    pos = np.full(dims.size, -1, dtype=np.int64)
+    pos[classes.crit] = np.arange(c1)
+    order = np.argsort(time[b1:b1 + n_edges], kind="stable").astype(np.int64)
+    phi, overflow = _edge_classes(order, b1, dims, partner, bd_off, bd, bdv, pos, c1)
+    if overflow:
+        return None
+    shifts = np.arange(c1, dtype=np.uint64)
+
+    def bits(rows):
+        return np.bitwise_or.reduce((np.asarray(rows) & 1).astype(np.uint64) << shifts, axis=-1)
+
+    # classes mod 2: the boundaries' span in echelon form; every mask is kept reduced by it
+    image = _echelon(int(b) for b in bits(np.array(classes.D2, dtype=np.int64).T.reshape(-1, c1)))
+    edge_bits = _xor_reduce(bits(phi), image)
+    taken = []
+    for m in classes.torsion_cycles:   # the torsion generators' classes first (odd ones vanish mod 2)
+        v = int(_xor_reduce(bits(np.array(m, dtype=np.int64)[None, :]), image)[0])
+        taken = _echelon(taken + [v]) if v else taken
+    E = np.asarray(cx.edges, dtype=np.int64)
+    weight = _edge_lengths(cx)
+    adj_off, adj_to, adj_edge = _adjacency(E, n_vert)
+    roots = _roots(old, E, b1, n_vert, max(1, min(_MAX_ROOTS, _ROOT_WORK // max(n_edges, 1))))
+    lengths, masks, which, trees = [], [], [], []
+    for k, r in enumerate(roots):
+        dist, pred_edge, pred, settled = _shortest_tree(adj_off, adj_to, adj_edge, weight, int(r))
+        tree_bits = np.where(pred_edge >= 0, edge_bits[np.maximum(pred_edge, 0)], np.uint64(0))
+        path = _tree_xor(settled, pred, tree_bits)
+        off_tree = np.ones(n_edges, dtype=bool)
+        off_tree[pred_edge[pred_edge >= 0]] = False
+        u, v = E[:, 0], E[:, 1]
+        off_tree &= np.isfinite(dist[u]) & np.isfinite(dist[v])
+        m = path[u] ^ path[v] ^ edge_bits
+        keep = np.flatnonzero(off_tree & (m != 0))
+        lengths.append(dist[u[keep]] + weight[keep] + dist[v[keep]])
+        masks.append(m[keep])
+        which.append(np.stack([np.full(keep.size, k), keep], axis=1))
+        trees.append((pred_edge, pred))
+    if not lengths:
+        return None
+    length = np.concatenate(lengths)
+    o = np.argsort(length, kind="stable")
+    mask, which = np.concatenate(masks)[o], np.concatenate(which)[o]
+    mask = _xor_reduce(mask, taken)
+    loops, morse = [], []
+    for _ in range(n_free):
+        hit = np.flatnonzero(mask)
+        if hit.size == 0:
+            return None
+        i = int(hit[0])
+        taken.append(int(mask[i]))
+        mask = _xor_reduce(mask, taken[-1:])
+        k, e = (int(x) for x in which[i])
+        cells, coefs = _tree_loop(E, trees[k], e)
+        loops.append((cells + b1, coefs))
+        morse.append((coefs[:, None] * phi[cells]).sum(axis=0).tolist())
+    return loops if classes.generate(morse) else None
+
+
+def _adjacency(E, n_vert):
+    """The graph of the edges (E, 2) as CSR (off, neighbour, edge id), both ways; an edge
+    whose two ends are one vertex is left out."""
+    proper = E[:, 0] != E[:, 1]
+    ends = np.concatenate([E[proper, 0], E[proper, 1]])
+    to = np.concatenate([E[proper, 1], E[proper, 0]])
+    eid = np.concatenate([np.flatnonzero(proper)] * 2).astype(np.int64)
+    o = np.argsort(ends, kind="stable")
+    off = np.zeros(n_vert + 1, dtype=np.int64)
+    np.cumsum(np.bincount(ends, minlength=n_vert), out=off[1:])
+    return off, to[o], eid[o]
+
+
+def _roots(old, E, b1, n_vert, count):
+    """Up to `count` vertices: spread along each cycle of `old` (global edge ids), then
+    spread over all vertices."""
+    picks: list[int] = []
+    per = max(1, count // (2 * max(len(old), 1)))
+    for cells in old:
+        verts = E[np.asarray(cells, dtype=np.int64) - b1, 0]
+        picks += verts[np.linspace(0, verts.size - 1, min(per, verts.size)).astype(int)].tolist()
+    spread = np.linspace(0, n_vert - 1, max(count - len(picks), 0) + 2).astype(int)[1:-1]
+    return list(dict.fromkeys(picks + spread.tolist()))[:count]
+
+
+def _tree_loop(E, tree, e):
+    """The loop root -> u -> v -> root through edge e = (u, v) off a shortest-path tree
+    (pred_edge, pred): (edge ids, coefficients), the two tree paths' common part cancelled."""
+    pred_edge, pred = tree
+    z: dict = {e: 1}
+    for x, sign in ((int(E[e, 0]), 1), (int(E[e, 1]), -1)):   # + path to u, - path to v
+        while pred[x] >= 0:
+            f = int(pred_edge[x])
+            into = 1 if E[f, 1] == x else -1    # the edge runs pred -> x
+            z[f] = z.get(f, 0) + sign * into
+            x = int(pred[x])
+    cells = np.array(sorted(f for f, c in z.items() if c), dtype=np.int64)
+    return cells, np.array([z[f] for f in cells.tolist()], dtype=np.int64)
+
+
+def _edge_lengths(cx):
+    """(E,) float64: each edge's length in R^n, across an identified seam the short way
+    (the low end moved up a period, flipped axes mirrored, as the result is drawn)."""
+    from ._validate import as_periodic
+
+    X = np.asarray(cx.vertices, dtype=np.float64)
+    e = np.asarray(cx.edges, dtype=np.int64)
+    a, b = X[e[:, 0]].copy(), X[e[:, 1]].copy()
+    meta = cx.meta or {}
+    items, names, bounds, div = meta.get("periodic"), meta.get("variables"), meta.get("bounds"), meta.get("div")
+    if items and names and bounds is not None and div is not None:
+        try:
+            spec = as_periodic(items, names, div)
+        except InputError:
+            spec = ()
+        bounds = np.asarray(bounds, dtype=np.float64)
+        for p, flips in spec:
+            lo, period = bounds[p, 0], bounds[p, 1] - bounds[p, 0]
+            far = np.abs(a[:, p] - b[:, p]) > period / 2
+            for end in (a, b):
+                low = far & (end[:, p] < lo + period / 2)
+                end[low, p] += period
+                for f in flips:
+                    end[low, f] = bounds[f].sum() - end[low, f]
+    length = np.linalg.norm(a - b, axis=1)
+    length[~np.isfinite(length)] = 0.0
+    return length
 
 
 def _edge_weights(cx):

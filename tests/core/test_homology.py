@@ -317,3 +317,34 @@ def test_result_type():
     assert isinstance(h, Homology) and h.generators is None and h.orientation_cycle is None
     with pytest.raises(AttributeError):
         h.betti = [0]
+
+
+def test_short_generators_on_a_torus():
+    """The torus of radii 1 and 0.4: the H1 generators are about a meridian (2 pi 0.4) and the
+    inner equator (2 pi 0.6), not loops wandering round it; still a basis of H1 over Z/2 and Q."""
+    cx = example("torus", [24, 24, 10])
+    h = homology(cx)
+    X, E = np.asarray(cx.vertices), np.asarray(cx.edges)
+    lengths = sorted(float(np.linalg.norm(X[E[c.cells, 0]] - X[E[c.cells, 1]], axis=1) @ np.abs(c.coefficients))
+                     for c in h.generators[1])
+    assert np.allclose(lengths, [2 * np.pi * 0.4, 2 * np.pi * 0.6], rtol=0.06), lengths
+    D = boundary_matrices(cx)
+    Z = np.zeros((cx.count(1), 2), dtype=np.int64)
+    for i, c in enumerate(h.generators[1]):
+        Z[c.cells, i] = c.coefficients
+        assert np.all(np.abs(c.coefficients) == 1)   # simple loops
+    assert not (D[1] @ Z).any()
+    assert rank_mod2(np.column_stack([D[2], Z])) == rank_mod2(D[2]) + 2
+    assert np.linalg.matrix_rank(np.column_stack([D[2], Z]).astype(float)) == \
+        np.linalg.matrix_rank(D[2].astype(float)) + 2
+
+
+def test_generators_of_the_pentagon_linkage_are_simple_loops(results):
+    """Each of the eight generators runs once round one loop: every vertex on it meets two of its edges."""
+    cx = results["pentagon-linkage"]
+    h = homology(cx)
+    assert len(h.generators[1]) == 8
+    for c in h.generators[1]:
+        assert np.all(np.abs(c.coefficients) == 1)
+        degree = np.bincount(np.asarray(cx.edges)[c.cells].ravel())
+        assert set(degree[degree > 0].tolist()) == {2}

@@ -3,9 +3,11 @@
 
 import numpy as np
 import pytest
-from homology_naive import orient_top
+from homology_naive import edge_classes, orient_top, shortest_distances, tree_xor
+from test_homology import simplicial
 
-from gcmh_core._homology_kernels import _orient_top
+from gcmh_core._homology_kernels import _coreduce, _edge_classes, _orient_top, _shortest_tree, _tree_xor
+from gcmh_core.homology import _adjacency, _chain_complex, _incidences
 
 hypothesis = pytest.importorskip("hypothesis")
 from hypothesis import given, settings  # noqa: E402
@@ -34,3 +36,46 @@ def test_orient_top_against_naive(case):
     eps, bad = _orient_top(off, fac, sign, n_faces)
     eps2, bad2 = orient_top(off, fac, sign, n_faces)
     assert eps.tolist() == eps2 and bad.tolist() == bad2
+
+
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(st.integers(2, 40), st.integers(0, 2**31 - 1))
+def test_shortest_tree_against_naive(n, seed):
+    rng = np.random.default_rng(seed)
+    m = int(rng.integers(1, 3 * n))
+    edges = rng.integers(0, n, (m, 2))
+    weight = rng.random(m)
+    root = int(rng.integers(0, n))
+    dist, pred_edge, pred, order = _shortest_tree(*_adjacency(edges, n), weight, root)
+    want = shortest_distances(n, edges.tolist(), weight.tolist(), root)
+    assert np.allclose(dist, want) and np.array_equal(np.isinf(dist), np.isinf(want))
+    # the tree: each reached vertex but the root hangs from its predecessor by an edge of the graph
+    reached = np.isfinite(dist)
+    assert sorted(order.tolist()) == np.flatnonzero(reached).tolist() and order[0] == root
+    for x in np.flatnonzero(reached & (np.arange(n) != root)):
+        e = pred_edge[x]
+        assert sorted(edges[e]) == sorted((pred[x], x))
+        assert np.isclose(dist[x], dist[pred[x]] + weight[e])
+    assert np.all(np.diff(dist[order]) >= 0)   # nearest first
+    # the xor of bits down the tree
+    bits = rng.integers(0, 2**63, n, dtype=np.uint64)
+    tree_bits = np.where(pred_edge >= 0, bits, np.uint64(0))
+    assert _tree_xor(order, pred, tree_bits).tolist() == tree_xor(order, pred, tree_bits)
+
+
+@settings(max_examples=40, deadline=None, derandomize=True)
+@given(simplicial())
+def test_edge_classes_against_naive(cx):
+    signs = _incidences(cx)
+    base, dims, bd_off, bd, bdv, cb_off, cb = _chain_complex(cx, signs)
+    partner, time, critical = _coreduce(dims, cx.dim, bd_off, bd, cb_off, cb)
+    b1, n_edges = int(base[1]), cx.count(1)
+    crit1 = np.sort(critical[dims[critical] == 1])
+    if crit1.size == 0:
+        return
+    pos = np.full(dims.size, -1, dtype=np.int64)
+    pos[crit1] = np.arange(crit1.size)
+    order = np.argsort(time[b1:b1 + n_edges], kind="stable").astype(np.int64)
+    phi, overflow = _edge_classes(order, b1, dims, partner, bd_off, bd, bdv, pos, crit1.size)
+    assert not overflow
+    assert phi.tolist() == edge_classes(order, b1, dims, partner, bd_off, bd, bdv, pos, crit1.size)
