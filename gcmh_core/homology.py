@@ -506,17 +506,16 @@ def _generators(cx, q, top, size, r_q, D, Rs, Rinvs, crit, chain, partner, time)
     chains = [(lift_cells[lift_off[k]:lift_off[k + 1]], lift_coefs[lift_off[k]:lift_off[k + 1]])
               for k in range(len(wanted))]
     if q == 1 and top >= 2:
-        weight = _edge_weights(cx)
-        chains = [_shorten(cells, coefs, chain, weight) for cells, coefs in chains]
         n_free = n_ker - len(s)
+        loops = None
         if n_free:
             tors = [i for i, _ in wanted[n_free:]]
             classes = _Classes(crit[q], Rinvs[q][r_q:], image, [[row[i] for row in Linv] for i in tors],
                                [[row[i] for row in basis] for i in tors], D[2])
             loops = _short_loops(cx, chain, partner, time, classes, n_free,
                                  [c for c, _ in chains[:n_free]])
-            if loops is not None:
-                chains[:n_free] = loops
+        weight = _edge_weights(cx)
+        chains = (loops or []) + [_shorten(cells, coefs, chain, weight) for cells, coefs in chains[len(loops or []):]]
     cycles = []
     for (cells, coefs), (_, order) in zip(chains, wanted):
         cells = cells - base[q]
@@ -570,8 +569,10 @@ def _echelon(vectors):
     return out
 
 
-_MAX_ROOTS = 32
-_ROOT_WORK = 4_000_000   # edges x roots: the Dijkstra walks in all
+# roots: as many as cost about what the groups do (a walk from a root costs about a third of
+# the groups' time per cell), at least a few
+_ROOTS = (4, 16)
+_ROOT_WORK = 1_000_000   # edges x roots
 
 
 def _short_loops(cx, chain, partner, time, classes, n_free, old):
@@ -612,7 +613,7 @@ def _short_loops(cx, chain, partner, time, classes, n_free, old):
     E = np.asarray(cx.edges, dtype=np.int64)
     weight = _edge_lengths(cx)
     adj_off, adj_to, adj_edge = _adjacency(E, n_vert)
-    roots = _roots(old, E, b1, n_vert, max(1, min(_MAX_ROOTS, _ROOT_WORK // max(n_edges, 1))))
+    roots = _roots(old, E, b1, n_vert, max(_ROOTS[0], min(_ROOTS[1], _ROOT_WORK // max(n_edges, 1))))
     lengths, masks, which, trees = [], [], [], []
     for k, r in enumerate(roots):
         dist, pred_edge, pred, settled = _shortest_tree(adj_off, adj_to, adj_edge, weight, int(r))
