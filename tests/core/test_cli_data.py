@@ -110,16 +110,23 @@ def test_bad_data_one_line_and_nothing_written(capsys, tmp_path, npy):
 
 
 def test_values_larger_than_the_memory_share_run_from_a_file(capsys, tmp_path, npy, monkeypatch):
-    code, out, _ = run(capsys, "extract", "--data", npy, "--level", "1", "--json", "-q", "-o", tmp_path / "a.npz")
+    # a .npz is read whole, and F's values are written: in memory ...
+    np.savez(tmp_path / "e.npz", e=ellipsoid())
+    args = ["extract", "--data", tmp_path / "e.npz", "--level", "1", "--json", "-q", "-o"]
+    code, out, _ = run(capsys, *args, tmp_path / "a.npz")
     assert code == 0 and json.loads(out)["data"]["values_on_disk"] is False
-    # a machine with little memory: F's values go to a memory-mapped temporary file, read slab by slab
+    # ... or, on a machine with little memory, to a memory-mapped temporary file, read slab by slab
     monkeypatch.setattr("gcmh_core.data_files.IN_MEMORY_SHARE", 1e-6)
-    code, out, err = run(capsys, "extract", "--data", npy, "--level", "1", "--json", "-q", "-o", tmp_path / "b.npz")
+    code, out, err = run(capsys, *args, tmp_path / "b.npz")
     assert code == 0, err
-    assert json.loads(out)["data"]["values_on_disk"] is True
-    a, b = CellComplex.load(tmp_path / "a.npz"), CellComplex.load(tmp_path / "b.npz")
-    assert a.vertices.tobytes() == b.vertices.tobytes()
-    assert all(np.array_equal(x, y) for x, y in zip(a.cells[2], b.cells[2]))
+    assert json.loads(out)["data"]["values_on_disk"] is True and not json.loads(out)["data"]["values_from_maps"]
+    # a .npy is memory-mapped: the sweep computes F's values from the map, slab by slab
+    code, out, err = run(capsys, "extract", "--data", npy, "--level", "1", "--json", "-q", "-o", tmp_path / "c.npz")
+    assert code == 0, err
+    assert json.loads(out)["data"]["values_from_maps"] is True
+    a, b, c = (CellComplex.load(tmp_path / f"{x}.npz") for x in "abc")
+    assert a.vertices.tobytes() == b.vertices.tobytes() == c.vertices.tobytes()
+    assert all(np.array_equal(x, y) and np.array_equal(x, z) for x, y, z in zip(a.cells[2], b.cells[2], c.cells[2]))
 
 
 def test_data_on_a_cluster_gives_the_same_bytes(capsys, tmp_path, npy, cluster):

@@ -67,8 +67,8 @@ def test_mapped_values_are_the_written_values_slice_by_slice(files, specs, level
 
 def test_a_local_cluster_reads_its_blocks_from_the_memory_map(files, monkeypatch):
     pytest.importorskip("distributed")
-    here = extract_data(files["a"], 0.5)
-    assert here.meta["data"]["values_on_disk"] is False  # (a small volume is written in memory here)
+    here = extract_data(None, data=load_components(files["a"], 0.5))  # F's values written whole
+    assert here.meta["data"]["values_from_maps"] is False
 
     def refused(*args, **kwargs):
         raise AssertionError("F's values were written whole")
@@ -77,12 +77,13 @@ def test_a_local_cluster_reads_its_blocks_from_the_memory_map(files, monkeypatch
     monkeypatch.setattr(np, "save", refused)     # ... nor saved for the workers (they are other processes)
     there = extract_data(files["a"], 0.5, scheduler="local", block=[8, 16, 11])
     assert there.meta["blocks"] > 8 and there.meta["scheduler"] == "local"
-    assert there.meta["data"]["values_on_disk"] is True
+    assert there.meta["data"]["values_from_maps"] is True
     assert_identical(here, there)
+    assert_identical(here, extract_data(files["a"], 0.5))  # (in this process: the sweep reads the map)
 
 
 def test_a_remote_cluster_gets_block_slices_read_from_the_maps(files, cluster, monkeypatch):
-    here = extract_data([files["a"], files["b"]], "0.5,0.8")
+    here = extract_data(None, data=load_components([files["a"], files["b"]], "0.5,0.8"))
     monkeypatch.setattr(df, "_output", lambda *a, **k: pytest.fail("F's values were written whole"))
     there = extract_data([files["a"], files["b"]], "0.5,0.8", scheduler=cluster[0].scheduler_address, block=10)
     assert there.meta["blocks"] == 64
