@@ -273,7 +273,9 @@ def _candidates_naive(values):
     return out
 
 
-@pytest.mark.parametrize("shape", [(5, 1), (4, 6, 2), (5, 4, 3, 2), (3, 4, 3, 3, 3), (2, 2, 2, 2, 2, 2, 2, 4)])
+# (k = 5, 9 and 17 take the wider codes: 16, 32 and 64 bits)
+@pytest.mark.parametrize("shape", [(5, 1), (4, 6, 2), (5, 4, 3, 2), (3, 4, 3, 3, 3), (2, 2, 2, 2, 2, 2, 2, 4),
+                                   (4, 3, 3, 5), (3, 3, 3, 9), (3, 2, 2, 17)])
 def test_probe_candidates_match_the_naive_twin(shape):
     rng = np.random.default_rng(sum(shape))
     values = rng.normal(size=shape)
