@@ -7,11 +7,12 @@ Run from the repository root.  Writes a float32 .npy of side^3 samples (a noisy 
 radius wanders, plus noise, so the surface has detail everywhere), then in alternating rounds:
 
 * gcmh: ``python -m gcmh_core.cli extract --data blob.npy --level 0 --json -q`` (the whole command:
-  start-up, reading the memory map, F's values, the sweep, the summary);
+  start-up, the range pass over the memory map, the sweep reading F's values from it, the summary);
 * vtk: a short pyvista script in its own process that loads the same file (np.load) and runs flying
   edges (``pv.wrap(a).contour([0.0], method="flying_edges")``), printing the point count.
 
-Wall time and the peak RSS of each child (os.wait4); the ratio of the medians.  With --big S, a
+Wall time and the peak RSS of each child (os.wait4); the ratio of the medians, each round's ratio
+and the load average (1 min) before and after.  With --big S, a
 side S volume: ``--dry-run --json``'s estimated peak against the run's measured peak RSS, less the RSS
 of a process that only imports gcmh_core and numba (the estimate is of the run above an idle process).
 The machine may be shared: compare the columns of one run, not absolute times.
@@ -116,6 +117,7 @@ def compare(path: str, script: str, args) -> None:
     run_measured(gcmh_argv(path))  # (numba's cache filled, the file in the page cache: both sides warm)
     run_measured([sys.executable, script, path])
     rows: dict[str, list] = {"gcmh": [], "vtk": []}
+    load = [os.getloadavg()[0]]
     for r in range(args.rounds):
         for name in (("gcmh", "vtk") if r % 2 == 0 else ("vtk", "gcmh")):
             argv = gcmh_argv(path) if name == "gcmh" else [sys.executable, script, path]
@@ -128,9 +130,12 @@ def compare(path: str, script: str, args) -> None:
                 points, cells = out.split()
                 detail = f"{points} points, {cells} triangles"
             print(f"round {r + 1} {name:4}: {wall:6.2f} s, peak RSS {rss / 1e6:7.0f} MB  ({detail})", flush=True)
+    load.append(os.getloadavg()[0])
+    ratios = sorted(g / v for (g, _), (v, _) in zip(rows["gcmh"], rows["vtk"]))
     med = {name: statistics.median(w for w, _ in rows[name]) for name in rows}
     print(f"\n{args.side}^3 float32 (noise {args.noise:g}), {args.rounds} rounds: gcmh {med['gcmh']:.2f} s, "
-          f"flying edges {med['vtk']:.2f} s (medians of the wall times): ratio {med['gcmh'] / med['vtk']:.2f}")
+          f"flying edges {med['vtk']:.2f} s (medians of the wall times): ratio {med['gcmh'] / med['vtk']:.2f} "
+          f"(each round's: {ratios[0]:.2f} to {ratios[-1]:.2f}); load average {load[0]:.1f} then {load[1]:.1f}")
     print(f"peak RSS: gcmh {max(m for _, m in rows['gcmh']) / 1e6:.0f} MB, "
           f"flying edges {max(m for _, m in rows['vtk']) / 1e6:.0f} MB")
 

@@ -230,9 +230,11 @@ def test_on_disk_values_give_the_same_bytes(tmp_path):
 
 def test_estimate_counts_the_values_held(tmp_path):
     np.save(tmp_path / "e.npy", ellipsoid())
-    e = estimate_data(str(tmp_path / "e.npy"), 1.0)
-    assert e.grid_bytes >= 25**3 * 8  # F's values as float64 (in memory at this size)
-    assert 500 < e.candidate_cubes < 5000
+    np.savez(tmp_path / "e.npz", e=ellipsoid())
+    mapped = estimate_data(str(tmp_path / "e.npy"), 1.0)  # F's values computed from the map, slab by slab
+    whole = estimate_data(str(tmp_path / "e.npz"), 1.0)   # the file read whole, F's values written
+    assert whole.grid_bytes - mapped.grid_bytes == 25**3 * (8 + 4)  # (float64 values, the float32 read)
+    assert 500 < mapped.candidate_cubes < 5000
 
 
 # ---------------------------------------------------------------- nibabel's real scans
