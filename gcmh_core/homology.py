@@ -613,37 +613,68 @@ def _short_loops(cx, chain, partner, time, classes, n_free, old):
     E = np.asarray(cx.edges, dtype=np.int64)
     weight = _edge_lengths(cx)
     adj_off, adj_to, adj_edge = _adjacency(E, n_vert)
-    roots = _roots(old, E, b1, n_vert, max(_ROOTS[0], min(_ROOTS[1], _ROOT_WORK // max(n_edges, 1))))
-    lengths, masks, which, trees = [], [], [], []
-    for k, r in enumerate(roots):
-        dist, pred_edge, pred, settled = _shortest_tree(adj_off, adj_to, adj_edge, weight, int(r))
+    n_roots = max(_ROOTS[0], min(_ROOTS[1], _ROOT_WORK // max(n_edges, 1)))
+    lengths, masks, which, trees, used = [], [], [], [], []
+    u, v = E[:, 0], E[:, 1]
+
+    def grow(r):
+        """The loops closed by the shortest-path tree from r; returns its distances."""
+        dist, pred_edge, pred, settled = _shortest_tree(adj_off, adj_to, adj_edge, weight, r)
         tree_bits = np.where(pred_edge >= 0, edge_bits[np.maximum(pred_edge, 0)], np.uint64(0))
         path = _tree_xor(settled, pred, tree_bits)
-        off_tree = np.ones(n_edges, dtype=bool)
+        off_tree = np.isfinite(dist[u]) & np.isfinite(dist[v])
         off_tree[pred_edge[pred_edge >= 0]] = False
-        u, v = E[:, 0], E[:, 1]
-        off_tree &= np.isfinite(dist[u]) & np.isfinite(dist[v])
         m = path[u] ^ path[v] ^ edge_bits
         keep = np.flatnonzero(off_tree & (m != 0))
         lengths.append(dist[u[keep]] + weight[keep] + dist[v[keep]])
         masks.append(m[keep])
-        which.append(np.stack([np.full(keep.size, k), keep], axis=1))
+        which.append(np.stack([np.full(keep.size, len(trees)), keep], axis=1))
         trees.append((pred_edge, pred))
-    if not lengths:
-        return None
-    length = np.concatenate(lengths)
-    o = np.argsort(length, kind="stable")
-    mask, which = np.concatenate(masks)[o], np.concatenate(which)[o]
-    mask = _xor_reduce(mask, taken)
-    loops, morse = [], []
-    for _ in range(n_free):
-        hit = np.flatnonzero(mask)
-        if hit.size == 0:
+        used.append(r)
+        return dist
+
+    def greedy():
+        """The shortest loops independent mod 2: [(tree, edge)] (None if too few)."""
+        length = np.concatenate(lengths)
+        o = np.argsort(length, kind="stable")
+        mask, order = np.concatenate(masks)[o], np.concatenate(which)[o]
+        basis = list(taken)
+        mask = _xor_reduce(mask, basis)
+        chosen = []
+        for _ in range(n_free):
+            hit = np.flatnonzero(mask)
+            if hit.size == 0:
+                return None
+            i = int(hit[0])
+            basis.append(int(mask[i]))
+            mask = _xor_reduce(mask, basis[-1:])
+            chosen.append(tuple(int(x) for x in order[i]))
+        return chosen
+
+    # roots spread out: the first on a cycle of the Smith form, each next one the vertex
+    # farthest from those before (an unreached one first: another component)
+    r = int(E[old[0][0] - b1, 0]) if old and len(old[0]) else 0
+    nearest = np.full(n_vert, np.inf)
+    for _ in range(min(n_roots, n_vert)):
+        np.minimum(nearest, grow(r), out=nearest)
+        far = np.isinf(nearest)
+        r = int(np.flatnonzero(far)[0]) if far.any() else int(np.argmax(nearest))
+    chosen = greedy()
+    # a loop through a root away from the shortest in its class runs to it and round it: its
+    # far end (the closing edge) lies near that shortest loop, so roots there tighten it
+    for _ in range(2):
+        if chosen is None:
             return None
-        i = int(hit[0])
-        taken.append(int(mask[i]))
-        mask = _xor_reduce(mask, taken[-1:])
-        k, e = (int(x) for x in which[i])
+        new = {int(E[e, 0]) for _, e in chosen} - set(used)
+        if not new:
+            break
+        for r in sorted(new):
+            grow(r)
+        chosen = greedy()
+    if chosen is None:
+        return None
+    loops, morse = [], []
+    for k, e in chosen:
         cells, coefs = _tree_loop(E, trees[k], e)
         loops.append((cells + b1, coefs))
         morse.append((coefs[:, None] * phi[cells]).sum(axis=0).tolist())
@@ -661,18 +692,6 @@ def _adjacency(E, n_vert):
     off = np.zeros(n_vert + 1, dtype=np.int64)
     np.cumsum(np.bincount(ends, minlength=n_vert), out=off[1:])
     return off, to[o], eid[o]
-
-
-def _roots(old, E, b1, n_vert, count):
-    """Up to `count` vertices: spread along each cycle of `old` (global edge ids), then
-    spread over all vertices."""
-    picks: list[int] = []
-    per = max(1, count // (2 * max(len(old), 1)))
-    for cells in old:
-        verts = E[np.asarray(cells, dtype=np.int64) - b1, 0]
-        picks += verts[np.linspace(0, verts.size - 1, min(per, verts.size)).astype(int)].tolist()
-    spread = np.linspace(0, n_vert - 1, max(count - len(picks), 0) + 2).astype(int)[1:-1]
-    return list(dict.fromkeys(picks + spread.tolist()))[:count]
 
 
 def _tree_loop(E, tree, e):
