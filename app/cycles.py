@@ -34,17 +34,29 @@ def unwrap_segments(cx, X, E) -> tuple[np.ndarray, np.ndarray]:
     """Segments (X (m, n), E (k, 2)) of a result on identified axes, as the result is drawn
     (:func:`gcmh_studio.geometry.display_complex`): a segment that crosses a seam gets its
     low end moved up a period (reflected across a flipped seam), not a line across the box."""
+    return _unwrap(cx, X, E, 2)
+
+
+def unwrap_triangles(cx, X, T) -> tuple[np.ndarray, np.ndarray]:
+    """Triangles (X (m, n), T (k, 3)) of a result on identified axes, unwrapped across the
+    seams as :func:`unwrap_segments` does segments."""
+    return _unwrap(cx, X, T, 3)
+
+
+def _unwrap(cx, X, cells, size):
+    """Cells of `size` points each: one that spans more than half a period of a glued
+    axis gets its low points moved up a period (the flipped axes mirrored)."""
     from .geometry import seam_spec
 
     spec = seam_spec(cx)
     X = np.asarray(X, dtype=np.float64)
-    E = np.asarray(E, dtype=np.int64).reshape(-1, 2)
+    E = np.asarray(cells, dtype=np.int64).reshape(-1, size)
     if not spec or E.size == 0:
         return X, E
-    ends = X[E]                      # (k, 2, n): each segment its own two points
+    ends = X[E]                      # (k, size, n): each cell its own points
     crossed = np.zeros(len(E), bool)
     for p, period, lo, flips, mirror in spec:
-        far = np.abs(ends[:, 0, p] - ends[:, 1, p]) > period / 2
+        far = np.ptp(ends[:, :, p], axis=1) > period / 2
         if not far.any():
             continue
         crossed |= far
@@ -57,8 +69,8 @@ def unwrap_segments(cx, X, E) -> tuple[np.ndarray, np.ndarray]:
     keep = ~crossed
     moved = ends[crossed].reshape(-1, X.shape[1])
     k = int(crossed.sum())
-    new_edges = len(X) + np.arange(2 * k, dtype=np.int64).reshape(k, 2)
-    return np.concatenate([X, moved]), np.concatenate([E[keep], new_edges])
+    new_cells = len(X) + np.arange(size * k, dtype=np.int64).reshape(k, size)
+    return np.concatenate([X, moved]), np.concatenate([E[keep], new_cells])
 
 
 def _compact(X, edges):
@@ -101,6 +113,23 @@ def generator_lines(cx, cycle) -> tuple[np.ndarray, np.ndarray]:
             np.repeat(np.cumsum(counts) - counts, counts)
         cells = np.unique(fac[idx])
     return _compact(cx.vertices, np.asarray(cx.edges)[_edges_of_2cells(cx, cells)])
+
+
+def generator_surface(cx, cycle) -> tuple[np.ndarray, np.ndarray]:
+    """The 2-cells of an H2 cycle (a :class:`gcmh_core.homology.Cycle` of dimension 2) as
+    triangles in R^n, each polygon fanned from its first vertex: vertices (m, n) float64
+    and triangles (T, 3) int64, unwrapped across identified seams.  For a translucent
+    surface on a 3-manifold (:func:`gcmh_studio.homology_surfaces.draw_homology_surfaces`)."""
+    offs, verts = (np.asarray(a, dtype=np.int64) for a in cx.polygons())
+    cells = np.asarray(cycle.cells, dtype=np.int64)
+    tris = []
+    for c in cells.tolist():
+        ring = verts[offs[c]:offs[c + 1]]
+        tris += [(ring[0], ring[i], ring[i + 1]) for i in range(1, ring.size - 1)]
+    T = np.array(tris, dtype=np.int64).reshape(-1, 3)
+    X = np.asarray(cx.vertices, dtype=np.float64)
+    used, inverse = np.unique(T.ravel(), return_inverse=True)
+    return unwrap_triangles(cx, X[used], inverse.reshape(-1, 3))
 
 
 def edge_cycle_loops(cx, cycle) -> list[np.ndarray]:

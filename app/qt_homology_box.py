@@ -4,12 +4,14 @@ loop and curvature (the Topology tab's lower half).
 The homology is computed off the GUI thread (a :class:`gcmh_studio.qt_widgets.QtLatestCall`:
 the newest result wins, the window never waits).  One button per dimension shows
 ``H1 = Z + Z/2`` with its Betti numbers over Q and Z/2; pressing it asks for its
-generators to be drawn, each a thick loop in its own colour.  The box never touches the
+generators to be drawn, each a thick loop in its own colour (an H2 class of a 3-manifold:
+a see-through surface).  The box never touches the
 scene: it emits what should be drawn, and the window hands it to
 :func:`gcmh_studio.overlays.draw_homology` and :func:`gcmh_studio.overlays.colour_by_values`.
 
     box = QtHomologyBox(model)
     box.overlays.connect(lambda specs: draw_homology(window.scene, specs))
+    box.surfaces.connect(lambda specs: draw_homology_surfaces(window.scene, specs))
     box.curvature.connect(lambda values: colour_by_values(window.scene, values))
 """
 
@@ -18,7 +20,8 @@ from __future__ import annotations
 from qtpy.QtCore import Qt, Signal
 from qtpy.QtWidgets import QCheckBox, QGridLayout, QGroupBox, QLabel, QPushButton, QVBoxLayout
 
-from .cycles import curvature_values, cycle_color, generator_lines, unwrap_segments, w1_lines
+from .cycles import curvature_values, cycle_color, generator_lines, generator_surface, unwrap_segments, w1_lines
+from .homology_surfaces import SURFACE_OPACITY, SURFACE_PREFIX
 from .model import StudioModel
 from .qt_widgets import QtLatestCall
 
@@ -33,14 +36,20 @@ def compute(cx) -> dict:
     from gcmh_core.homology import homology
 
     h = homology(cx)
-    lines = []
+    lines, surfaces = [], {}
     for q, cycles in enumerate(h.generators):
         row = []
         for i, c in enumerate(cycles):
-            X, E = unwrap_segments(cx, *generator_lines(cx, c))
-            row.append((X, E, cycle_color(i if q != 1 else i), c.order))
+            if q == 2 and cx.dim >= 3:   # an H2 class of a 3-manifold: a surface, drawn see-through
+                X, T = generator_surface(cx, c)
+                surfaces.setdefault(q, []).append((X, T, cycle_color(i), c.order))
+                row.append((X[:0], T[:0, :2], cycle_color(i), c.order))
+            else:
+                X, E = unwrap_segments(cx, *generator_lines(cx, c))
+                row.append((X, E, cycle_color(i), c.order))
         lines.append(row)
-    out = {"homology": h, "lines": lines, "w1": None, "curvature": None, "gauss_bonnet": None}
+    out = {"homology": h, "lines": lines, "surfaces": surfaces, "w1": None, "curvature": None,
+           "gauss_bonnet": None}
     if h.orientation_cycle is not None:
         (XL, EL), (XA, EA) = w1_lines(cx, h.orientation_cycle, h.orientation)
         out["w1"] = (unwrap_segments(cx, XL, EL), unwrap_segments(cx, XA, EA))
@@ -59,6 +68,10 @@ class QtHomologyBox(QGroupBox):
     overlays(dict)
         name -> (vertices (m, n), edges (E, 2), colour, width): every homology overlay that
         should be on the picture now (names start with ``homology-``; others are removed).
+    surfaces(dict)
+        name -> (vertices (m, n), triangles (T, 3), colour, opacity): the H2 classes of a
+        3-manifold asked for, as see-through surfaces (names start with ``homology-surface-``;
+        for :func:`gcmh_studio.homology_surfaces.draw_homology_surfaces`).
     curvature(object)
         (V,) float64 curvature densities to colour the result by, or None for its usual colours.
     computed()
@@ -66,6 +79,7 @@ class QtHomologyBox(QGroupBox):
     """
 
     overlays = Signal(object)
+    surfaces = Signal(object)
     curvature = Signal(object)
     computed = Signal()
 
@@ -133,6 +147,7 @@ class QtHomologyBox(QGroupBox):
             check.setChecked(False)
             check.blockSignals(False)
         self.overlays.emit({})
+        self.surfaces.emit({})
         if had_curvature:
             self.curvature.emit(None)
         if cx is None:
@@ -201,6 +216,18 @@ class QtHomologyBox(QGroupBox):
                 specs["homology-w1-arrows"] = (XA, EA, "#ffffff", ARROW_WIDTH)
         return specs
 
+    def surface_specs(self) -> dict:
+        """name -> (X, T, colour, opacity) of the H2 classes of a 3-manifold asked for."""
+        specs: dict = {}
+        if self.data is None:
+            return specs
+        for q, rows in self.data["surfaces"].items():
+            if q < MAX_DIMS and self.betti[q].isChecked():
+                for i, (X, T, color, _order) in enumerate(rows):
+                    if len(T):
+                        specs[f"{SURFACE_PREFIX}{q}-{i}"] = (X, T, color, SURFACE_OPACITY)
+        return specs
+
     def generator_colours(self, q: int) -> list[str]:
         """The colours the generators of H_q are drawn in (for a legend or a test)."""
         if self.data is None or q >= len(self.data["lines"]):
@@ -209,6 +236,7 @@ class QtHomologyBox(QGroupBox):
 
     def _emit_overlays(self, *_args) -> None:
         self.overlays.emit(self.overlay_specs())
+        self.surfaces.emit(self.surface_specs())
 
     def _emit_curvature(self, on: bool) -> None:
         self.curvature.emit(self.data["curvature"] if on and self.data is not None else None)

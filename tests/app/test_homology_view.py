@@ -182,3 +182,44 @@ def test_curvature_values_of_a_sphere():
     assert k.shape == (cx.count(0),)
     assert np.median(k) == pytest.approx(0.25, rel=0.1) and k.min() > 0   # 1 / r^2 everywhere
     assert text == "Gauss-Bonnet: K / 2pi = 2.000, chi = 2"
+
+
+def test_h2_classes_of_a_three_manifold_as_surfaces(qtbot, small_window):
+    """b2 of the three-torus: three see-through surfaces (the 2-cells of each generator, fanned into
+    triangles), which turn with the view and go with a second click."""
+    from gcmh_studio.homology_surfaces import SURFACE_OPACITY, draw_homology_surfaces
+
+    w = small_window
+    cx = _example("three-torus", 5)
+    box = w.topology_panel.homology_box
+    # the window's hook (as box.overlays -> draw_homology): connected here until the window has it
+    box.surfaces.connect(lambda specs: draw_homology_surfaces(w.scene, specs))
+    with qtbot.waitSignal(box.computed, timeout=120_000):
+        w.show_result(cx, cx.point_names(), title="three-torus")
+    assert box.status.text() == "H0 = Z, H1 = Z^3, H2 = Z^3, H3 = Z"
+    with qtbot.waitSignal(box.surfaces) as sent:
+        box.betti[2].click()
+    specs = sent.args[0]
+    assert sorted(specs) == [f"homology-surface-2-{i}" for i in range(3)]
+    h = box.data["homology"]
+    offs = np.asarray(cx.polygons()[0])
+    for i, c in enumerate(h.generators[2]):
+        X, T, colour, opacity = specs[f"homology-surface-2-{i}"]
+        assert len(T) == int((np.diff(offs)[c.cells] - 2).sum())   # each polygon fanned
+        assert opacity == SURFACE_OPACITY < 1 and colour == box.generator_colours(2)[i]
+        # unwrapped across the glued axes: no triangle spans half the box
+        span = np.ptp(np.asarray(cx.meta["bounds"], dtype=float), axis=1)
+        assert (np.ptp(X[T], axis=1) < span / 2).all()
+    # no line overlays for them: the surfaces show them
+    assert not [n for n in box.overlay_specs() if n.startswith("homology-2-")]
+    drawn = w.scene.overlays
+    assert set(specs) <= set(drawn)
+    mesh = drawn["homology-surface-2-0"][1]
+    assert mesh.n_cells == len(specs["homology-surface-2-0"][1])
+    assert drawn["homology-surface-2-0"][2].prop.opacity == pytest.approx(SURFACE_OPACITY)
+    before = np.array(mesh.points)
+    w.scene.set_projection(np.roll(np.array(w.scene.P), 1, axis=1))
+    assert not np.allclose(before, np.array(w.scene.overlays["homology-surface-2-0"][1].points))
+    with qtbot.waitSignal(box.surfaces) as sent:
+        box.betti[2].click()
+    assert sent.args[0] == {} and not [n for n in w.scene.overlays if n.startswith("homology-surface-")]
