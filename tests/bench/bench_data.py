@@ -11,9 +11,11 @@ radius wanders, plus noise, so the surface has detail everywhere), then in alter
 * vtk: a short pyvista script in its own process that loads the same file (np.load) and runs flying
   edges (``pv.wrap(a).contour([0.0], method="flying_edges")``), printing the point count.
 
-Wall time and the peak RSS of each child (os.wait4); the ratio of the medians, each round's ratio
-and the load average (1 min) before and after.  With --big S, a
-side S volume: ``--dry-run --json``'s estimated peak against the run's measured peak RSS, less the RSS
+The children run with Python's bytecode cache on (in the volumes' folder; ``--environment-as-is``
+keeps this environment, e.g. PYTHONDONTWRITEBYTECODE=1, under which gcmh compiles its modules from
+source at every start).  Wall time and the peak RSS of each child (os.wait4); the ratio of the
+medians, each round's ratio and the load average (1 min) before and after.  With --big S, a side S
+volume: ``--dry-run --json``'s estimated peak against the run's measured peak RSS, less the RSS
 of a process that only imports gcmh_core and numba (the estimate is of the run above an idle process).
 The machine may be shared: compare the columns of one run, not absolute times.
 """
@@ -73,11 +75,24 @@ def write_blob(path: str, side: int, noise: float) -> None:
     subprocess.run([sys.executable, "-c", code], check=True)
 
 
+# the children's environment (`main` sets it): Python's bytecode cached, as in a user's install
+CHILD_ENV: dict[str, str] | None = None
+
+
+def bytecode_env(folder: str) -> dict[str, str]:
+    """This environment with Python's bytecode cache on, in ``folder`` (not the source tree): a
+    sandbox that sets PYTHONDONTWRITEBYTECODE=1 made every gcmh run compile its own modules from
+    source (0.3 s; gcmh_core is installed editable, pyvista came with its bytecode)."""
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    env["PYTHONPYCACHEPREFIX"] = folder
+    return env
+
+
 def run_measured(argv: list[str]) -> tuple[float, int, str]:
     """(wall seconds, peak RSS bytes, stdout) of one child, its rusage from wait4."""
     with tempfile.TemporaryFile(mode="w+") as out, tempfile.TemporaryFile(mode="w+") as err:
         t = time.perf_counter()
-        proc = subprocess.Popen(argv, stdout=out, stderr=err, text=True)
+        proc = subprocess.Popen(argv, stdout=out, stderr=err, text=True, env=CHILD_ENV)
         _, status, usage = os.wait4(proc.pid, 0)
         wall = time.perf_counter() - t
         proc.returncode = os.waitstatus_to_exitcode(status)
@@ -100,9 +115,14 @@ def main() -> int:
     parser.add_argument("--big", type=int, default=0, help="also a side^3 volume's estimate against its peak RSS")
     parser.add_argument("--noise", type=float, default=0.001, help="the noise's standard deviation (box [-1, 1]^3)")
     parser.add_argument("--keep", help="folder for the volumes (default: a temporary one, removed)")
+    parser.add_argument("--environment-as-is", action="store_true",
+                        help="run the children in this environment (default: with Python's bytecode cache on, "
+                             "in FOLDER/pycache, even where PYTHONDONTWRITEBYTECODE is set)")
     args = parser.parse_args()
 
     folder = args.keep or tempfile.mkdtemp(prefix="gcmh-bench-data-")
+    global CHILD_ENV
+    CHILD_ENV = None if args.environment_as_is else bytecode_env(os.path.join(folder, "pycache"))
     path = os.path.join(folder, f"blob{args.side}-{args.noise:g}.npy")
     if not os.path.exists(path):
         write_blob(path, args.side, args.noise)
