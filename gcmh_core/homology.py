@@ -514,8 +514,11 @@ def _generators(cx, q, top, size, r_q, D, Rs, Rinvs, crit, chain, partner, time)
                                [[row[i] for row in basis] for i in tors], D[2])
             loops = _short_loops(cx, chain, partner, time, classes, n_free,
                                  [c for c, _ in chains[:n_free]])
-        weight = _edge_weights(cx)
+        weight = _cell_weights(cx, 1)
         chains = (loops or []) + [_shorten(cells, coefs, chain, weight) for cells, coefs in chains[len(loops or []):]]
+    elif q == 2 and top >= 3:   # H2 of a 3-manifold: surfaces, made smaller across 3-cells
+        weight = _cell_weights(cx, 2)
+        chains = [_shorten(cells, coefs, chain, weight, 2) for cells, coefs in chains]
     cycles = []
     for (cells, coefs), (_, order) in zip(chains, wanted):
         cells = cells - base[q]
@@ -738,30 +741,44 @@ def _edge_lengths(cx):
     return length
 
 
-def _edge_weights(cx):
-    """(E,) float64 in [1, 2]: 1 + edge length / (2 x median), capped.  Shortening counts
-    edges first and length second (an edge across an identified seam looks long in R^n:
-    the cap keeps it from costing more than two edges)."""
-    e = np.asarray(cx.edges)
-    if e.size == 0:
-        return np.ones(0)
-    length = np.linalg.norm(np.asarray(cx.vertices)[e[:, 0]] - np.asarray(cx.vertices)[e[:, 1]], axis=1)
-    length[~np.isfinite(length)] = 0.0
-    mid = float(np.median(length)) or 1.0
-    return 1.0 + np.minimum(length / (2.0 * mid), 1.0)
+def _cell_weights(cx, q):
+    """(N_q,) float64 in [1, 2] for the q-cells, q = 1 or 2: 1 + size / (2 x median),
+    capped, the size an edge's length or a polygon's area (fanned from its first vertex).
+    Shortening counts cells first and size second (a cell across an identified seam looks
+    large in R^n: the cap keeps it from costing more than two cells)."""
+    X = np.asarray(cx.vertices, dtype=np.float64)
+    if q == 1:
+        e = np.asarray(cx.edges)
+        size = np.linalg.norm(X[e[:, 0]] - X[e[:, 1]], axis=1) if e.size else np.ones(0)
+    else:
+        offs, verts = (np.asarray(a, dtype=np.int64) for a in cx.polygons())
+        n = offs.size - 1
+        owner = np.repeat(np.arange(n), np.diff(offs))
+        nxt = np.arange(1, verts.size + 1)
+        nxt[offs[1:] - 1] = offs[:-1]      # cyclically within each loop
+        a = X[verts] - X[verts[offs[:-1]]][owner]
+        b = X[verts[nxt]] - X[verts[offs[:-1]]][owner]
+        # the area of the triangle (first, i, i + 1) in R^n: |a| |b| sin, from the Gram determinant
+        gram = np.einsum("ij,ij->i", a, a) * np.einsum("ij,ij->i", b, b) - np.einsum("ij,ij->i", a, b) ** 2
+        size = np.bincount(owner, 0.5 * np.sqrt(np.maximum(gram, 0.0)), minlength=n)
+    size[~np.isfinite(size)] = 0.0
+    if size.size == 0:
+        return size
+    mid = float(np.median(size)) or 1.0
+    return 1.0 + np.minimum(size / (2.0 * mid), 1.0)
 
 
-def _shorten(cells, coefs, chain, weight):
-    """A shorter cycle in the same class: z -> z - t d(f) for a 2-cell f and t = +-1 while
-    that lowers sum weight_e |z_e| (weight[e - base[1]]: about one per edge, a little
-    more for a longer one).  Straightens z across a 2-cell that holds more than half of
-    it, and slides it across one that holds half when the other half is shorter.  Each
-    step lowers the weight by a positive amount, so no chain comes twice: it ends.
+def _shorten(cells, coefs, chain, weight, q=1):
+    """A smaller q-cycle in the same class: z -> z - t d(f) for a (q+1)-cell f and t = +-1
+    while that lowers sum weight_e |z_e| (weight[e - base[q]]: about one per cell, a little
+    more for a larger one).  Straightens z across a cell that holds more than half of its
+    boundary, and slides it across one that holds half when the other half is smaller.
+    Each step lowers the weight by a positive amount, so no chain comes twice: it ends.
 
-    cells: global ids of edges, coefs their coefficients.
+    cells: global ids of q-cells, coefs their coefficients.
     """
     base, dims, bd_off, bd, bdv, cb_off, cb = chain
-    b1 = int(base[1])
+    b1 = int(base[q])
     z = dict(zip(cells.tolist(), coefs.tolist()))
     todo = {int(f) for e in z for f in cb[cb_off[e]:cb_off[e + 1]].tolist()}
     while todo:
