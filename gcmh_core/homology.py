@@ -511,11 +511,15 @@ def _generators(cx, q, top, size, r_q, D, Rs, Rinvs, crit, chain, partner, time)
         if n_free:
             tors = [i for i, _ in wanted[n_free:]]
             classes = _Classes(crit[q], Rinvs[q][r_q:], image, [[row[i] for row in Linv] for i in tors],
-                               [[row[i] for row in basis] for i in tors], D[2])
+                               [[row[i] for row in basis] for i in tors], [f for _, f in wanted[n_free:]], D[2])
             loops = _short_loops(cx, chain, partner, time, classes, n_free,
                                  [c for c, _ in chains[:n_free]])
         weight = _cell_weights(cx, 1)
-        chains = (loops or []) + [_shorten(cells, coefs, chain, weight) for cells, coefs in chains[len(loops or []):]]
+        if loops is not None:   # the free loops, then a short loop for each torsion class found
+            chains = loops[:n_free] + [t if t is not None else _shorten(cells, coefs, chain, weight)
+                                       for t, (cells, coefs) in zip(loops[n_free:], chains[n_free:])]
+        else:
+            chains = [_shorten(cells, coefs, chain, weight) for cells, coefs in chains]
     elif q == 2 and top >= 3:   # H2 of a 3-manifold: surfaces, made smaller across 3-cells
         weight = _cell_weights(cx, 2)
         chains = [_shorten(cells, coefs, chain, weight, 2) for cells, coefs in chains]
@@ -540,17 +544,34 @@ class _Classes:
     image: list
     torsion: list
     torsion_cycles: list
+    orders: list
     D2: list
 
-    def generate(self, morse_cycles) -> bool:
-        """True if these Morse cycles (Z^c1 each) and the torsion generators generate H1 (the
-        free ones then span a complement of the torsion: a basis of H1 with it)."""
+    def coords(self, m) -> list:
+        """A Morse cycle's coordinates in the kernel's basis."""
+        return [sum(a * int(b) for a, b in zip(row, m)) for row in self.ker_rows]
+
+    def _factors(self, cols):
+        """Invariant factors of the boundaries with the columns `cols` beside them."""
         n_ker = len(self.ker_rows)
-        cols = [[sum(a * int(b) for a, b in zip(row, m)) for row in self.ker_rows] for m in morse_cycles]
-        cols += self.torsion
         M = [[c[i] for c in cols] + list(self.image[i]) for i in range(n_ker)]
-        s, *_ = _smith(M, n_ker, len(cols) + (len(self.image[0]) if n_ker else 0), False)
-        return len(s) == n_ker and all(f == 1 for f in s)
+        return _smith(M, n_ker, len(cols) + (len(self.image[0]) if n_ker else 0), False)[0]
+
+    def generate(self, morse_cycles, torsion=None) -> bool:
+        """True if these Morse cycles (Z^c1 each) and the torsion generators (their
+        coordinates; by default the Smith form's) generate H1 (the free ones then span a
+        complement of the torsion: a basis of H1 with it)."""
+        s = self._factors([self.coords(m) for m in morse_cycles] + (self.torsion if torsion is None else torsion))
+        return len(s) == len(self.ker_rows) and all(f == 1 for f in s)
+
+    def replaces(self, j, m, free) -> bool:
+        """True if the Morse cycle m can stand for torsion generator j beside the free
+        Morse cycles `free`: order s_j times its class is a boundary, and with the rest it
+        generates H1 (then its order is s_j and the sum stays direct)."""
+        y = self.coords(m)
+        if self._factors([[self.orders[j] * v for v in y]]) != self._factors([]):
+            return False
+        return self.generate(free, self.torsion[:j] + [y] + self.torsion[j + 1:])
 
 
 def _xor_reduce(values, vectors):
@@ -576,6 +597,7 @@ def _echelon(vectors):
 # the groups' time per cell), at least a few
 _ROOTS = (4, 16)
 _ROOT_WORK = 1_000_000   # edges x roots
+_TORSION_TRIES = 64      # loops tried for a torsion class, shortest first
 
 
 def _short_loops(cx, chain, partner, time, classes, n_free, old):
@@ -586,7 +608,8 @@ def _short_loops(cx, chain, partner, time, classes, n_free, old):
     Smith normal form (`old`, global edge ids) and a few spread out.  Returns the loops as
     (global edge ids, coefficients), or None when their classes with the torsion are not a
     basis of H1 over Z (then the Smith form's cycles stay), or when the critical edges are
-    too many for 64-bit class masks.
+    too many for 64-bit class masks.  After the n_free free loops, one entry per torsion
+    generator: the shortest loop tried that can stand for it, or None.
     """
     from ._homology_kernels import _edge_classes, _shortest_tree, _tree_xor
 
@@ -681,7 +704,22 @@ def _short_loops(cx, chain, partner, time, classes, n_free, old):
         cells, coefs = _tree_loop(E, trees[k], e)
         loops.append((cells + b1, coefs))
         morse.append((coefs[:, None] * phi[cells]).sum(axis=0).tolist())
-    return loops if classes.generate(morse) else None
+    if not classes.generate(morse):
+        return None
+    # a torsion class of even order: the shortest loop with its class mod 2 that can stand for it
+    o = np.argsort(np.concatenate(lengths), kind="stable")
+    every, where = np.concatenate(masks)[o], np.concatenate(which)[o]
+    for j, (m_t, order) in enumerate(zip(classes.torsion_cycles, classes.orders)):
+        want = int(_xor_reduce(bits(np.array(m_t, dtype=np.int64)[None, :]), image)[0])
+        found = None
+        if want and order % 2 == 0:
+            for i in np.flatnonzero(every == np.uint64(want))[:_TORSION_TRIES].tolist():
+                cells, coefs = _tree_loop(E, trees[int(where[i, 0])], int(where[i, 1]))
+                if classes.replaces(j, (coefs[:, None] * phi[cells]).sum(axis=0).tolist(), morse):
+                    found = (cells + b1, coefs)
+                    break
+        loops.append(found)
+    return loops
 
 
 def _adjacency(E, n_vert):
