@@ -2,6 +2,8 @@
 real scans, physical coordinates, memory maps, and one clear InputError per bad file."""
 
 import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -386,3 +388,15 @@ def test_shapes_levels_and_nan(tmp_path):
     np.save(tmp_path / "n.npy", np.full((4, 4, 4), np.nan, np.float32))
     with pytest.raises(InputError, match="every value is NaN"):
         load_components(str(tmp_path / "n.npy"), 0.0)
+
+
+def test_a_data_run_does_not_import_sympy(tmp_path):
+    # plain levels are read by float(); the formula parser (and its sympy) is for constants like pi/2
+    np.save(tmp_path / "e.npy", ellipsoid())
+    code = (f"import sys; from gcmh_core.data_files import extract_data, parse_levels; "
+            f"cx = extract_data({str(tmp_path / 'e.npy')!r}, '1.0'); "
+            "assert len(cx.vertices) > 50 and parse_levels(' -1e3, +.5 ,2.') == [-1000.0, 0.5, 2.0]; "
+            "assert 'sympy' not in sys.modules, 'sympy imported'; "
+            "import math; assert parse_levels('pi/2') == [math.pi / 2] and 'sympy' in sys.modules")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr[-2000:]
