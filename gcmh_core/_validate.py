@@ -45,8 +45,10 @@ def as_div(div, n: int) -> np.ndarray:
     return per_axis_ints(div, n, "div")
 
 
-# a plain decimal number: read by float() (the formula module, which imports sympy, is for the rest)
-_PLAIN_NUMBER = re.compile(r"\s*[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?\s*")
+# a plain decimal number as Python writes it (no 007): read by float() (the formula module, which
+# imports sympy, is for the rest)
+_PLAIN_NUMBER = re.compile(r"\s*[+-]?(0+|[1-9][0-9]*|([0-9]+\.[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?"
+                           r"|[0-9]+[eE][+-]?[0-9]+)\s*")
 
 
 def _number(x, what: str) -> float:
