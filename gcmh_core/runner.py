@@ -26,6 +26,7 @@ import numba
 import numpy as np
 
 from . import _balls
+from ._balls import cone_lens_balls
 from ._cost import checks_cells, kernel_batch_cubes
 from ._hashtable import IntTable
 from ._methods import CONTINUATION_METHODS, METHODS, SIMPLICIAL_METHODS
@@ -434,5 +435,9 @@ def complex_of(n, k, vertices, edges, cells) -> CellComplex:
     (`_regular`); meta counts them.  (Also the end of `sweep`'s marching pass for n = 3.)"""
     edges, cells, collapsed, left = collapse_lenses(edges, cells)
     vertices, edges, cells, halved = subdivide_double_edges(vertices, edges, cells)
-    return CellComplex(n, k, vertices, edges, cells,
-                       dict(collapsed_lenses=collapsed, lenses_left=left, halved_edges=halved))
+    # a 3-cell of two faces that is a whole piece of M on the box's boundary: one face coned (regular)
+    vertices, edges, cells, coned = cone_lens_balls(vertices, edges, cells)
+    meta = dict(collapsed_lenses=collapsed, lenses_left=left, halved_edges=halved)
+    if coned:
+        meta["coned_lens_balls"] = coned
+    return CellComplex(n, k, vertices, edges, cells, meta)

@@ -356,13 +356,14 @@ def extract_as_gcmh(values, **kw):
     the assembly adds to make cells regular (lens collapse and halved double edges,
     gcmh_core._regular, tested in test_regular) and balls (the split of pieces M_A joins
     through a cube, and the solids' Euler check, gcmh_core._balls, tested in test_balls and
-    test_solid_balls; the lens cells of higher dimensions, _balls.collapse_lens_cells, in
-    test_regular_high_n)."""
+    test_solid_balls; the lens cells of higher dimensions, _balls.collapse_lens_cells, and the
+    whole-ball lenses coned, _balls.cone_lens_balls, in test_regular_high_n)."""
     from gcmh_core import _balls, runner
 
     gcmh_core, _ = _engine()
     keep = runner.collapse_lenses, runner.subdivide_double_edges, runner.split_non_ball_cells, runner.checks_cells
-    keep_lens_cells = _balls.collapse_lens_cells
+    keep_lens_cells, keep_cone = _balls.collapse_lens_cells, runner.cone_lens_balls
+    runner.cone_lens_balls = lambda vertices, edges, cells: (vertices, edges, cells, 0)
     _balls.collapse_lens_cells = lambda e, c, inc: (e, c, inc)
     runner.collapse_lenses = lambda edges, cells: (edges, cells, 0, 0)
     runner.subdivide_double_edges = lambda vertices, edges, cells: (vertices, edges, cells, 0)
@@ -373,7 +374,7 @@ def extract_as_gcmh(values, **kw):
     finally:
         runner.collapse_lenses, runner.subdivide_double_edges, runner.split_non_ball_cells, runner.checks_cells \
             = keep
-        _balls.collapse_lens_cells = keep_lens_cells
+        _balls.collapse_lens_cells, runner.cone_lens_balls = keep_lens_cells, keep_cone
 
 
 # the naive twin's runs of the random cases, kept for test_random_cases_are_not_vacuous (the topology

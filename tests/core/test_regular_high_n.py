@@ -6,7 +6,7 @@ edges ("duplicate" 2-cells), with the cell check on or off: M_A's piece in a cub
 of its facets, near the ridge they share (a lens, as 2-cells of two edges are at n - k = 2).  The
 assembly collapses them (`_balls.collapse_lens_cells`, before `_regular`'s lens 2-cells, and
 again after each round); the lenses that are a whole ball on the box's boundary are coned
-(`_balls.cone_lens_balls`).
+(`_balls.cone_lens_balls`, at the assembly: `runner.complex_of`, meta["coned_lens_balls"]).
 """
 
 import os
@@ -79,14 +79,9 @@ def check_regular(cx, n, div):
     # told to the user; its boundary is not checked here, its faces are
     spheres = cx.meta["non_ball_left"] == 0
     assert not spheres or structure_problems(cx, bounds, div) == []
-    lensless = [p for p in regularity_problems(cx) if not p.endswith("has 2 faces") and "same faces" not in p]
-    assert lensless == []
-    # what is left is only the whole balls, 2 problems each (a cell of two faces, two faces alike)
-    assert len(regularity_problems(cx)) == 2 * whole_ball_lenses(cx)
-    done = coned(cx)
-    assert regularity_problems(done) == []
-    assert not spheres or structure_problems(done, bounds, div) == []
-    assert done.euler_characteristic() == cx.euler_characteristic()
+    # the extraction cones the whole-ball lenses itself: nothing is left to do
+    assert regularity_problems(cx) == [] and whole_ball_lenses(cx) == 0
+    assert regularity_problems(coned(cx)) == [] and coned(cx).counts() == cx.counts()
 
 
 @pytest.mark.parametrize("seed", [17, 18, 19, 20, 21, 22, 24, 25, 26, 28, 29])
@@ -94,7 +89,19 @@ def check_regular(cx, n, div):
 def test_the_issue_systems_in_R6_k3(seed, check_cells):
     """Draws that gave duplicate 2-cells and 3-cells of two faces (24 of 30 runs, all of them lenses)."""
     texts = random_system(6, 3, seed)
-    check_regular(extract(texts, [(-1, 1)] * 6, 4, check_cells=check_cells, seed=seed % 3), 6, 4)
+    cx = extract(texts, [(-1, 1)] * 6, 4, check_cells=check_cells, seed=seed % 3)
+    check_regular(cx, 6, 4)
+    CONED.append(cx.meta.get("coned_lens_balls", 0))
+
+
+CONED: list = []
+
+
+def test_the_issue_systems_had_whole_ball_lenses_to_cone():
+    # (runs after the draws above: the cone is not vacuous there; 6 whole balls were left before it)
+    if len(CONED) < 22:
+        pytest.skip("the draws above did not all run")
+    assert sum(CONED) > 0
 
 
 def test_a_lens_of_lenses_collapses_in_rounds():
