@@ -18,7 +18,7 @@ from .geometry import Geometry
 from .projection import Projector
 
 SURFACE_PREFIX = "homology-surface-"
-SURFACE_OPACITY = 0.35
+SURFACE_OPACITY = 0.6
 
 
 def draw_homology_surfaces(scene, specs: dict, render: bool = True) -> None:
@@ -47,6 +47,6 @@ def _set_surface(scene, name, X, T, color, opacity):
     mesh = pv.PolyData(pr.project_view(scene.view), faces=faces.ravel())
     geo = Geometry(2, X.shape[1], "polygons", faces.ravel(), pr)
     actor = scene.plotter.add_mesh(mesh, color=color, opacity=opacity, render=False, reset_camera=False,
-                                   name=f"gcmh-overlay-{name}", pickable=False, lighting=False,
+                                   name=f"gcmh-overlay-{name}", pickable=False, lighting=True,
                                    show_edges=False)
     scene.overlay_meshes.items[name] = [geo, mesh, actor, color, (1.0, opacity)]
