@@ -31,6 +31,8 @@ def draw_homology_surfaces(scene, specs: dict, render: bool = True) -> None:
     for name, (X, T, color, opacity) in specs.items():
         _set_surface(scene, name, np.asarray(X, dtype=np.float64), np.asarray(T, dtype=np.int64), color,
                      float(opacity))
+    if specs:
+        scene.angles.fit_overlays()   # through the circles of "angles as circles" when they are on
     if render and (gone or specs):
         scene.plotter.render()
 
