@@ -11,9 +11,14 @@ critical.  The pairs form an acyclic matching (discrete Morse theory), the criti
 cells span the *Morse complex*, whose boundary follows the gradient paths
 (:func:`_flow`).  On a surface the vertex pairs are a spanning tree and the face pairs a
 spanning tree of the dual graph: the tree-cotree decomposition, so the critical
-edges are few, and a generator of H1 is a critical edge closed through the tree; it is
-then straightened across 2-cells while that shortens it (:func:`_shorten`).  Smith
-normal form (exact, Python ints) runs only on the Morse complex.
+edges are few.  Smith normal form (exact, Python ints) runs only on the Morse complex.
+
+Generators of H1 are short loops (:func:`_short_loops`, Erickson and Whittlesey's greedy
+basis from a few roots): each edge's class is read off the Morse complex
+(:func:`_edge_classes`), loops closed by shortest-path trees are taken shortest first while
+independent mod 2, and their classes are checked to be a basis over Z (else the Smith
+form's cycles, straightened across 2-cells, stay: :func:`_shorten`).  H2 generators of a
+3-manifold are made smaller across 3-cells the same way.
 
 Example
 -------
