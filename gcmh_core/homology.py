@@ -466,9 +466,11 @@ def _homology(cx, want_generators):
 
         off, fac = cx.cells[2]
         eps, bad = _orient_top(np.asarray(off), np.asarray(fac), signs[2], cx.count(1))
-        sense = _ro(eps.astype(np.int64) * signs[2][np.asarray(off)[:-1]])
         if bad.size:
+            eps, bad = _shorten_w1(np.asarray(off), np.asarray(fac), eps.astype(np.int64), bad,
+                                   _cell_weights(cx, 1))
             loop = _ro(bad)
+        sense = _ro(eps * signs[2][np.asarray(off)[:-1]])
     return Homology(betti=betti, betti_mod2=betti2, torsion=torsion, generators=gens if want_generators else None,
                     orientation_cycle=loop, critical=size, orientation=sense)
 
@@ -842,6 +844,32 @@ def _shorten(cells, coefs, chain, weight, q=1):
                 break
     out = np.array(sorted(z), dtype=np.int64)
     return out, np.array([z[e] for e in out.tolist()], dtype=np.int64)
+
+
+def _shorten_w1(off, fac, eps, loop, weight):
+    """A shorter w1 loop: reversing a 2-cell's orientation toggles each interior edge it has
+    once on the loop or off it; a cell is reversed while that lowers the loop's weight
+    (about one per edge, a little more for a longer one).  Returns (eps, loop edges)
+    changed alike, so the loop stays where the orientation eps flips."""
+    count = np.bincount(fac, minlength=weight.size)
+    owner = np.repeat(np.arange(off.size - 1), np.diff(off))
+    o = np.argsort(fac, kind="stable")
+    co_off = np.zeros(weight.size + 1, dtype=np.int64)
+    np.cumsum(count, out=co_off[1:])
+    co = owner[o]
+    on = set(loop.tolist())
+    todo = {int(c) for e in on for c in co[co_off[e]:co_off[e + 1]].tolist()}
+    while todo:
+        c = todo.pop()
+        edges = fac[off[c]:off[c + 1]].tolist()
+        toggled = [e for e in edges if count[e] == 2 and edges.count(e) == 1]
+        delta = sum(weight[e] * (-1 if e in on else 1) for e in toggled)
+        if delta < -1e-9:
+            eps[c] = -eps[c]
+            for e in toggled:
+                on.symmetric_difference_update((e,))
+                todo.update(int(d) for d in co[co_off[e]:co_off[e + 1]].tolist())
+    return eps, np.array(sorted(on), dtype=np.int64)
 
 
 def _ro(arr):

@@ -368,3 +368,22 @@ def test_h2_generators_of_a_three_manifold_are_locally_smallest(results):
         for t in (1, -1):
             moved = np.abs(z[:, None] - t * D3)             # every 3-cell at once
             assert (weight @ moved >= size - 1e-9).all()
+
+
+@pytest.mark.parametrize("name", ["klein-bottle-closed", "moebius-band"])
+def test_w1_loop_is_locally_shortest(results, name):
+    """Reversing any one 2-cell (which toggles its interior edges on or off the loop) never
+    shortens the w1 loop (weighted: edges first, length second)."""
+    from gcmh_core.homology import _cell_weights
+
+    cx = results[name]
+    loop = homology(cx).orientation_cycle
+    weight = _cell_weights(cx, 1)
+    off, fac = (np.asarray(a) for a in cx.cells[2])
+    count = np.bincount(fac, minlength=cx.count(1))
+    on = np.zeros(cx.count(1), dtype=bool)
+    on[loop] = True
+    for c in range(off.size - 1):
+        edges = fac[off[c]:off[c + 1]]
+        once = [e for e in edges if count[e] == 2 and (edges == e).sum() == 1]
+        assert sum(weight[e] * (-1 if on[e] else 1) for e in once) >= -1e-9
