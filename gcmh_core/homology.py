@@ -639,15 +639,19 @@ def _short_loops(cx, chain, partner, time, classes, n_free, old):
     # classes mod 2: the boundaries' span in echelon form; every mask is kept reduced by it
     image = _echelon(int(b) for b in bits(np.array(classes.D2, dtype=np.int64).T.reshape(-1, c1)))
     edge_bits = _xor_reduce(bits(phi), image)
-    taken = []
+    taken: list[int] = []
     for m in classes.torsion_cycles:   # the torsion generators' classes first (odd ones vanish mod 2)
-        v = int(_xor_reduce(bits(np.array(m, dtype=np.int64)[None, :]), image)[0])
-        taken = _echelon(taken + [v]) if v else taken
+        t = int(_xor_reduce(bits(np.array(m, dtype=np.int64)[None, :]), image)[0])
+        taken = _echelon(taken + [t]) if t else taken
     E = np.asarray(cx.edges, dtype=np.int64)
     weight = _edge_lengths(cx)
     adj_off, adj_to, adj_edge = _adjacency(E, n_vert)
     n_roots = max(_ROOTS[0], min(_ROOTS[1], _ROOT_WORK // max(n_edges, 1)))
-    lengths, masks, which, trees, used = [], [], [], [], []
+    lengths: list = []
+    masks: list = []
+    which: list = []
+    trees: list = []
+    used: list = []
     u, v = E[:, 0], E[:, 1]
 
     def grow(r):
@@ -706,7 +710,8 @@ def _short_loops(cx, chain, partner, time, classes, n_free, old):
         chosen = greedy()
     if chosen is None:
         return None
-    loops, morse = [], []
+    loops: list = []
+    morse = []
     for k, e in chosen:
         cells, coefs = _tree_loop(E, trees[k], e)
         loops.append((cells + b1, coefs))
