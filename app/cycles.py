@@ -4,9 +4,10 @@ Everything here is line segments in R^n (vertices (m, n), edges (E, 2)), the for
 scene's overlays take (:meth:`gcmh_studio.scene.Scene.set_overlay`): they are projected
 with the same view as the result and clipped by the same slice, so they follow every
 rotation.  A generator of H1 is its edges; of H0 its component's edges; of H2 the edges
-of its 2-cells.  The w1 loop comes with small oriented loops, one in each polygon beside
-it: coherent polygons turn the same way seen from one side, and across the w1 loop the
-sense of turning flips.
+of its 2-cells, or on a 3-manifold its 2-cells as triangles (:func:`generator_surface`,
+drawn see-through by :mod:`gcmh_studio.homology_surfaces`).  The w1 loop comes with
+small oriented loops, one in each polygon beside it: coherent polygons turn the same way
+seen from one side, and across the w1 loop the sense of turning flips.
 
     from gcmh_core.homology import homology
     h = homology(cx)
