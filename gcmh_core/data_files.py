@@ -35,6 +35,7 @@ import tempfile
 import zipfile
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 
@@ -118,7 +119,7 @@ class SampledData:
     def memory_bytes(self) -> int:
         """Bytes of F's values held in memory (0 when they are memory-mapped from disk, or read from the
         files' maps as the run asks for them: `MappedValues`)."""
-        return 0 if self.on_disk else int(self.values.nbytes)
+        return 0 if self.on_disk or isinstance(self.values, MappedValues) else int(self.values.nbytes)
 
     def describe(self) -> dict:
         """What the run was made of, for a result's meta and the command line's JSON."""
@@ -625,14 +626,16 @@ def _load(plan: _Plan, on_disk: bool | None, mapped: bool = False) -> SampledDat
     """F's values written (in memory, or to a temporary file when on_disk), or with ``mapped`` read from
     the files' memory maps as the run asks for them (`MappedValues`: one pass here for the ranges)."""
     fields, lv = plan.fields, plan.levels
+    values: np.ndarray | MappedValues
     if mapped:
         values, on_disk = MappedValues(plan), True
         ranges, nonfinite = _fill(None, fields, lv)
     else:
         if on_disk is None:
             on_disk = plan.value_bytes > IN_MEMORY_SHARE * available_memory()
-        values = _output(plan.shape, on_disk)
-        ranges, nonfinite = _fill(values, fields, lv)
+        written = _output(plan.shape, on_disk)
+        ranges, nonfinite = _fill(written, fields, lv)
+        values = written
     notes = list(plan.notes)
     for j, (lo, hi) in enumerate(ranges):
         src = _component_name(fields, j)
@@ -764,6 +767,7 @@ class MappedValues:
                 j += 1
         for f in self.plan.fields:
             _drop_pages(f.values)
+        assert out is not None   # (every index names at least one component)
         return out[..., 0] if isinstance(wanted, int) else out
 
 
@@ -938,7 +942,8 @@ def extract_data(specs, levels=None, bounds=None, *, components: bool | None = N
             _check_names(variables, len(plan.bounds))
         data = _load(plan, None, _reads_maps(plan, kwargs.get("method", "gcmh")))
     names = list(data.variables) if variables is None else _check_names(variables, data.n)
-    cx = extract(data.values, data.bounds, **kwargs)
+    # (MappedValues reads as an array where the run asks: `_validate.prepare` passes it through)
+    cx = extract(cast(np.ndarray, data.values), data.bounds, **kwargs)
     cx.meta["variables"] = names
     cx.meta["units"] = list(data.units)
     cx.meta["data"] = {**data.describe(), "variables": names}
