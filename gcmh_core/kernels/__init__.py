@@ -32,3 +32,7 @@ gcmh (the chunk kernel), lazy (n >= 8), cms (Section 4), cell_check, marching3 (
 records.  The glossary (the paper's terms -> the names here), the modules and the
 measurements behind this layout: docs/architecture.md.
 """
+
+from .._config import numba_without_scipy_blas
+
+numba_without_scipy_blas()   # (every kernel module is below this package: numba's np support loads here first)
