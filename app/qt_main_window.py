@@ -25,7 +25,7 @@ import numpy as np
 from qtpy.QtCore import Qt, QTimer, Signal
 from qtpy.QtWidgets import QMainWindow, QSplitter, QTabWidget, QVBoxLayout, QWidget
 
-from . import data_source, overlays, qt_exports, studio_io
+from . import data_source, homology_surfaces, overlays, qt_exports, studio_io
 from .controller import StudioController
 from .jobs import continuation_methods, current_warm_up, engine_methods, start_warm_up
 from .model import StudioModel
@@ -143,6 +143,7 @@ class QtMainWindow(QMainWindow):
             # the homology box says what to draw (generators, the w1 loop, curvature); the scene draws it
             hb = tp.homology_box
             hb.overlays.connect(lambda specs: overlays.draw_homology(self.scene, specs))
+            hb.surfaces.connect(lambda specs: homology_surfaces.draw_homology_surfaces(self.scene, specs))
             hb.curvature.connect(lambda values: overlays.colour_by_values(self.scene, self.model.result, values))
         try:   # double-click a cell: its coordinates in R^n and its grid cube
             self.plotter.track_click_position(self._on_click, side="left", double=True, viewport=True)

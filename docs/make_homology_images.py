@@ -15,11 +15,12 @@ import argparse
 import os
 import sys
 
-CASES = [  # example, div (None: the example's own), picture, w1 switch, curvature colours
-    ("klein-bottle-closed", [24, 24, 12, 24, 24], "homology-klein-bottle.png", True, False),
-    ("torus-angles", None, "homology-torus-angles.png", False, False),
-    ("pentagon-linkage", None, "homology-pentagon-linkage.png", False, False),
-    ("genus-two", None, "homology-genus-two-curvature.png", False, True),
+CASES = [  # example, div (None: the example's own), picture, w1 switch, curvature colours, Betti number pressed
+    ("klein-bottle-closed", [24, 24, 12, 24, 24], "homology-klein-bottle.png", True, False, 1),
+    ("torus-angles", None, "homology-torus-angles.png", False, False, 1),
+    ("pentagon-linkage", None, "homology-pentagon-linkage.png", False, False, 1),
+    ("genus-two", None, "homology-genus-two-curvature.png", False, True, 1),
+    ("three-torus", None, "homology-three-torus-h2.png", False, False, 2),   # H2 as see-through surfaces
 ]
 
 
@@ -35,6 +36,7 @@ def main(argv=None) -> int:
     from qtpy.QtCore import QEventLoop, QTimer
     from qtpy.QtWidgets import QApplication
 
+    from gcmh_studio.homology_surfaces import draw_homology_surfaces
     from gcmh_studio.overlays import colour_by_values, draw_homology
     from gcmh_studio.qt_main_window import QtMainWindow
 
@@ -44,6 +46,7 @@ def main(argv=None) -> int:
     w.show()
     box = w.topology_panel.homology_box
     box.overlays.connect(lambda specs: draw_homology(w.scene, specs))
+    box.surfaces.connect(lambda specs: draw_homology_surfaces(w.scene, specs))
     box.curvature.connect(lambda values: colour_by_values(w.scene, w.model.result, values))
     w.tabs.setCurrentIndex(w.tabs.count() - 1)   # the Topology tab
 
@@ -55,7 +58,7 @@ def main(argv=None) -> int:
         signal.disconnect(loop.quit)
 
     only = set(args.only.split(",")) if args.only else None
-    for name, div, picture, w1, curvature in CASES:
+    for name, div, picture, w1, curvature, q in CASES:
         if only and name not in only:
             continue
         if args.small and div is not None:
@@ -70,7 +73,9 @@ def main(argv=None) -> int:
         if curvature:
             box.curvature_check.click()
         else:
-            box.betti[1].click()
+            box.betti[q].click()
+        if q == 2:   # the 3-manifold itself faint, so its H2 classes show inside it
+            w.scene.set_opacity(0.06)
         if w1:
             box.w1_check.click()
         app.processEvents()

@@ -187,13 +187,11 @@ def test_curvature_values_of_a_sphere():
 def test_h2_classes_of_a_three_manifold_as_surfaces(qtbot, small_window):
     """b2 of the three-torus: three see-through surfaces (the 2-cells of each generator, fanned into
     triangles), which turn with the view and go with a second click."""
-    from gcmh_studio.homology_surfaces import SURFACE_OPACITY, draw_homology_surfaces
+    from gcmh_studio.homology_surfaces import SURFACE_OPACITY
 
     w = small_window
     cx = _example("three-torus", 5)
-    box = w.topology_panel.homology_box
-    # the window's hook (as box.overlays -> draw_homology): connected here until the window has it
-    box.surfaces.connect(lambda specs: draw_homology_surfaces(w.scene, specs))
+    box = w.topology_panel.homology_box   # (the window draws what its surfaces signal asks: its own hook)
     with qtbot.waitSignal(box.computed, timeout=120_000):
         w.show_result(cx, cx.point_names(), title="three-torus")
     assert box.status.text() == "H0 = Z, H1 = Z^3, H2 = Z^3, H3 = Z"
