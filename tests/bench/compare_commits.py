@@ -24,6 +24,10 @@ Cases (name: what is measured):
 * kernel-*: microseconds per candidate cube of the GCMH kernel (meta timings 'kernel' over
   'candidate_cubes', the plain sweep at every commit): the complex cosine at div 40 and
   the Hopf tori at div 32 (n = 4), and the flat torus in R^10 with k = 8 (bench_high_k's 10-8: the lazy kernel, n >= 8);
+* waves-cosine-80: microseconds per cube of the GCMH kernel alone on the waves of a GCCH run
+  (the complex cosine at div 80: 138 kernel calls, about 24,500 cubes), its calls recorded in
+  the first run and replayed `repeat` times: the kernel's share of a whole run is too small for
+  kernel-* or gcch-* to show it changing by 15 % (19d7e13 did, docs/benchmarks-compare.md);
 * gcch-*: whole-run seconds of continuation (method "gcch" from the example's start): the
   complex cosine at div 80, the Klein bottle at the authors' division, the three-torus in
   R^6 at div 6;
@@ -59,7 +63,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 
 
 class Case(NamedTuple):
-    kind: str  # "kernel" (us per candidate cube), "gcch" or "prune" (seconds of the call)
+    kind: str  # "kernel", "waves" (us per candidate cube), "gcch" or "prune" (seconds of the call)
     example: str  # an example's name, or "torus-10-8" (bench_high_k.system(10, 8))
     div: int | str | None  # "paper": the example's paper_div; None: the system's own
     repeat: int  # calls timed after the first one
@@ -70,6 +74,7 @@ CASES = {
     "kernel-cosine-40": Case("kernel", "complex-cosine", 40, 5),
     "kernel-hopf-tori-32": Case("kernel", "hopf-tori", 32, 5),
     "kernel-torus-R10": Case("kernel", "torus-10-8", None, 2, max_rounds=3),
+    "waves-cosine-80": Case("waves", "complex-cosine", 80, 15),
     "gcch-cosine-80": Case("gcch", "complex-cosine", 80, 5),
     "gcch-klein-paper": Case("gcch", "klein-bottle", "paper", 5),
     "gcch-three-torus-6": Case("gcch", "three-torus", 6, 5),
@@ -78,7 +83,7 @@ CASES = {
     "prune-klein-paper": Case("prune", "klein-bottle", "paper", 2, max_rounds=3),
 }
 QUICK = ("kernel-cosine-40", "gcch-cosine-80", "prune-cosine-160")
-UNITS = {"kernel": "us/cube", "gcch": "s", "prune": "s"}
+UNITS = {"kernel": "us/cube", "waves": "us/cube", "gcch": "s", "prune": "s"}
 WORKTREE = "worktree"
 # A child may not map more than this (a last guard of a shared machine: a commit from
 # before the lazy kernel builds the R^10 cube tables whole, about 12 GB; _needs skips it).
@@ -126,11 +131,47 @@ def _call(case: Case, tiny: bool = False):
 
         ex = load_example(case.example)
         F, bounds, variables = ex.formulas, ex.bounds, ex.variables
-        start = ex.start if case.kind == "gcch" else None
+        start = ex.start if case.kind in ("gcch", "waves") else None
         div = ex.paper_div if case.div == "paper" else case.div
         div = 3 if tiny else div
-    method = "gcch" if case.kind == "gcch" else "gcmh"
+    method = "gcch" if case.kind in ("gcch", "waves") else "gcmh"
     return lambda: extract(F, bounds, div, variables=variables, method=method, start=start, **kw)
+
+
+def _recorded_kernel(run):
+    """Run once with the GCMH kernel's calls recorded: (the complex, a function calling the
+    compiled kernel itself on each recorded call's arguments, the cubes they hold)."""
+    import importlib
+
+    try:
+        runner = importlib.import_module("gcmh_core.runner")  # (since a11766a)
+    except ImportError:
+        runner = None
+    # the name the engine calls: runner.cubes_chunk, or _kernels.cubes_chunk before the kernels' package
+    has_it = runner is not None and hasattr(runner, "cubes_chunk")
+    host = runner if has_it else importlib.import_module("gcmh_core._kernels")
+    try:
+        gcmh = importlib.import_module("gcmh_core.kernels.gcmh")
+        kernel = getattr(gcmh, "_cubes_chunk_tables", gcmh.cubes_chunk)  # (not the Python chooser before it)
+    except ImportError:
+        kernel = importlib.import_module("gcmh_core._kernels").cubes_chunk
+    calls, engine = [], host.cubes_chunk
+
+    def recording(*args):
+        calls.append(args)
+        return engine(*args)
+
+    host.cubes_chunk = recording
+    try:
+        cx = run()
+    finally:
+        host.cubes_chunk = engine
+
+    def replay():
+        for args in calls:
+            kernel(*args)
+
+    return cx, replay, sum(int(args[1]) - int(args[0]) for args in calls)
 
 
 def _needs(case: Case):
@@ -216,8 +257,15 @@ def measure(spec: dict) -> dict:
         t = time.perf_counter()
         cx = run()
         first_s = time.perf_counter() - t
+        if case.kind == "waves":
+            cx, replay, cubes = _recorded_kernel(run)
+            replay()  # (the first replay's memory faults are not the kernel's)
         for _ in range(case.repeat):
             t = clock()
+            if case.kind == "waves":
+                replay()
+                values.append(1e6 * (clock() - t) / cubes)
+                continue
             cx = run()
             seconds = clock() - t
             if case.kind == "kernel":
