@@ -82,7 +82,9 @@ def collapse_lenses(edges: np.ndarray, cells: dict) -> tuple[np.ndarray, dict, i
             cofaces[keep] = (cofaces[keep] | cofaces.pop(drop)) - {c}
     if collapsed == 0:
         return edges, cells, 0, left
-    for e in range(len(rep)):
+    # (find on a root changes nothing and roots stay roots: the merged edges alone, in the same order, leave rep
+    # as find on every edge did; that loop took 7 ms of the Klein bottle's GCCH at its paper division)
+    for e in np.flatnonzero(rep != np.arange(len(rep))).tolist():
         find(e)
     kept_edge = rep == np.arange(len(rep))
     new_edge = np.cumsum(kept_edge) - 1
