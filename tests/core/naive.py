@@ -23,6 +23,7 @@ Conventions
 """
 from __future__ import annotations
 
+import functools
 import itertools
 from collections import defaultdict
 from fractions import Fraction
@@ -196,10 +197,9 @@ def simplex_lambdas(F_at_vertices, sign_shortcut=True):
     m, k = Fv.shape
     assert m == k + 1
     if sign_shortcut:
-        for j in range(k):
-            pos = [is_positive(Fv[i, j]) for i in range(m)]
-            if all(pos) or not any(pos):
-                return None
+        pos = is_positive(Fv)          # (m, k): one sign per vertex and component
+        if (pos.all(axis=0) | ~pos.any(axis=0)).any():
+            return None
     clear = _clear_float_lambdas(Fv)
     if clear is not None:
         return clear if (clear > 0).all() else None
@@ -217,6 +217,23 @@ def simplex_lambdas(F_at_vertices, sign_shortcut=True):
             return None
         lam.append(float(Di[1] / D[1]) if Di[0] == D[0] else 0.0)
     return np.array(lam)
+
+
+@functools.cache
+def unit_chains(d):
+    """The chains m_0 < m_1 < ... < m_j of the unit d-cube's corners (as bit masks: each a strict
+    superset of the one before), by j: the simplices of the cube's Kuhn triangulations and their faces."""
+    by_dim = defaultdict(list)
+
+    def grow(prefix):
+        by_dim[len(prefix) - 1].append(prefix)
+        for m in range(1 << d):
+            if m != prefix[-1] and m & prefix[-1] == prefix[-1]:
+                grow(prefix + (m,))
+
+    for m0 in range(1 << d):
+        grow((m0,))
+    return dict(by_dim)
 
 
 # --------------------------------------------------------------------------
@@ -429,27 +446,22 @@ class NaiveGCMH:
         if len(cells) < 2:
             return 0
         anchor, S = face
-        corners = [tuple(v) for v in itertools.product(*[
-            (anchor[a], anchor[a] + 1) if a in S else (anchor[a],) for a in range(self.n)])]
-
-        def chains(prefix):
-            yield prefix
-            for c in corners:
-                if c != prefix[-1] and all(x >= y for x, y in zip(c, prefix[-1])):
-                    yield from chains(prefix + (c,))
-
+        axes = sorted(S)
+        corner_of = []    # the face's corners by mask: bit i set = one step along axes[i]
+        for m in range(1 << len(axes)):
+            c = list(anchor)
+            for i, a in enumerate(axes):
+                c[a] += (m >> i) & 1
+            corner_of.append(tuple(c))
+        mask_of = {c: m for m, c in enumerate(corner_of)}
+        by_dim = unit_chains(len(axes))   # every chain c_0 < ... < c_d of the face's corners, as masks
         uf = UnionFind()
         crossed = set()
-        by_dim = defaultdict(list)
-        for c0 in corners:
-            for ch in chains((c0,)):
-                if len(ch) - 1 >= self.k:
-                    by_dim[len(ch) - 1].append(ch)
-        for ch in by_dim[self.k]:
-            if self.lambdas(list(ch)) is not None:
+        for ch in by_dim.get(self.k, ()):
+            if self.lambdas([corner_of[m] for m in ch]) is not None:
                 crossed.add(ch)
         for d in sorted(by_dim):
-            if d == self.k:
+            if d <= self.k:
                 continue
             for ch in by_dim[d]:
                 for j in range(d + 1):
@@ -461,7 +473,9 @@ class NaiveGCMH:
         for X in cells:
             v = min(X)
             anchor_v, _, perm = self.vertex_keys[v]
-            roots.add(uf.find(tuple(kuhn_path(anchor_v, perm))))
+            path = tuple(kuhn_path(anchor_v, perm))
+            masks = tuple(mask_of.get(c) for c in path)
+            roots.add(uf.find(path if None in masks else masks))
         return len(cells) - len(roots)
 
     # -- driver ---------------------------------------------------------------------
