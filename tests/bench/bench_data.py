@@ -121,6 +121,7 @@ def main() -> int:
     args = parser.parse_args()
 
     folder = args.keep or tempfile.mkdtemp(prefix="gcmh-bench-data-")
+    os.makedirs(folder, exist_ok=True)
     global CHILD_ENV
     CHILD_ENV = None if args.environment_as_is else bytecode_env(os.path.join(folder, "pycache"))
     path = os.path.join(folder, f"blob{args.side}-{args.noise:g}.npy")
