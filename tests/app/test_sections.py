@@ -239,3 +239,26 @@ def test_the_strip_hides_for_curves_and_the_box_shows_the_width_for_them(qtbot, 
     circle = extract(["x**2 + y**2 - 1", "z"], (-1.3, 1.3), 10, variables=list("xyz"))
     studio.set_result(circle, list("xyz"), "circle")
     assert not box.strip.isVisible() and box.slice_w.isVisible() and box.slice_c_label.text() == "centre"
+
+
+def test_a_moving_slice_hides_the_ghost_and_rest_brings_it_back(qtbot, small_window):
+    """A slider step draws the section with the moving look (no FXAA, no faint whole behind it: 250 -> 90 ms
+    a three-torus step under software GL); at rest the whole comes back."""
+    from gcmh_core.examples import load_example
+
+    from app_helpers import small_div
+
+    w = small_window
+    ex = load_example("three-sphere")
+    with qtbot.waitSignal(w.runFinished, timeout=180_000):
+        assert w.load_example("three-sphere", div=small_div(ex))
+    sc = w.viewer.scene
+    w.model.set_slice(on=True, index=3, hidden=False, c=0.1)
+    qtbot.waitUntil(lambda: not sc.moving_shown(), timeout=30_000)
+    ghost = sc.overlay_meshes.ghost
+    assert ghost is not None and ghost[1].GetVisibility() and sc.sections.shown
+    w.model.set_slice(c=0.2)
+    assert sc.moving_shown() and not ghost[1].GetVisibility() and sc.sections.shown
+    qtbot.waitUntil(lambda: not sc.moving_shown(), timeout=30_000)
+    assert sc.overlay_meshes.ghost[1].GetVisibility()
+    assert bool(w.plotter.renderer.GetUseFXAA()) == (sc.anti_aliasing == "fxaa")

@@ -31,6 +31,7 @@ from bench_classroom import _app, _end_of_render, _spin, _window
 
 CASES = (("three-sphere", "w"), ("three-sphere-slices", "w"), ("three-torus", "x2"), ("three-torus", "x1"))
 STEPS = 15
+STRIP_FIRST = False   # --strip-first: the steps after the strip's profile is drawn (not while it is computed)
 
 
 def slice_steps(app, name: str, var: str, exact: bool) -> dict:
@@ -54,6 +55,8 @@ def slice_steps(app, name: str, var: str, exact: bool) -> dict:
         sb.slice_c.setValue(300)
         sb.setChecked(True)
         _spin(app, 2.0)
+        if STRIP_FIRST:   # (the strip's worker shares the GIL and the cores with the steps while it runs)
+            _spin(app, 300, until=lambda: sb.strip.profile is not None or sb.strip.isHidden())
         steps = []
         for k in range(STEPS):
             n0 = box["n"]
@@ -93,7 +96,11 @@ def main(argv=None) -> int:
     p = argparse.ArgumentParser(prog="python tests/bench/bench_sections.py", description=__doc__.split("\n")[0])
     p.add_argument("--no-slab", action="store_true", help="skip today's slab rows")
     p.add_argument("--only", metavar="NAME", help="only this example")
+    p.add_argument("--strip-first", action="store_true",
+                   help="time the steps once the strip's profile is drawn (its worker shares the cores)")
     a = p.parse_args(argv)
+    global STRIP_FIRST
+    STRIP_FIRST = a.strip_first
     app = _app()
     print(f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, {os.cpu_count()} cores, "
           f"load {os.getloadavg()[0]:.1f}; window 1200x800, {STEPS} steps of 2 % of the range")
