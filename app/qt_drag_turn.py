@@ -44,7 +44,7 @@ class QtDragTurn(QObject):
             v._resized.start()
             return False
         if t == QEvent.Hide:       # (a closing window: its picture's thread ends before the display may go)
-            v._drop_still()
+            v.still.drop()
             wait_background()
             return False
         if t == QEvent.MouseButtonPress and ev.modifiers() & Qt.ShiftModifier and self.can_turn():

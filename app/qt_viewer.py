@@ -149,9 +149,6 @@ class QtViewer:
     def still_pending(self) -> bool:
         return self.still.pending()
 
-    def _drop_still(self) -> None:
-        self.still.drop()
-
     @property
     def still_image(self) -> np.ndarray | None:
         return self.still.image
@@ -167,10 +164,6 @@ class QtViewer:
     @property
     def _still_job(self):
         return self.still.job
-
-    @property
-    def _still_poll(self):
-        return self.still.poll
 
     def keep_camera(self) -> bool:
         return bool(self.model.style.keep_camera)
@@ -332,8 +325,7 @@ class QtViewer:
         self.render()
 
     def on_slice(self) -> None:
-        """The slice moved: re-cut and draw with the moving look (no FXAA: half a three-torus section's
-        100 ms step under software GL), the still look back when the slider rests."""
+        """The slice moved: re-cut, drawn with the moving look until the slider rests (a step's cost halved)."""
         if not self.drawn():
             return
         moving = self.scene.moving_look_available()
@@ -341,11 +333,10 @@ class QtViewer:
             self.apply_slice(render=False)
             self.keep_in_view()
             if moving:
-                self._settle.stop()
                 self.scene.set_moving(True)
         self.render()
         if moving:
-            self._settle.start()
+            self._settle.start()   # (restarted: the still look comes back once the slider rests)
 
     def apply_overlays(self, scene: Scene) -> None:
         """Boundary facets, grid cubes and the picked cell on ``scene`` (this view's, or an off-screen copy)."""

@@ -87,7 +87,7 @@ def test_a_change_takes_the_picture_away_and_a_late_picture_never_shows(qtbot, w
     v.render()
     assert not v.still_pending()
     qtbot.wait(300)
-    qtbot.waitUntil(lambda: v._still_job is None and not v._still_poll.isActive(), timeout=30_000)
+    qtbot.waitUntil(lambda: v._still_job is None and not v.still.poll.isActive(), timeout=30_000)
     assert not v.still_shown()
 
 
