@@ -12,10 +12,8 @@ does the lines.  It is not clipped by a slice: the whole class stays in view.
 from __future__ import annotations
 
 import numpy as np
-import pyvista as pv
 
-from .geometry import Geometry
-from .projection import Projector
+from .overlays import projected_cells
 
 SURFACE_PREFIX = "homology-surface-"
 SURFACE_OPACITY = 0.6
@@ -41,13 +39,7 @@ def _set_surface(scene, name, X, T, color, opacity):
     scene.remove_overlay(name, render=False)
     if scene.geometry is None or len(T) == 0:
         return
-    pr = Projector(X, center=scene.geometry.projector.center)
-    pr.set_radii(scene.geometry.projector.radii())
-    faces = np.empty((len(T), 4), dtype=np.int64)
-    faces[:, 0] = 3
-    faces[:, 1:] = T
-    mesh = pv.PolyData(pr.project_view(scene.view), faces=faces.ravel())
-    geo = Geometry(2, X.shape[1], "polygons", faces.ravel(), pr)
+    geo, mesh = projected_cells(scene, X, T)
     actor = scene.plotter.add_mesh(mesh, color=color, opacity=opacity, render=False, reset_camera=False,
                                    name=f"gcmh-overlay-{name}", pickable=False, lighting=True,
                                    show_edges=False)

@@ -17,6 +17,21 @@ PICK_COLOR = "#40ff90"
 GHOST_COLOR = "#c8d2e6"
 
 
+def projected_cells(scene, X, cells):
+    """(Geometry, mesh) of cells on points ``X`` (m, n) in ``scene``'s view and frame: ``cells`` (c, 2) are
+    segments, (c, 3) triangles; the scene projects the points again with every change of view."""
+    cells = np.asarray(cells, dtype=np.int64)
+    pr = Projector(X, center=scene.geometry.projector.center)
+    pr.set_radii(scene.geometry.projector.radii())
+    packed = np.empty((len(cells), cells.shape[1] + 1), dtype=np.int64)
+    packed[:, 0] = cells.shape[1]
+    packed[:, 1:] = cells
+    pts = pr.project_view(scene.view)
+    if cells.shape[1] == 2:
+        return Geometry(1, X.shape[1], "lines", packed.ravel(), pr), pv.PolyData(pts, lines=packed.ravel())
+    return Geometry(2, X.shape[1], "polygons", packed.ravel(), pr), pv.PolyData(pts, faces=packed.ravel())
+
+
 class SceneOverlays:
     """The overlays and the slice's ghost of ``scene`` (a Scene: this module is below scene.py).
 
@@ -79,13 +94,7 @@ class SceneOverlays:
             X, E = sl.vertices, sl.edges
             if E is None or len(E) == 0:
                 return
-        pr = Projector(X, center=sc.geometry.projector.center)
-        pr.set_radii(sc.geometry.projector.radii())
-        lines = np.empty((len(E), 3), dtype=np.int64)
-        lines[:, 0] = 2
-        lines[:, 1:] = E
-        mesh = pv.PolyData(pr.project_view(sc.view), lines=lines.ravel())
-        geo = Geometry(1, X.shape[1], "lines", lines.ravel(), pr)
+        geo, mesh = projected_cells(sc, X, E)
         self.items[name] = [geo, mesh, None, color, (width, opacity)]
         self.items[name][2] = self._add_actor(name, mesh, color, (width, opacity))
 
