@@ -262,27 +262,31 @@ def circular_mean(values, period: float, lo: float) -> float:
 
 # ------------------------------------------------------------------ the View tab's switches
 class AngleLook:
-    """The View tab's "angles as circles" and "show the glued seam" for the window's model (kept beside it:
-    ``changed`` tells the 3D view). One per model: :func:`angle_look`."""
+    """The View tab's "angles as circles" and "show the glued seam" of the window's model: its
+    :class:`gcmh_studio.model.AngleView`, so that sessions and Undo keep them; ``changed`` tells the 3D view
+    and the switches. One per model: :func:`angle_look`."""
 
-    def __init__(self):
-        from psygnal import SignalInstance
+    def __init__(self, model):
+        self.model = model
+        self.changed = model.events.angle_view
 
-        self.circles = False
-        self.seam = False
-        self.changed: SignalInstance = SignalInstance((), name="changed")
+    @property
+    def circles(self) -> bool:
+        return self.model.angle_view.circles
+
+    @property
+    def seam(self) -> bool:
+        return self.model.angle_view.seam
 
     def set(self, circles: bool | None = None, seam: bool | None = None) -> None:
-        new = (self.circles if circles is None else bool(circles), self.seam if seam is None else bool(seam))
-        if new != (self.circles, self.seam):
-            self.circles, self.seam = new
-            self.changed.emit()
+        changes = {k: bool(v) for k, v in (("circles", circles), ("seam", seam)) if v is not None}
+        self.model.set_angle_view(**changes)
 
 
 def angle_look(model) -> AngleLook:
     """The :class:`AngleLook` of ``model`` (a StudioModel), made at the first call."""
     look = getattr(model, "_angle_look", None)
     if look is None:
-        look = AngleLook()
+        look = AngleLook(model)
         model._angle_look = look
     return look

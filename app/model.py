@@ -152,6 +152,7 @@ class StudioEvents(SignalGroup):
     style = Signal()                # colour, opacity, edges, overlays, two sides, keep camera: the 3D view, the View
     #                                 and Topology tabs' switches
     slice = Signal()                # the slice window: the 3D view, the View tab's slice box
+    angle_view = Signal()           # angles as circles, the glued seam: the 3D view (a refit), the View tab's switches
     slice_readout = Signal(str)     # what the 3D view says of the slice: the View tab's slice box
     result = Signal(object)         # the CellComplex now on screen: the window's summary
     picked = Signal(object)         # the picked cell's facts, or None: the window's pick line
@@ -169,6 +170,15 @@ class ViewStyle:
     boundary: bool = False        # the boundary facets highlighted
     grid: bool = False            # the grid cubes M passes through
     keep_camera: bool = False     # no refitting when results, mappings and slices change the extent
+
+
+@dataclass
+class AngleView:
+    """The View tab's angle switches (:mod:`gcmh_studio.angles`): periodic axes drawn as circles, the glued
+    seam shown. Apart from :class:`ViewStyle`: a switch changes the extent (a refit), not the colours."""
+
+    circles: bool = False
+    seam: bool = False
 
 
 @dataclass
@@ -226,6 +236,7 @@ class StudioModel:
         self.view_names: list[str] = default_variables(3)   # the names of the projection's variables
         self.style = ViewStyle()
         self.slice = SliceState()
+        self.angle_view = AngleView()
         self.slice_readout = ""
         self.drag_hidden = 0            # the hidden direction a Shift-drag on the view turns against
         self.animation = AnimationSettings()
@@ -365,6 +376,10 @@ class StudioModel:
         """Change the fields of :class:`SliceState` named; announced when one changed."""
         self._change("slice", changes)
 
+    def set_angle_view(self, **changes) -> None:
+        """Change the fields of :class:`AngleView` named; announced when one changed."""
+        self._change("angle_view", changes)
+
     def _change(self, name: str, changes: dict) -> None:
         new = replace(getattr(self, name), **changes)
         if new != getattr(self, name):
@@ -382,7 +397,8 @@ class StudioModel:
         d = self.projection.to_dict(self.view_names)
         st = self.style
         d.update(color=st.color_by, opacity=st.opacity, show_edges=st.show_edges, two_sided=st.two_sided,
-                 boundary=st.boundary, grid=st.grid)
+                 boundary=st.boundary, grid=st.grid, angles_as_circles=self.angle_view.circles,
+                 show_seam=self.angle_view.seam)
         if self.slice.on:
             d["slice"] = {"along": self.slice.label(self.view_names), "c": self.slice.c, "w": self.slice.w}
         return d
@@ -404,6 +420,9 @@ class StudioModel:
                            opacity=self.style.opacity if opacity is None else float(opacity),
                            show_edges=bool(d.get("show_edges", False)), two_sided=bool(d.get("two_sided", False)),
                            boundary=bool(d.get("boundary", False)), grid=bool(d.get("grid", False)))
+            # (a session saved before the angle switches were kept has them off)
+            self.set_angle_view(circles=bool(d.get("angles_as_circles", False)),
+                                seam=bool(d.get("show_seam", False)))
             sl = d.get("slice") or {}
             where = slice_target(sl.get("along", ""), names, n) if sl else None
             if where is None:

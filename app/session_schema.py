@@ -242,7 +242,7 @@ def _view(v) -> None:
         _text(v["color"], "view.color", MAX_NAME)
     if v.get("opacity") is not None:
         _number(v["opacity"], "view.opacity", 0.0, 1.0, text=False)
-    for key in ("show_edges", "two_sided", "boundary", "grid"):
+    for key in ("show_edges", "two_sided", "boundary", "grid", "angles_as_circles", "show_seam"):
         if key in v and not isinstance(v[key], bool):
             raise _fail(f"view.{key}", f"must be true or false, got {_show(v[key])}")
     for key in ("axes_names", "planes"):   # (what the file says for a reader: not read back)
@@ -269,7 +269,7 @@ def validate_session(d) -> dict:
     The format, the title (at most MAX_TITLE characters), the system (n and k in 1..N_MAX with k <= n,
     its formulas or complex equations, variables, bounds, div, method, seed, start, parameters and glued
     axes, each bounded and finite), the view (projection kind, axes, n(n-1)/2 finite angles, mapping,
-    distance, colour, opacity in [0, 1], toggles, a slice that is a mapping)."""
+    distance, colour, opacity in [0, 1], toggles (the angle switches too), a slice that is a mapping)."""
     if not isinstance(d, dict) or d.get("format") != SESSION_FORMAT:
         raise SessionError(f"not a GCMH session file (format {SESSION_FORMAT!r} expected)")
     if d.get("title") is not None:
