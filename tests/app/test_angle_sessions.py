@@ -115,3 +115,38 @@ def test_the_view_tabs_switches_follow_undo(qtbot):
     assert not box.circles_check.isChecked() and not m.angle_view.circles
     m.redo()
     assert box.circles_check.isChecked() and box.seam_check.isChecked() is False
+
+
+def test_the_window_reopens_a_session_drawn_as_circles_and_undoes_the_switch(qtbot, window, tmp_path):
+    """A teacher's path: tick "angles as circles" on the torus of angles, save; a new window opens it drawn as
+    circles with the box ticked; Edit > Undo unticks it and draws the angles as numbers again."""
+    from gcmh_studio.qt_main_window import QtMainWindow
+
+    with qtbot.waitSignal(window.runFinished, timeout=120_000):
+        window.load_example("torus-angles", div=10)
+    box = window.projection_panel.style_box
+    assert box.circles_check.isEnabled()
+    box.circles_check.setChecked(True)
+    box.seam_check.setChecked(True)
+    assert window.viewer.scene.circles_on
+    path = studio_io.write_session(tmp_path / "s.json", window.controller.session())
+
+    w2 = QtMainWindow(example=None)
+    qtbot.addWidget(w2)
+    w2.resize(900, 700)
+    w2.show()
+    try:
+        with qtbot.waitSignal(w2.runFinished, timeout=120_000):
+            assert w2.controller.open_session(path)
+        box2 = w2.projection_panel.style_box
+        assert box2.circles_check.isChecked() and box2.seam_check.isChecked()
+        assert w2.viewer.scene.circles_on and w2.model.angle_view == AngleView(circles=True, seam=True)
+        w2.model.history.merge_seconds = 0.0
+        box2.circles_check.setChecked(False)
+        assert not w2.viewer.scene.circles_on
+        w2.menu_actions.undo.trigger()
+        assert box2.circles_check.isChecked() and w2.viewer.scene.circles_on
+        w2.menu_actions.redo.trigger()
+        assert not box2.circles_check.isChecked() and not w2.viewer.scene.circles_on
+    finally:
+        w2.close()
