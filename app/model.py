@@ -3,7 +3,7 @@
 What the studio knows lives here, apart from the widgets that show it: the
 system of the Manifold tab (formulas, variables, n, k, bounds, div, method,
 seed, parameters, ...) and whether it can run, the View tab's projection,
-style and slice, the Animate tab's settings, the result on screen with its
+style, angle switches and slice, the Animate tab's settings, the result on screen with its
 names, title and serial number, the picked cell, the last refinement and the
 status line. Panels write here what the user changes and redraw when the model
 announces a change (whoever made it: the user, Undo, an example, a session);
