@@ -604,11 +604,13 @@ def collapse_lens_cells(e, c, inc):
 
 
 def cone_lens_balls(vertices: np.ndarray, edges: np.ndarray, cells: dict):
-    """Make every whole-ball lens 3-cell regular: a 3-cell X bounded by two 2-cells A and B with
-    the same edges and no other 3-cell (M_A's small piece cut off by the box near one of its
-    ridges, which `collapse_lens_cells` leaves).  B is replaced by the cone over its edges from a
-    new vertex at the mean of B's vertices: one triangle per edge, so X has at least four faces
-    and no two cells the same boundary.  +1 vertex, +m edges, +m - 1 2-cells: chi is unchanged.
+    """Give every 3-cell at least four faces: a whole-ball lens (a 3-cell X bounded by two 2-cells A
+    and B with the same edges and no other 3-cell: M_A's small piece cut off by the box near one of
+    its ridges, which `collapse_lens_cells` leaves), or a 3-cell of three faces (n >= 8, where no
+    Kuhn tables refine a cube).  One face B of X is replaced, in every 3-cell it bounds, by the cone
+    over its edges from a new vertex at the mean of B's vertices: one triangle per edge, so X has at
+    least four faces and no two cells the same boundary.  +1 vertex, +m edges, +m - 1 2-cells: chi
+    is unchanged.
 
     vertices (V, n), edges (E, 2), cells {r: (offsets, faces)} as in CellComplex (after
     `_regular`).  Returns (vertices, edges, cells, coned); new ids follow the old ones."""
@@ -623,11 +625,14 @@ def cone_lens_balls(vertices: np.ndarray, edges: np.ndarray, cells: dict):
     new_cells: list = []
     replaced: dict[int, list[int]] = {}  # B -> its triangles' ids
     n_edges, n_cells = len(edges), len(off2) - 1
-    for x in np.flatnonzero(sizes == 2).tolist():
-        a, b = f3[off3[x] : off3[x] + 2].tolist()
-        ea, eb = f2[off2[a] : off2[a + 1]], f2[off2[b] : off2[b + 1]]
-        if cofaces[a] != 1 or cofaces[b] != 1 or set(ea.tolist()) != set(eb.tolist()) or b in replaced:
+    for x in np.flatnonzero(sizes < 4).tolist():
+        own = f3[off3[x] : off3[x + 1]].tolist()
+        if any(y in replaced for y in own):   # (a face already coned: x has more faces now)
             continue
+        # the face to cone: one of no other 3-cell first, then the one of most edges, then the last (a
+        # whole-ball lens: its second face, as always); coned in every 3-cell it bounds
+        b = max(enumerate(own), key=lambda iy: (-cofaces[iy[1]], off2[iy[1] + 1] - off2[iy[1]], iy[0]))[1]
+        eb = f2[off2[b] : off2[b + 1]]
         ring = np.unique(edges[eb])
         p = len(vertices) + len(new_vertices)
         new_vertices.append(vertices[ring].mean(axis=0))

@@ -132,3 +132,12 @@ def test_random_systems_n6_n7_give_regular_cells(shape, seed, check_cells, grid_
     n, k, div = shape
     texts = random_system(n, k, seed)
     check_regular(extract(texts, [(-1, 1)] * n, div, check_cells=check_cells, seed=grid_seed), n, div)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2, 3])
+@pytest.mark.parametrize("n,k", [(8, 5), (8, 6)])
+def test_random_systems_in_R8_give_regular_cells(n, k, seed):
+    """n = 8 has no Kuhn tables to refine a cube: a piece of M_A may come out a 3-cell of three faces
+    ((8, 5), seed 2 did); the assembly cones one of its faces.  Surfaces and solids in R^8, regular."""
+    cx = extract(random_system(n, k, seed), [(-1, 1)] * n, 2, seed=seed, force=True)
+    assert regularity_problems(cx) == []
