@@ -98,11 +98,13 @@ def fit_animation(plotter, points: np.ndarray) -> None:
 
 def object_mask(img, background=None) -> np.ndarray:
     """(h, w) bool: the object's pixels of a picture (h, w, 3): coloured, i.e. more than ``COLOURED`` grey
-    levels off the line from the background (``background``: (h, 3), each row's colour; default the
-    scene's gradient) to white, on which the texts' whites and greys and their anti-aliasing lie."""
+    levels off every line from the background (``background``: (h, 3), each row's colour; default the
+    scene's gradient) to a text's colour: white, on which the texts' whites and greys and their
+    anti-aliasing lie, and the section's pale coral caption (`sections.TEXT_COLOR`)."""
     from matplotlib.colors import to_rgb
 
     from .scene import BACKGROUND, BACKGROUND_TOP
+    from .sections import TEXT_COLOR
 
     f = np.asarray(img, dtype=float)[..., :3]
     h = f.shape[0]
@@ -111,9 +113,12 @@ def object_mask(img, background=None) -> np.ndarray:
         bot, top = 255 * np.array(to_rgb(BACKGROUND)), 255 * np.array(to_rgb(BACKGROUND_TOP))
         background = bot + up[:, None] * (top - bot)
     b = np.asarray(background, dtype=float)[:, None, :]
-    axis = 255.0 - b
-    t = np.clip(((f - b) * axis).sum(-1, keepdims=True) / (axis * axis).sum(-1, keepdims=True), 0, 1)
-    return np.linalg.norm(f - b - t * axis, axis=-1) > COLOURED
+    off = np.full(f.shape[:2], np.inf)
+    for text in (np.full(3, 255.0), 255 * np.array(to_rgb(TEXT_COLOR))):
+        axis = text - b
+        t = np.clip(((f - b) * axis).sum(-1, keepdims=True) / (axis * axis).sum(-1, keepdims=True), 0, 1)
+        off = np.minimum(off, np.linalg.norm(f - b - t * axis, axis=-1))
+    return off > COLOURED
 
 
 def framing_faults(img) -> dict:
