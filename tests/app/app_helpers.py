@@ -87,3 +87,15 @@ def torus_complex(side: int, n: int, seed: int = 0):
     offsets = np.arange(0, 4 * Vn + 1, 4, dtype=np.int64)
     return CellComplex(n, n - 2, X, edges.astype(np.int64), {2: (offsets, faces.astype(np.int64))},
                        meta={"variables": [f"x{j + 1}" for j in range(n)]})
+
+
+def open_window(qtbot, size=(900, 700)):
+    """A new main window with no example, shown at ``size`` and exposed (closed by the caller)."""
+    from gcmh_studio.qt_main_window import QtMainWindow
+
+    w = QtMainWindow(example=None)
+    qtbot.addWidget(w)
+    w.resize(*size)
+    w.show()
+    qtbot.waitExposed(w)
+    return w

@@ -10,26 +10,17 @@ import tempfile
 
 import pytest
 
+from app_helpers import open_window
+
 if not os.environ.get("XDG_RUNTIME_DIR"):
     d = os.path.join(tempfile.gettempdir(), f"runtime-{os.getuid()}")
     os.makedirs(d, mode=0o700, exist_ok=True)
     os.environ["XDG_RUNTIME_DIR"] = d
 
 
-def _open_window(qtbot, size):
-    from gcmh_studio.qt_main_window import QtMainWindow
-
-    w = QtMainWindow(example=None)
-    qtbot.addWidget(w)
-    w.resize(*size)
-    w.show()
-    qtbot.waitExposed(w)
-    return w
-
-
 @pytest.fixture
 def window(qtbot):
-    w = _open_window(qtbot, (1200, 800))
+    w = open_window(qtbot, (1200, 800))
     yield w
     w.close()
 
@@ -38,6 +29,6 @@ def window(qtbot):
 def small_window(qtbot):
     """The window at 900 x 600, for tests that look at what is drawn, not at its size: software rendering
     under Xvfb costs by the pixel (a 3-torus' picture: 1.4 s at 1200 x 800, 0.9 s here)."""
-    w = _open_window(qtbot, (900, 600))
+    w = open_window(qtbot, (900, 600))
     yield w
     w.close()

@@ -120,7 +120,7 @@ def test_the_view_tabs_switches_follow_undo(qtbot):
 def test_the_window_reopens_a_session_drawn_as_circles_and_undoes_the_switch(qtbot, window, tmp_path):
     """A teacher's path: tick "angles as circles" on the torus of angles, save; a new window opens it drawn as
     circles with the box ticked; Edit > Undo unticks it and draws the angles as numbers again."""
-    from gcmh_studio.qt_main_window import QtMainWindow
+    from app_helpers import open_window
 
     with qtbot.waitSignal(window.runFinished, timeout=120_000):
         window.load_example("torus-angles", div=10)
@@ -131,10 +131,7 @@ def test_the_window_reopens_a_session_drawn_as_circles_and_undoes_the_switch(qtb
     assert window.viewer.scene.circles_on
     path = studio_io.write_session(tmp_path / "s.json", window.controller.session())
 
-    w2 = QtMainWindow(example=None)
-    qtbot.addWidget(w2)
-    w2.resize(900, 700)
-    w2.show()
+    w2 = open_window(qtbot)
     try:
         with qtbot.waitSignal(w2.runFinished, timeout=120_000):
             assert w2.controller.open_session(path)

@@ -65,7 +65,7 @@ def test_a_hand_edited_camera_that_cannot_be_used_is_dropped(tmp_path, camera):
 def test_a_held_camera_comes_back_held_in_a_new_window(qtbot, window, tmp_path):
     """What the window saves and opens (its session() and open_session() pass the viewer's camera_session and
     restore_camera): the toggle comes back on, the camera as it was, and a new run leaves it alone."""
-    from gcmh_studio.qt_main_window import QtMainWindow
+    from app_helpers import open_window
 
     with qtbot.waitSignal(window.runFinished, timeout=60_000):
         window.load_example("sphere", div=10)
@@ -77,10 +77,7 @@ def test_a_held_camera_comes_back_held_in_a_new_window(qtbot, window, tmp_path):
     assert d["keep_camera"] is True
     path = studio_io.write_session(tmp_path / "s.json", d)
 
-    w2 = QtMainWindow(example=None)
-    qtbot.addWidget(w2)
-    w2.resize(900, 700)
-    w2.show()
+    w2 = open_window(qtbot)
     try:
         with qtbot.waitSignal(w2.runFinished, timeout=60_000):
             assert w2.controller.open_session(path)
