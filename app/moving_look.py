@@ -29,7 +29,6 @@ class MovingLook:
         self.coarse_on = False
         self._still_lights: list | None = None     # the renderer's lights while one headlight stands in
         self._fxaa_paused = False
-        self._ghost_hidden = False
 
     def available(self) -> bool:
         """The result on screen has a moving look cheaper than its still one."""
@@ -37,7 +36,7 @@ class MovingLook:
                 or self.scene.overlay_meshes.ghost is not None)
 
     def shown(self) -> bool:
-        return self.coarse_on or self._still_lights is not None or self._fxaa_paused or self._ghost_hidden
+        return self.coarse_on or self._still_lights is not None or self._fxaa_paused or self._ghost_hidden()
 
     def see_through(self) -> bool:
         """The complex is drawn see-through (a lit surface or 2-skeleton with opacity below 1)."""
@@ -62,10 +61,13 @@ class MovingLook:
     def _still_ghost(self, still: bool) -> None:
         """The faint whole behind a slice shown (``still``) or hidden while the view moves: its thousands of
         translucent cells took 160 of a 250 ms three-torus section step in the window under software GL."""
-        ghost = getattr(self.scene, "overlay_meshes", None) and self.scene.overlay_meshes.ghost
-        if ghost and ghost[1] is not None and bool(ghost[1].GetVisibility()) != still:
+        ghost = self.scene.overlay_meshes.ghost
+        if ghost is not None and ghost[1] is not None:
             ghost[1].SetVisibility(still)
-            self._ghost_hidden = not still
+
+    def _ghost_hidden(self) -> bool:
+        ghost = self.scene.overlay_meshes.ghost
+        return ghost is not None and ghost[1] is not None and not ghost[1].GetVisibility()
 
     def restore_lights(self) -> None:
         """The scene's own lights back (FXAA as it is)."""
