@@ -130,12 +130,12 @@ def _session_screenshot(args) -> int:
     if not win.controller.open_session(args.session) or not win.controller.is_running():
         status = win.last_status or "the session's system cannot run"
         win.close()
-        return fail(f"error: {args.session}: {status}")
+        return fail(f"{args.session}: {status}")
     loop.exec_()
     if outcome.get("how") != "done":
         status = win.last_status or f"the run {outcome.get('how', 'ended')}"
         win.close()
-        return fail(f"error: {args.session}: {status}", 1)
+        return fail(f"{args.session}: {status}", 1)
     win.save_screenshot(args.screenshot, size=args.size, transparent=args.transparent)
     print(args.screenshot)
     win.close()
@@ -167,7 +167,7 @@ def main(argv=None) -> int:
         print("gcmh-app: interrupted", file=sys.stderr)
         return 130
     except OSError as e:   # a full disk, a folder gone: the writers leave the old file and no temporary
-        return fail(f"error: cannot write {_written_name(e, argv)}: {e.strerror or e}", 1)
+        return fail(f"cannot write {_written_name(e, argv)}: {e.strerror or e}", 1)
 
 
 def _written_name(e: OSError, argv) -> str:
@@ -275,12 +275,12 @@ def _main(argv=None) -> int:
         examples = list_examples_or_warn()
         for ex in examples:
             print(f"{ex.name:18s} {ex.title}  (n={ex.n}, k={ex.k})")
-        return 0 if examples else fail("error: no example could be read", 1)
+        return 0 if examples else fail("no example could be read", 1)
     problem = None
     if args.session:   # checked whole before anything is built from it
         _, problem = read_session_or_fail(args.session)
         if problem and (args.screenshot or args.animate):
-            return fail(f"error: {problem}")
+            return fail(f"{problem}")
     if args.screenshot or args.animate:
         return _session_screenshot(args) if args.session else render(Options.from_args(args))
     if args.params:   # (the window takes a parameter from its slider)

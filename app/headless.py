@@ -92,7 +92,8 @@ def prepare_env() -> None:
 
 
 def fail(msg: str, code: int = 2) -> int:
-    print(f"gcmh-app: {msg}", file=sys.stderr)
+    """One ``gcmh-app: error:`` line on stderr, and the exit code."""
+    print(f"gcmh-app: error: {msg}", file=sys.stderr)
     return code
 
 
@@ -327,7 +328,7 @@ def render(opts: Options) -> int:
         try:   # (never a black picture: a size the renderer cannot draw super-sampled is drawn with FXAA)
             img = checked_screenshot(scene, opts.transparent)
         except RenderError as e:
-            return fail(f"error: --size {opts.size[0]}x{opts.size[1]}: {e}", 1)
+            return fail(f"--size {opts.size[0]}x{opts.size[1]}: {e}", 1)
         from PIL import Image
 
         _written(opts.screenshot, lambda temp: Image.fromarray(np.asarray(img)).save(temp))
