@@ -26,11 +26,19 @@ depend on ``c`` (``h`` at the vertices, each cell's range of ``h``), so moving
 ``c`` costs only the cells the hyperplane meets: a slider step of the 3-sphere
 or the three-torus takes a few milliseconds.
 
-Identified (periodic) axes: a section along a direction that does not involve
-a periodic axis, nor an axis reversed across a seam, is the section of the
-glued complex (points on an edge across a seam are put on the seam's side of
-the edge's first vertex, then back into the box).  Sections across a seam are
-refused with :class:`gcmh_core.errors.InputError`.
+Identified (periodic) axes: the section is the one of the glued space, where the hyperplane is one set
+of it.  A direction that does not involve a glued axis is cut as it is.  A direction that involves periodic
+axes (``s = c`` on a circle, ``s + t = c`` on a torus of angles) cuts the levels ``c + k Q`` (Q: the period
+of ``h``, the periods' common step): each vertex's side is read on the circle (the half-turn after ``c``
+is above), and an edge crosses when it meets a level, not the half-turn opposite.  A variable ``b``
+reversed across a seam (``t`` of the closed Klein bottle, ``s:flip=t``) cuts ``{b = c} U {b = m - c}``
+(``m``: the sum of b's bounds), the one set of the glued space that holds ``b = c``; each vertex's side
+is its distance to the mirror's value ``m / 2`` (on the circle if b is periodic) against ``c``'s.  Where
+``c`` is so near a value the mirror fixes that one edge would hold both levels (or on it: there the two
+levels are one and no side is kept across the seam), the cut is made at the nearest value beyond them
+(``meta["section"]["value"]``; ``"asked"`` keeps ``c``).  Directions mixing a reversed axis with others,
+or periodic axes of incommensurate periods, are refused with :class:`gcmh_core.errors.InputError`.
+Points on an edge across a seam are computed in its first vertex's chart, then put back into the box.
 
 Example
 -------
@@ -119,10 +127,9 @@ def _check_value(value) -> float:
     return c
 
 
-def _seams(cx: CellComplex, u: np.ndarray):
-    """[(axis p, period, lo, flipped axes, their lo + hi)] of ``cx``'s identified axes; InputError when
-    ``u`` involves a periodic axis or one reversed across a seam (the hyperplane is not one set of the
-    glued space there)."""
+def _seams(cx: CellComplex):
+    """[(axis p, period, lo, flipped axes, their lo + hi)] of ``cx``'s identified axes, the seams that
+    reverse axes first (a reversed axis may be periodic itself, never one that reverses others)."""
     from ._validate import as_periodic
 
     meta = cx.meta
@@ -134,19 +141,89 @@ def _seams(cx: CellComplex, u: np.ndarray):
         bounds = np.asarray(bounds, dtype=np.float64).reshape(cx.n, 2)
     except (InputError, ValueError):   # (meta that did not come from a run: the complex as it is)
         return []
-    out = []
-    for p, flips in spec:
-        touched = [a for a in (p, *flips) if u[a] != 0]
-        if touched:
+    out = [(p, bounds[p, 1] - bounds[p, 0], bounds[p, 0], flips, bounds[list(flips), :].sum(axis=1))
+           for p, flips in spec]
+    return sorted(out, key=lambda seam: not seam[3])
+
+
+@dataclass
+class _Circle:
+    """How ``h = u . x`` lives on the glued space: ``mode`` "plain" (no glued axis in u: h is a function
+    there), "shift" (h is defined up to multiples of ``period``: a circle-valued function) or "mirror"
+    (u is a multiple of an axis reversed across a seam: h is defined up to h -> ``mirror`` - h, and up to
+    ``period`` when that axis is periodic too, else ``period`` is 0)."""
+
+    mode: str = "plain"
+    period: float = 0.0
+    mirror: float = 0.0
+
+
+def _circle(cx: CellComplex, u: np.ndarray, seams) -> _Circle:
+    """The :class:`_Circle` of ``u`` on ``cx``'s glued space; InputError when the hyperplanes ``u . x = c``
+    are not sets of it (a reversed axis mixed with others, periodic axes of incommensurate periods)."""
+    if not seams:
+        return _Circle()
+    names = cx.point_names()
+    period = {p: per for p, per, *_ in seams}
+    flipped = {b: (p, m) for p, _per, _lo, flips, mirror in seams for b, m in zip(flips, mirror)}
+    touched = np.flatnonzero(u)
+    reversed_ = [a for a in touched.tolist() if a in flipped]
+    if reversed_:
+        b = reversed_[0]
+        if touched.size > 1:
             raise InputError(
-                f"a section along {names[touched[0]]} would cross the glued seam of {names[p]}: cut along a "
-                f"variable that is not glued ({', '.join(v for a, v in enumerate(names) if not _glued(a, spec))})")
-        out.append((p, bounds[p, 1] - bounds[p, 0], bounds[p, 0], flips, bounds[list(flips), :].sum(axis=1)))
-    return out
+                f"a section along {' + '.join(names[a] for a in touched.tolist())} is not one set of the glued "
+                f"space: {names[b]} is reversed across the seam of {names[flipped[b][0]]}; cut along {names[b]} "
+                f"alone, or along variables not reversed across a seam")
+        lam = float(u[b])
+        return _Circle("mirror", abs(lam) * period.get(b, 0.0), lam * float(flipped[b][1]))
+    shifts = [abs(float(u[a])) * period[a] for a in touched.tolist() if a in period]
+    if not shifts:
+        return _Circle()
+    q = min(shifts)
+    ratio = np.asarray(shifts) / q
+    if np.any(np.abs(ratio - np.round(ratio)) > 1e-9):
+        raise InputError(
+            f"a section along {' + '.join(names[a] for a in touched.tolist())} winds round the glued axes at "
+            f"periods that are not multiples of one another ({', '.join(f'{x:g}' for x in shifts)}): its "
+            f"levels are not closed sets of the glued space; choose coefficients whose periods match")
+    # a cell (inside one grid cube) must span less than half a turn of h: its sides are read on the circle
+    bounds = np.asarray(cx.meta["bounds"], dtype=np.float64).reshape(cx.n, 2)
+    div = cx.meta["div"]
+    step = (bounds[:, 1] - bounds[:, 0]) / (np.asarray(div, dtype=np.float64) if np.ndim(div) else float(div))
+    if float(np.abs(u) @ step) >= q / 2:
+        raise InputError(f"the grid is too coarse to cut along this direction: a cube spans half a turn of it "
+                         f"(period {q:g}); cut along a single glued variable or refine the grid")
+    return _Circle("shift", q)
 
 
-def _glued(axis: int, spec) -> bool:
-    return any(axis == p or axis in flips for p, flips in spec)
+def _lift(Y: np.ndarray, X: np.ndarray, seams) -> np.ndarray:
+    """The points ``Y`` (m, n) in the charts of the points ``X`` (m, n) next to them: across a seam moved
+    by the period (and reflected in the reversed axes), so that ``Y - X`` is the short way round."""
+    Y = np.array(Y, dtype=np.float64)
+    for p, period, _lo, flips, mirror in seams:
+        if flips:
+            w = np.flatnonzero(np.abs(Y[:, p] - X[:, p]) > period / 2)
+            Y[w, p] += np.sign(X[w, p] - Y[w, p]) * period
+            for b, m in zip(flips, mirror):
+                Y[w, b] = m - Y[w, b]
+        else:
+            Y[:, p] += np.round((X[:, p] - Y[:, p]) / period) * period
+    return Y
+
+
+def _into_box(P: np.ndarray, seams) -> np.ndarray:
+    """The points ``P`` (m, n), computed in a chart beside the box, back into it (in place)."""
+    for p, period, lo, flips, mirror in seams:
+        out = (P[:, p] < lo) | (P[:, p] >= lo + period)
+        if out.any():
+            turns = np.floor((P[out, p] - lo) / period)
+            P[out, p] -= turns * period
+            if flips:
+                odd = np.flatnonzero(out)[np.mod(turns, 2) == 1]
+                for b, m in zip(flips, mirror):
+                    P[odd, b] = m - P[odd, b]
+    return P
 
 
 # ----------------------------------------------------------------------------
@@ -202,26 +279,85 @@ class Sectioner:
         self.complex = cx
         self.direction = u
         self.label = label
-        self.seams = _seams(cx, u)
+        self.seams = _seams(cx)
+        self.circle = _circle(cx, u, self.seams)
         X = np.asarray(cx.vertices)
         self.h = X @ u
         E = np.asarray(cx.edges)
         self.edge_a = np.ascontiguousarray(E[:, 0])
         self.edge_b = np.ascontiguousarray(E[:, 1])
-        ha, hb = self.h[self.edge_a], self.h[self.edge_b]
-        self.lo = {1: np.minimum(ha, hb)}
-        self.hi = {1: np.maximum(ha, hb)}
-        for r in range(2, cx.dim + 1):
-            off, fac = cx.cells[r]
-            self.lo[r], self.hi[r] = _ranges(self.lo[r - 1], self.hi[r - 1], np.asarray(off), np.asarray(fac))
-        self.delta = X[self.edge_b] - X[self.edge_a]   # (E, n): each edge's vector, across a seam unwrapped
-        for p, period, _lo, flips, mirror in self.seams:
-            wrap = np.abs(self.delta[:, p]) > period / 2
-            if wrap.any():
-                w = np.flatnonzero(wrap)
-                self.delta[w, p] -= np.sign(self.delta[w, p]) * period
-                for b, m in zip(flips, mirror):
-                    self.delta[w, b] = (m - X[self.edge_b[w], b]) - X[self.edge_a[w], b]
+        # each edge's vector, in its first vertex's chart (the short way round across a seam)
+        self.delta = _lift(X[self.edge_b], X[self.edge_a], self.seams) - X[self.edge_a] if self.seams else \
+            X[self.edge_b] - X[self.edge_a]
+        if self.circle.mode == "plain":
+            ha, hb = self.h[self.edge_a], self.h[self.edge_b]
+            self.lo = {1: np.minimum(ha, hb)}
+            self.hi = {1: np.maximum(ha, hb)}
+            for r in range(2, cx.dim + 1):
+                off, fac = cx.cells[r]
+                self.lo[r], self.hi[r] = _ranges(self.lo[r - 1], self.hi[r - 1], np.asarray(off),
+                                                 np.asarray(fac))
+        else:   # h is read on a circle: a cell is met when one of its faces is
+            self.dh = self.delta @ u
+            self.owner = {}
+            for r in range(2, cx.dim + 1):
+                off = np.asarray(cx.cells[r][0])
+                self.owner[r] = np.repeat(np.arange(off.size - 1, dtype=np.int64), np.diff(off))
+            if self.circle.mode == "mirror":
+                self._folds()
+
+    # ------------------------------------------------------------------ glued: the mirror's folds
+    def _fold_distance(self, h: np.ndarray) -> np.ndarray:
+        """How far ``h`` is from the value the mirror fixes (``mirror / 2``), round the circle if periodic:
+        the function of the glued space whose levels are ``{c, mirror - c}``."""
+        d = h - self.circle.mirror / 2
+        q = self.circle.period
+        return np.abs(d) if q == 0 else np.abs(np.mod(d + q / 2, q) - q / 2)
+
+    def _folds(self) -> None:
+        """Where an edge crosses a value the mirror fixes, its fold distance dips to 0 (or, round a circle,
+        rises to half the period at the other one): a level nearer that value than both the edge's ends would
+        meet the edge twice.  Kept: the largest such end distance at 0 (``fold_low``) and the smallest at the
+        half period (``fold_high``)."""
+        q, f = self.circle.period, self.circle.mirror / 2
+        ha = self.h[self.edge_a]
+        hb = ha + self.dh
+        lo, hi = np.minimum(ha, hb), np.maximum(ha, hb)
+        ga, gb = self._fold_distance(ha), self._fold_distance(hb)
+        near = np.minimum(ga, gb)
+        fixed = [(f, True)] if q == 0 else [(f, True), (f + q / 2, False)]
+        self.fold_low, self.fold_high = 0.0, np.inf
+        for value, low in fixed:
+            if q:
+                value = value + q * np.round((0.5 * (lo + hi) - value) / q)
+            across = (lo < value) & (value < hi)
+            if not across.any():
+                continue
+            if low:
+                self.fold_low = float(near[across].max())
+            else:
+                self.fold_high = float(np.maximum(ga, gb)[across].min())
+
+    def _resolved(self, c: float) -> float:
+        """``c``, or, when an edge would hold both levels ``c`` and ``mirror - c``, the nearest value on c's
+        side whose levels each edge holds at most once."""
+        if self.circle.mode != "mirror":
+            return c
+        g = float(self._fold_distance(np.asarray(c)))
+        q, f = self.circle.period, self.circle.mirror / 2
+        lo_g, hi_g = self.fold_low, min(self.fold_high, q / 2 if q else np.inf)
+        scale = max(self.range()[1] - self.range()[0], q, 1e-300)
+        tiny = 1e-6 * scale
+        if lo_g + 2 * tiny >= hi_g:
+            raise InputError("the grid is too coarse to cut along a variable reversed across a seam: refine it")
+        if g > lo_g and g < hi_g:
+            return c
+        target = lo_g + tiny if g <= lo_g else hi_g - tiny
+        # the representative of c's level nearest c, moved to ``target`` from the fixed value
+        d = c - f
+        if q:
+            d = np.mod(d + q / 2, q) - q / 2
+        return float(c - d + np.copysign(target, d if d != 0 else 1.0))
 
     def range(self) -> tuple[float, float]:
         """(min, max) of ``h`` over the finite vertices ((0, 0) when there are none)."""
@@ -237,19 +373,21 @@ class Sectioner:
         return self._cells(_check_value(value))
 
     # ------------------------------------------------------------------ levels
-    def _cells(self, c: float) -> SectionCells:
+    def _cells(self, asked: float) -> SectionCells:
         cx = self.complex
-        up = self.h >= c                      # a vertex on the hyperplane counts as above it
-        vertices, edge_vertex, src0 = self._points(c, up)
+        c = self._resolved(asked)
+        up, crossing, level = self._sides(c)
+        met = self._met_masks(c, crossing)
+        vertices, edge_vertex, src0 = self._points(crossing, level)
         sources = [src0]
         edges = np.zeros((0, 2), dtype=np.int64)
         higher: dict = {}
         if cx.dim >= 2:
-            edges, src1 = self._segments(c, up, edge_vertex)
+            edges, src1 = self._segments(met(2), up, edge_vertex)
             sources.append(src1)
             below_faces, below_src = edges, src1
             for r in range(2, cx.dim):
-                off, fac, src = self._pieces(c, r, below_faces, below_src)
+                off, fac, src = self._pieces(met(r + 1), r, below_faces, below_src)
                 higher[r] = (off, fac)
                 sources.append(src)
                 below_faces, below_src = (off, fac), src
@@ -257,37 +395,88 @@ class Sectioner:
                 if key in cx.meta}
         meta["section"] = {"direction": self.direction.tolist(), "along": self.label, "value": c,
                            "of_counts": cx.counts()}
+        if c != asked:
+            meta["section"]["asked"] = asked
         sec = CellComplex(cx.n, cx.k + 1, vertices, edges, higher, meta)
         return SectionCells(sec, sources)
+
+    def _sides(self, c: float):
+        """(each vertex above the hyperplane? (V,) bool, each edge crossing it? (E,) bool, the level each
+        edge meets in its first vertex's chart: a float, or (E,) floats on a glued circle)."""
+        circle, h = self.circle, self.h
+        a, b = self.edge_a, self.edge_b
+        if circle.mode == "plain":
+            up = h >= c                      # a vertex on the hyperplane counts as above it
+            return up, up[a] != up[b], c
+        q = circle.period
+        mid = h[a] + 0.5 * self.dh
+        if circle.mode == "shift":          # above: the half-turn after c
+            up = np.mod(h - c, q) < q / 2
+            level = c + q * np.round((mid - c) / q)
+            opposite = c + q / 2 + q * np.round((mid - c - q / 2) / q)
+            # sides differ across a level or across the half-turn opposite it (cells span less than half a turn)
+            crossing = (up[a] != up[b]) & (np.abs(level - mid) < np.abs(opposite - mid))
+            return up, crossing, level
+        # mirror: above is farther from the fixed value than c (a function of the glued space)
+        g = float(self._fold_distance(np.asarray(c)))
+        up = self._fold_distance(h) >= g
+        twin = circle.mirror - c
+        if q:
+            one = c + q * np.round((mid - c) / q)
+            two = twin + q * np.round((mid - twin) / q)
+        else:
+            one, two = np.full(mid.size, c), np.full(mid.size, twin)
+        lo = np.minimum(h[a], h[a] + self.dh)
+        hi = np.maximum(h[a], h[a] + self.dh)
+        inside_one = (lo <= one) & (one <= hi)
+        inside_two = (lo <= two) & (two <= hi)
+        pick_one = np.where(inside_one != inside_two, inside_one, np.abs(one - mid) <= np.abs(two - mid))
+        return up, up[a] != up[b], np.where(pick_one, one, two)
+
+    def _met_masks(self, c: float, crossing: np.ndarray):
+        """r -> the r-cells the hyperplane meets (indices, ascending): from each cell's range of h, or on a
+        glued circle, the cells one of whose faces is met."""
+        if self.circle.mode == "plain":
+            return lambda r: self._met(r, c)
+        masks = {1: crossing}
+
+        def met_glued(r):
+            for k in range(2, r + 1):
+                if k not in masks:
+                    off = np.asarray(self.complex.cells[k][0])
+                    fac = np.asarray(self.complex.cells[k][1])
+                    hit = np.bincount(self.owner[k], weights=masks[k - 1][fac], minlength=off.size - 1)
+                    masks[k] = hit > 0
+            return np.flatnonzero(masks[r])
+        return met_glued
 
     def _met(self, r: int, c: float) -> np.ndarray:
         return np.flatnonzero((self.lo[r] < c) & (self.hi[r] >= c))
 
-    def _points(self, c, up):
-        """Level 0: a point on each edge with one end on each side; (points, the point of each edge or -1,
+    def _points(self, crossing, level):
+        """Level 0: a point on each edge crossing the hyperplane; (points, the point of each edge or -1,
         the edge of each point)."""
         a, b = self.edge_a, self.edge_b
-        crossing = np.flatnonzero(up[a] != up[b])
+        crossing = np.flatnonzero(crossing)
         edge_vertex = np.full(a.size, -1, dtype=np.int64)
         edge_vertex[crossing] = np.arange(crossing.size, dtype=np.int64)
-        ea, eb = a[crossing], b[crossing]
+        ea = a[crossing]
         ha = self.h[ea]
-        t = (c - ha) / (self.h[eb] - ha)      # the ends' sides differ, so their h differ
+        dh = self.h[b[crossing]] - ha if self.circle.mode == "plain" else self.dh[crossing]
+        lev = level if np.ndim(level) == 0 else level[crossing]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.clip((lev - ha) / dh, 0.0, 1.0)   # the ends' sides differ, so their h differ
+        t = np.where(np.isfinite(t), t, 0.5)
         X = np.asarray(self.complex.vertices)
         P = X[ea] + t[:, None] * self.delta[crossing]
-        for p, period, lo, flips, mirror in self.seams:   # back into the box across a seam
-            out = (P[:, p] < lo) | (P[:, p] >= lo + period)
-            if out.any():
-                P[out, p] -= np.floor((P[out, p] - lo) / period) * period
-                for bb, m in zip(flips, mirror):
-                    P[out, bb] = m - P[out, bb]
+        if self.seams:
+            _into_box(P, self.seams)
         return P, edge_vertex, crossing.astype(np.int64)
 
-    def _segments(self, c, up, edge_vertex):
+    def _segments(self, met, up, edge_vertex):
         """Level 1: in each 2-cell met, one segment per arc of its loop below the hyperplane, joining the
         points of the two crossing edges that end the arc.  (edges (E', 2), the 2-cell of each)."""
         off, fac = (np.asarray(x) for x in self.complex.cells[2])
-        met = self._met(2, c)
         if met.size == 0:
             return np.zeros((0, 2), dtype=np.int64), np.zeros(0, dtype=np.int64)
         rep, e = _gather_segments(off, fac, met)   # rep: the local 2-cell of each (cell, edge) entry
@@ -318,7 +507,7 @@ class Sectioner:
         cell = met[rep[cross][order][i]]
         return edges.astype(np.int64), cell.astype(np.int64)
 
-    def _pieces(self, c, r, below_faces, below_src):
+    def _pieces(self, met, r, below_faces, below_src):
         """Level r >= 2: in each (r+1)-cell met, one r-cell per connected piece of the sections of its
         faces (joined where they share an (r-2)-cell).  Returns CSR (offsets, faces) and the source cells.
 
@@ -326,7 +515,6 @@ class Sectioner:
         ``below_src``: the r-cell of the complex each lies in, ascending.
         """
         off, fac = (np.asarray(x) for x in self.complex.cells[r + 1])
-        met = self._met(r + 1, c)
         empty = (np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64))
         if met.size == 0 or below_src.size == 0:
             return empty
@@ -419,7 +607,8 @@ def section(cx: CellComplex, axis_or_direction, value) -> CellComplex:
     ------
     InputError
         For a direction that is not an axis or a finite non-zero vector of length n, a value that is not
-        a finite number, a complex of dimension 0, or a section across a glued seam.
+        a finite number, a complex of dimension 0, or a direction whose hyperplanes are not sets of the
+        glued space (a reversed axis mixed with others, periodic axes of incommensurate periods).
     """
     return Sectioner(cx, axis_or_direction).section(value)
 
@@ -464,14 +653,19 @@ def section_summary(cx: CellComplex, spec_text: str, variables=None) -> tuple[Ce
     chi = sec.euler_characteristic()
     pieces = sec.connected_components() if sec.count(0) else 0
     open_facets = int(sec.boundary_facets().size) if sec.dim >= 1 else 0
-    summary = {"along": var, "value": c, "dimension": sec.dim, "counts": sec.counts(),
+    cut = sec.meta["section"]["value"]
+    summary = {"along": var, "value": cut, "dimension": sec.dim, "counts": sec.counts(),
                "euler_characteristic": chi, "pieces": pieces, "boundary_facets": open_facets}
+    head = f"section {var} = {c:g}"
+    if cut != c:   # beside a value the mirror of a glued seam fixes: cut where the grid tells the two levels apart
+        summary["asked"] = c
+        head += f" (cut at {cut:.6g}, the nearest value the grid resolves beside the seam's mirror)"
     if sec.count(0) == 0:
-        line = f"section {var} = {c:g}: empty (the hyperplane misses the result)"
+        line = f"{head}: empty (the hyperplane misses the result)"
     else:
         cells = ", ".join(f"{x} {_cell_word(r, x)}" for r, x in enumerate(sec.counts()))
         closed = "closed" if open_facets == 0 else f"{open_facets} boundary facets"
-        line = (f"section {var} = {c:g}: dimension {sec.dim}, {cells}; chi = {chi}, "
+        line = (f"{head}: dimension {sec.dim}, {cells}; chi = {chi}, "
                 f"{pieces} piece{'s' if pieces != 1 else ''}, {closed}")
     return sec, summary, line
 
