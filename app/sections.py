@@ -4,7 +4,10 @@ Slicing a result of dimension d >= 2 by ``u . x = c`` draws its section (:mod:`g
 of dimension d - 1, cut from the cells themselves) opaque, in its own colour, over the faint ghost of the
 whole result, with the slice's value and the section's chi and pieces written in the picture: a surface's
 curves over its band of cells (the window of :mod:`gcmh_studio.slicing`), a higher result's section in
-place of its slab.  A curve, or a direction the engine refuses (across a glued seam), keeps the window.
+place of its slab.  A curve, or a direction the engine refuses (one whose hyperplanes are not sets of the glued space: a
+reversed axis mixed with others), keeps the window.  On a glued domain the section is the glued space's:
+cut along a periodic variable or one reversed across a seam too (the three-torus of angles cut along an
+angle is a 2-torus; the closed Klein bottle cut along t, the circle {t = c} U {t = 2pi - c}).
 
 :class:`SectionLayer` owns the section's mesh and text on a scene; :class:`SectionScene` is the scene
 that uses it: :meth:`SectionScene.set_slice` draws the section (over a surface's band, or where
@@ -22,7 +25,7 @@ import pyvista as pv
 from gcmh_core.errors import InputError
 from gcmh_core.section import SectionCells, Sectioner
 
-from .geometry import Geometry
+from .geometry import Geometry, display_complex, seam_spec
 from .labels import font_size
 from .projection import Projector, axis_label
 from .scene import Scene
@@ -92,7 +95,8 @@ class SectionLayer:
 
     def cutter(self, direction) -> Sectioner | None:
         """The :class:`Sectioner` of the result along ``direction`` (n,), or None when the result is a curve
-        or the engine refuses the direction (across a glued seam): then the slab is drawn."""
+        or the engine refuses the direction (its hyperplanes are not sets of the glued space): then the slab
+        is drawn."""
         cx = self.source
         if cx is None or cx.dim < 2:
             return None
@@ -125,11 +129,12 @@ class SectionLayer:
         if sec.count(0) == 0 or sc.geometry is None or sc.view is None:
             self._remove_mesh()
             return
-        geo = Geometry.build(sec, lod=False) if sec.dim >= 1 else None
+        shown = display_complex(_seam_edges_whole(sec))    # cells across a glued seam drawn whole
+        geo = Geometry.build(shown, lod=False) if sec.dim >= 1 else None
         if geo is None or len(geo.cells) == 0:
             self._remove_mesh()
             return
-        projector = Projector(np.asarray(sec.vertices), center=sc.geometry.projector.center)
+        projector = Projector(np.asarray(shown.vertices), center=sc.geometry.projector.center)
         projector.set_radii(sc.geometry.projector.radii())
         geo.projector = projector
         if self.mesh is not None and self._kind != geo.kind:
@@ -246,6 +251,34 @@ class SectionLayer:
             self.actor = self._add_actor(self.mesh, self._kind)
         if self.cells is not None:
             self._write_text()
+
+
+def _seam_edges_whole(sec):
+    """A curve section as it is drawn: each edge across a glued seam drawn whole on the seam's high side (its
+    low end moved up a period, and reflected across a reversed seam), not stretched across the box; the
+    engine's own copy for a surface (:func:`gcmh_studio.geometry.display_complex`).  For the eye only."""
+    spec = seam_spec(sec)
+    if sec.dim != 1 or not spec or sec.count(1) == 0:
+        return sec
+    from gcmh_core import CellComplex
+
+    V = np.asarray(sec.vertices, dtype=np.float64)
+    E = np.asarray(sec.edges, dtype=np.int64).reshape(-1, 2)
+    ends = V[E]                                            # (E, 2, n)
+    for p, period, lo, flips, mirror in spec:
+        across = np.abs(ends[:, 0, p] - ends[:, 1, p]) > period / 2
+        low = across[:, None] & (ends[:, :, p] < lo + period / 2)
+        ends[low, p] += period
+        for b, m in zip(flips, mirror):
+            ends[low, b] = m - ends[low, b]
+    moved = np.flatnonzero(np.any(ends != V[E], axis=2).ravel())
+    if moved.size == 0:
+        return sec
+    flat = E.ravel().copy()
+    flat[moved] = V.shape[0] + np.arange(moved.size)      # a moved end: a vertex of its own
+    points = np.concatenate([V, ends.reshape(-1, V.shape[1])[moved]])
+    meta = {key: value for key, value in sec.meta.items() if key != "periodic"}
+    return CellComplex(sec.n, sec.k, points, flat.reshape(-1, 2), {}, meta)
 
 
 def _no_slab(n: int) -> Slice:
