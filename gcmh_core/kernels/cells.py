@@ -4,7 +4,7 @@ import numba as nb
 import numpy as np
 
 from .._config import INLINE_JIT, JIT
-from .records import _grown_rows
+from .records import grown_cells_out
 from .solve import _simplex_crosses_call, _zero_side
 
 
@@ -101,153 +101,219 @@ def _joined_pieces(values, o, corner_row, corner_signs, all_signs, kuhn, ksimple
     return joined
 
 
-@nb.njit(**INLINE_JIT)
-def _cube_cells(cube, g_vertex, corner_vertex, n, k, kfact, binom, faces, nv, vertices, ne, edges, parent,
-                cell_of_root, lower, cells, records, used_e, used_c, used_i, values, o, corner_row, corner_signs,
-                all_signs, balls, solve_scratch, non_ball, n_non_ball):
-    """The cells step of GCMH on one cube (paper 3.1.2), for both kernels (`gcmh.cubes_chunk`,
-    `lazy.cubes_chunk_lazy`): for r = 1..n-k, the r-cells are the connected pieces of the
-    vertex-edge graph (vertices 0..nv-1, edges 0..ne-1) inside each (r+k)-face; for r = 1
-    they are the edges themselves.  Rows of lower/cells: (face, a vertex of the piece, key);
-    the buffers swap per level.  Where a face holds several pieces and balls' check_balls,
-    `_joined_pieces` says whether M_A joins them there: rows (cube, face, pieces joined) of
-    non_ball.  Writes the edge, cell and incidence records from rows used_e, used_c, used_i.
-    Returns ((e_out, c_out, i_out), cells, incidences, degenerate events, non_ball, n_non_ball).
+@nb.njit(**JIT)
+def cells_phase(start, stop, lo, values, cube_row, corner_row, cube_vertex, corner_vertex, tables, chunk, out, used):
+    """The cells step of GCMH (paper 3.1.2) on the cubes start..stop-1 of a chunk (lo its first),
+    for both kernels, once their vertices and edges are in `chunk` (`records.new_chunk`).
 
-    Inlined, and the arrays come in tuples: Python passes a call of more than 30 arguments
-    as one tuple, which numba cannot inline; as a plain call per cube, the arrays' reference
-    counts cost more than a cube's work.
+    Per cube, for r = 1..n-k, the r-cells are the connected pieces of the vertex-edge graph G_H
+    inside each (r+k)-face; for r = 1 they are the edges themselves.  Writes each cube's
+    crossed facets (from its vertices' faces), the edge records (rows of the edges), and the
+    cell and incidence records and the rows (cube - lo, face, pieces joined) of `out`
+    (`records.new_cells_out`) after used = (cells, incidences, non_ball rows).  Where a face
+    holds several pieces and the tables list the cube's Kuhn triangulation, `_joined_pieces`
+    says whether M_A joins them there.  Rows of `out` are committed per cube: where one does
+    not fit, it stops before that cube.
+    Returns (the cube it stopped at (stop when done), cells, incidences, non_ball rows,
+    degenerate events).
+
+    One compiled function over the chunk: its arrays are counted once per call.  (Inlined
+    into each kernel's loop over cubes, they were counted in and out for every cube.)
     """
-    face_start, face_free, face_fixed, face_rank, n_subsets, n_codes = faces
-    vertex_face, vertex_perm, vertex_key, vertex_ksimplex = vertices
-    edge_a, edge_b, edge_face = edges
-    e_out, c_out, i_out = records
-    check_balls, kuhn, ksimplex_kuhn, kuhn_parent = balls
-    mat, rhs, lam = solve_scratch
+    (cube_v0, cube_e0, crossed_facets, vertex_key, _, vertex_face, vertex_perm, vertex_ksimplex, edge_a, edge_b,
+     edge_face, e_out) = chunk
+    c_out, i_out, non_ball, levels, parent, cell_of_root = out
+    used_c, used_i, n_non_ball = used
+    n = tables.n
+    k = tables.k
+    face_start = tables.face_start
+    face_free = tables.face_free
+    face_fixed = tables.face_fixed
+    face_rank = tables.face_rank
+    n_subsets = tables.n_subsets
+    binom = tables.binom
+    n_codes = tables.n_codes
+    kfact = tables.simplices_per_kface
+    kuhn = tables.kuhn
+    ksimplex_kuhn = tables.ksimplex_kuhn
+    check_balls = ksimplex_kuhn.shape[0] > 0
+    kuhn_parent = np.empty(kuhn.corners.shape[0], np.int64)
+    corner_signs = np.empty(1 << n, np.int64)
+    mat = np.empty((k, k), np.float64)
+    rhs = np.empty(k, np.float64)
+    lam = np.empty(k + 1, np.float64)
+    all_signs = (np.int64(1) << k) - 1
     k1 = k + 1
     degenerate = 0
-    if lower.shape[0] < ne:
-        lower = np.empty((ne, 3), np.int64)
-    for e in range(ne):
-        f = edge_face[e]
-        ca = _local_code(
-            face_free[f], face_free[vertex_face[edge_a[e]]], face_fixed[vertex_face[edge_a[e]]],
-            vertex_perm[edge_a[e]], k, kfact, binom,
-        )
-        cb = _local_code(
-            face_free[f], face_free[vertex_face[edge_b[e]]], face_fixed[vertex_face[edge_b[e]]],
-            vertex_perm[edge_b[e]], k, kfact, binom,
-        )
-        lower[e, 0] = f
-        lower[e, 1] = edge_a[e]
-        lower[e, 2] = (
-            _face_key(g_vertex + corner_vertex[face_fixed[f]], n_subsets[k1], face_rank[f]) * n_codes[k1]
-            + min(ca, cb)
-        )
-        row = used_e + e
-        if row >= e_out.shape[0]:
-            e_out = _grown_rows(e_out, row)
-        e_out[row, 0] = lower[e, 2]
-        e_out[row, 1] = vertex_key[edge_a[e]]
-        e_out[row, 2] = vertex_key[edge_b[e]]
-    n_lower = ne
-    n_cells = 0
-    n_incidences = 0
-    for r in range(2, n - k + 1):
-        dim = r + k
-        face0 = face_start[dim]
-        n_faces = face_start[dim + 1] - face0
-        n_here = np.int64(0)
-        for fi in range(n_faces):
-            f = face0 + fi
-            n_in = 0
-            for v in range(nv):
-                if _face_in_face(
-                    face_free[vertex_face[v]], face_fixed[vertex_face[v]], face_free[f], face_fixed[f]
-                ):
-                    parent[v] = v
-                    n_in += 1
-                else:
-                    parent[v] = -1
-            if n_in == 0:
-                continue
-            has_edge = False
-            for e in range(ne):
-                if _face_in_face(face_free[edge_face[e]], face_fixed[edge_face[e]], face_free[f], face_fixed[f]):
-                    has_edge = True
-                    ra = _find(parent, edge_a[e])
-                    rb = _find(parent, edge_b[e])
-                    if ra != rb:
-                        parent[max(ra, rb)] = min(ra, rb)
-            if not has_edge:
-                continue
-            # a piece needs an edge: a vertex left alone in f (degenerate data) is no r-cell
-            for v in range(nv):
-                cell_of_root[v] = -1
-            for e in range(ne):
-                if _face_in_face(face_free[edge_face[e]], face_fixed[edge_face[e]], face_free[f], face_fixed[f]):
-                    cell_of_root[_find(parent, edge_a[e])] = -2
-            if cells.shape[0] < n_here + n_in:  # rare: grow the buffer (n_in <= its first size)
-                cells = _grown_rows(cells, n_here)
-            first = n_here
-            ff = face_free[f]
-            for v in range(nv):  # a root is its piece's smallest vertex index: it comes first
-                if parent[v] >= 0:
-                    root = _find(parent, v)
-                    code = _local_code(
-                        ff, face_free[vertex_face[v]], face_fixed[vertex_face[v]],
-                        vertex_perm[v], k, kfact, binom,
-                    )
-                    if root == v:
-                        if cell_of_root[v] != -2:
-                            continue
-                        cell_of_root[v] = n_here
-                        cells[n_here, 0] = f
-                        cells[n_here, 1] = v
-                        cells[n_here, 2] = code
-                        n_here += 1
+    for ci in range(start, stop):
+        v0 = cube_v0[ci - lo]
+        nv = cube_v0[ci - lo + 1] - v0
+        e0 = cube_e0[ci - lo]
+        ne = cube_e0[ci - lo + 1] - e0
+        # facets of the cube that M_A crosses (bit 2a + side): where continuation goes next
+        facets = np.int64(0)
+        for v in range(v0, v0 + nv):
+            f = vertex_face[v]
+            for a in range(n):
+                if not (face_free[f] >> a) & 1:
+                    facets |= np.int64(1) << (2 * a + ((face_fixed[f] >> a) & 1))
+        crossed_facets[ci - lo] = facets
+        if nv == 0:
+            continue
+        if nv > parent.shape[0] or ne > levels.shape[1]:
+            return ci, used_c, used_i, n_non_ball, degenerate
+        g_vertex = cube_vertex[ci]
+        events = 0
+        n_joined = n_non_ball
+        signs_known = False
+        low = 0  # levels[low]: the (r-1)-cells, rows (face, a vertex of the piece, key); levels[1 - low]: the r-cells
+        for e in range(ne):
+            f = edge_face[e0 + e]
+            va = v0 + edge_a[e0 + e]
+            vb = v0 + edge_b[e0 + e]
+            ca = _local_code(face_free[f], face_free[vertex_face[va]], face_fixed[vertex_face[va]], vertex_perm[va],
+                             k, kfact, binom)
+            cb = _local_code(face_free[f], face_free[vertex_face[vb]], face_fixed[vertex_face[vb]], vertex_perm[vb],
+                             k, kfact, binom)
+            levels[low, e, 0] = f
+            levels[low, e, 1] = edge_a[e0 + e]
+            levels[low, e, 2] = (
+                _face_key(g_vertex + corner_vertex[face_fixed[f]], n_subsets[k1], face_rank[f]) * n_codes[k1]
+                + min(ca, cb)
+            )
+            e_out[e0 + e, 0] = levels[low, e, 2]
+            e_out[e0 + e, 1] = vertex_key[va]
+            e_out[e0 + e, 2] = vertex_key[vb]
+        n_lower = ne
+        n_cells = 0
+        n_incidences = 0
+        for r in range(2, n - k + 1):
+            high = 1 - low
+            dim = r + k
+            face0 = face_start[dim]
+            n_faces = face_start[dim + 1] - face0
+            n_here = np.int64(0)
+            for fi in range(n_faces):
+                f = face0 + fi
+                n_in = 0
+                for v in range(nv):
+                    g = vertex_face[v0 + v]
+                    if _face_in_face(face_free[g], face_fixed[g], face_free[f], face_fixed[f]):
+                        parent[v] = v
+                        n_in += 1
                     else:
-                        c = cell_of_root[root]
-                        if c >= 0 and code < cells[c, 2]:
-                            cells[c, 2] = code
-            fkey = _face_key(g_vertex + corner_vertex[face_fixed[f]], n_subsets[dim], face_rank[f]) * n_codes[dim]
-            for c in range(first, n_here):
-                cells[c, 2] += fkey
-                row = used_c + n_cells + c
-                if row >= c_out.shape[0]:
-                    c_out = _grown_rows(c_out, row)
-                c_out[row, 0] = r
-                c_out[row, 1] = cells[c, 2]
-            if n_here - first >= 2 and check_balls:  # several pieces: does M_A join them in f?
-                joined = _joined_pieces(
-                    values, o, corner_row, corner_signs, all_signs, kuhn, ksimplex_kuhn, vertex_ksimplex,
-                    face_free[f], face_fixed[f], cells, first, n_here, kuhn_parent, mat, rhs, lam,
-                )
-                if joined:
-                    if n_non_ball >= non_ball.shape[0]:
-                        non_ball = _grown_rows(non_ball, n_non_ball)
-                    non_ball[n_non_ball, 0] = cube
-                    non_ball[n_non_ball, 1] = f
-                    non_ball[n_non_ball, 2] = joined
-                    n_non_ball += 1
-            # its (r-1)-faces: each lower-level piece in a face g of f lies in one piece of f
-            for y in range(n_lower):
-                if not _face_in_face(face_free[lower[y, 0]], face_fixed[lower[y, 0]], face_free[f], face_fixed[f]):
+                        parent[v] = -1
+                if n_in == 0:
                     continue
-                rep = lower[y, 1]
-                if parent[rep] < 0:
-                    degenerate += 1
+                has_edge = False
+                for e in range(e0, e0 + ne):
+                    if _face_in_face(face_free[edge_face[e]], face_fixed[edge_face[e]], face_free[f], face_fixed[f]):
+                        has_edge = True
+                        ra = _find(parent, edge_a[e])
+                        rb = _find(parent, edge_b[e])
+                        if ra != rb:
+                            parent[max(ra, rb)] = min(ra, rb)
+                if not has_edge:
                     continue
-                row = used_i + n_incidences
-                if row >= i_out.shape[0]:
-                    i_out = _grown_rows(i_out, row)
-                i_out[row, 0] = r
-                i_out[row, 1] = cells[cell_of_root[_find(parent, rep)], 2]
-                i_out[row, 2] = lower[y, 2]
-                n_incidences += 1
-        n_cells += n_here
-        swap = lower
-        lower = cells
-        cells = swap
-        n_lower = n_here
-    return (e_out, c_out, i_out), n_cells, n_incidences, degenerate, non_ball, n_non_ball
+                # a piece needs an edge: a vertex left alone in f (degenerate data) is no r-cell
+                for v in range(nv):
+                    cell_of_root[v] = -1
+                for e in range(e0, e0 + ne):
+                    if _face_in_face(face_free[edge_face[e]], face_fixed[edge_face[e]], face_free[f], face_fixed[f]):
+                        cell_of_root[_find(parent, edge_a[e])] = -2
+                if n_here + n_in > levels.shape[1]:
+                    return ci, used_c, used_i, n_non_ball, degenerate
+                first = n_here
+                ff = face_free[f]
+                for v in range(nv):  # a root is its piece's smallest vertex index: it comes first
+                    if parent[v] >= 0:
+                        root = _find(parent, v)
+                        g = vertex_face[v0 + v]
+                        code = _local_code(ff, face_free[g], face_fixed[g], vertex_perm[v0 + v], k, kfact, binom)
+                        if root == v:
+                            if cell_of_root[v] != -2:
+                                continue
+                            cell_of_root[v] = n_here
+                            levels[high, n_here, 0] = f
+                            levels[high, n_here, 1] = v
+                            levels[high, n_here, 2] = code
+                            n_here += 1
+                        else:
+                            c = cell_of_root[root]
+                            if c >= 0 and code < levels[high, c, 2]:
+                                levels[high, c, 2] = code
+                if used_c + n_cells + n_here > c_out.shape[0]:
+                    return ci, used_c, used_i, n_non_ball, degenerate
+                fkey = _face_key(g_vertex + corner_vertex[face_fixed[f]], n_subsets[dim], face_rank[f]) * n_codes[dim]
+                for c in range(first, n_here):
+                    levels[high, c, 2] += fkey
+                    row = used_c + n_cells + c
+                    c_out[row, 0] = r
+                    c_out[row, 1] = levels[high, c, 2]
+                if n_here - first >= 2 and check_balls:  # several pieces: does M_A join them in f?
+                    if not signs_known:
+                        _signs(values, cube_row[ci], corner_row, k, corner_signs)
+                        signs_known = True
+                    joined = _joined_pieces(
+                        values, cube_row[ci], corner_row, corner_signs, all_signs, kuhn, ksimplex_kuhn,
+                        vertex_ksimplex[v0:v0 + nv], face_free[f], face_fixed[f], levels[high], first, n_here,
+                        kuhn_parent, mat, rhs, lam,
+                    )
+                    if joined:
+                        if n_joined >= non_ball.shape[0]:
+                            return ci, used_c, used_i, n_non_ball, degenerate
+                        non_ball[n_joined, 0] = ci - lo
+                        non_ball[n_joined, 1] = f
+                        non_ball[n_joined, 2] = joined
+                        n_joined += 1
+                # its (r-1)-faces: each lower-level piece in a face g of f lies in one piece of f
+                for y in range(n_lower):
+                    g = levels[low, y, 0]
+                    if not _face_in_face(face_free[g], face_fixed[g], face_free[f], face_fixed[f]):
+                        continue
+                    rep = levels[low, y, 1]
+                    if parent[rep] < 0:
+                        events += 1
+                        continue
+                    row = used_i + n_incidences
+                    if row >= i_out.shape[0]:
+                        return ci, used_c, used_i, n_non_ball, degenerate
+                    i_out[row, 0] = r
+                    i_out[row, 1] = levels[high, cell_of_root[_find(parent, rep)], 2]
+                    i_out[row, 2] = levels[low, y, 2]
+                    n_incidences += 1
+            n_cells += n_here
+            low = high
+            n_lower = n_here
+        used_c += n_cells
+        used_i += n_incidences
+        n_non_ball = n_joined
+        degenerate += events
+    return stop, used_c, used_i, n_non_ball, degenerate
+
+
+@nb.njit(**JIT)
+def _signs(values, o, corner_row, k, corner_signs):
+    """corner_signs[c], bit j: F_j >= 0 at corner c of the cube whose first row is o."""
+    for c in range(corner_signs.shape[0]):
+        p = np.int64(0)
+        for j in range(k):
+            if values[o + corner_row[c], j] >= 0.0:
+                p |= np.int64(1) << j
+        corner_signs[c] = p
+
+
+@nb.njit(**JIT)
+def cells_of_chunk(start, stop, lo, values, cube_row, corner_row, cube_vertex, corner_vertex, tables, chunk, out, used):
+    """`cells_phase` on the cubes start..stop-1, `out` grown until every cube fits.
+    Returns (out, used, degenerate events)."""
+    degenerate = 0
+    while True:
+        start, used_c, used_i, n_non_ball, events = cells_phase(
+            start, stop, lo, values, cube_row, corner_row, cube_vertex, corner_vertex, tables, chunk, out, used
+        )
+        used = (used_c, used_i, n_non_ball)
+        degenerate += events
+        if start == stop:
+            return out, used, degenerate
+        out = grown_cells_out(out, used)

@@ -4,26 +4,22 @@ import numba as nb
 import numpy as np
 
 from .._config import JIT
-from .cells import _cube_cells, _face_key
+from .cells import _face_key, cells_of_chunk
 from .lazy import cubes_chunk_lazy
-from .records import _grown_keys, _grown_rows, _new_records, _records_upto
+from .records import chunk_records, grown_chunk, new_cells_out, new_chunk
 from .solve import _simplex_crosses_call, _zero_side, simplex_crosses
 from .walk import _link, _walk_edges
 
 
 @nb.njit(**JIT)
-def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex, tables):
-    """GCMH on the candidate cubes lo..hi-1, in the calling thread, with one set of scratch buffers.
-
-    values (NV, k) float64: F at grid vertices; corner c of cube i is row cube_row[i] + corner_row[c].
-    cube_origin (m, n): the global multi-index of each cube's origin; cube_vertex (m,): its global
-    linear vertex index (corner c adds corner_vertex[c]; keys come from these, never from rows).
-    grid_lines (n, max vertices per axis): the (perturbed) grid lines.  tables: `tables.CubeTables`.
-    Returns (vertex keys, vertex points, edges, cells, incidences) records in cube order,
-    each cube's crossed-facet mask, the number of degenerate events, and where M_A joins
-    pieces of G_H through a face of the cube (`_joined_pieces`: cells that are not balls;
-    n <= 7): rows (cube - lo, face, pieces joined).
-    """
+def _vertices_edges(start, hi, lo, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex,
+                    tables, chunk, used_v, used_e):
+    """Steps 1 and 2 of GCMH (paper 3.1.1) with the tables' Kuhn simplices, on the cubes start..hi-1 of
+    a chunk (lo its first; arguments as `cubes_chunk`'s): each cube's vertices and edges into `chunk`
+    (`records.new_chunk`) after rows used_v, used_e, until a cube might not fit.
+    Returns (the cube it stopped at, used_v, used_e, degenerate events)."""
+    (cube_v0, cube_e0, _, vertex_key, vertex_point, vertex_face, vertex_perm, vertex_ksimplex, edge_a, edge_b,
+     edge_face, _) = chunk
     n = tables.n
     k = tables.k
     face_start = tables.face_start
@@ -31,8 +27,6 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
     face_fixed = tables.face_fixed
     face_rank = tables.face_rank
     n_subsets = tables.n_subsets
-    binom = tables.binom
-    n_codes = tables.n_codes
     kfact = tables.simplices_per_kface
     ksimplex_corners = tables.ksimplex_corners
     ksimplex_face = tables.ksimplex_face
@@ -63,36 +57,17 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
     walked = np.empty(n_boundary, np.int8)
     found_vertex = np.empty(n_boundary, np.int64)
     node_id = np.arange(n_boundary + walk_interior_corners.shape[0])  # (the walk's rows are its nodes here)
-    vertex_ksimplex = np.empty(n_ksimplices, np.int64)
-    vertex_face = np.empty(n_ksimplices, np.int64)
-    vertex_perm = np.empty(n_ksimplices, np.int64)
-    vertex_key = np.empty(n_ksimplices, np.int64)
     max_edges = (face_start[k + 2] - face_start[k + 1]) * (n_boundary // 2)
-    edge_a = np.empty(max_edges, np.int64)
-    edge_b = np.empty(max_edges, np.int64)
-    edge_face = np.empty(max_edges, np.int64)
-    parent = np.empty(n_ksimplices, np.int64)
-    cell_of_root = np.empty(n_ksimplices, np.int64)
-    cells_buf_a = np.empty((4 * n_ksimplices, 3), np.int64)
-    cells_buf_b = np.empty((4 * n_ksimplices, 3), np.int64)
-    vk_out, vp_out, e_out, c_out, i_out = _new_records(8 * (hi - lo) + 16, n)
-    used_v = used_e = used_c = used_i = np.int64(0)  # rows written (int64 from the start: see _config)
-    crossed_facets = np.zeros(hi - lo, np.int64)
     n_corners = 1 << n
     all_signs = (np.int64(1) << k) - 1
     degenerate = 0
-    kuhn = tables.kuhn
-    ksimplex_kuhn = tables.ksimplex_kuhn
-    check_balls = ksimplex_kuhn.shape[0] > 0
-    kuhn_parent = np.empty(kuhn.corners.shape[0], np.int64)
-    non_ball = np.empty((4, 3), np.int64)  # rows (cube - lo, face, pieces joined)
-    n_non_ball = np.int64(0)  # (int64 from the start: see _config)
-    faces = (face_start, face_free, face_fixed, face_rank, n_subsets, n_codes)  # for _cube_cells
-    vertices = (vertex_face, vertex_perm, vertex_key, vertex_ksimplex)
-    edges = (edge_a, edge_b, edge_face)
-    balls = (check_balls, kuhn, ksimplex_kuhn, kuhn_parent)
-    solve_scratch = (mat, rhs, lam)
-    for ci in range(lo, hi):
+    stop = hi
+    for ci in range(start, hi):
+        if used_v + n_ksimplices > vertex_key.shape[0] or used_e + max_edges > edge_a.shape[0]:
+            stop = ci
+            break  # the chunk's arrays might not hold this cube: `cubes_chunk` grows them
+        cube_v0[ci - lo] = used_v
+        cube_e0[ci - lo] = used_e
         o = cube_row[ci]
         g_vertex = cube_vertex[ci]
         for j in range(k):
@@ -166,33 +141,22 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
                     hit = _zero_side(values, o, corner_row, ksimplex_corners, s, k, lam)
                 if hit:
                     vertex_of_ksimplex[s] = nv
-                    vertex_ksimplex[nv] = s
-                    vertex_perm[nv] = ksimplex_perm[s]
                     row = used_v + nv
-                    if row >= vk_out.shape[0]:
-                        vk_out = _grown_keys(vk_out, row)
-                        vp_out = _grown_rows(vp_out, row)
+                    vertex_ksimplex[row] = s
+                    vertex_perm[row] = ksimplex_perm[s]
                     f = kface0 + ksimplex_face[s]
-                    vertex_face[nv] = f
-                    vertex_key[nv] = (
+                    vertex_face[row] = f
+                    vertex_key[row] = (
                         _face_key(g_vertex + corner_vertex[face_fixed[f]], n_subsets[k], face_rank[f]) * kfact
                         + ksimplex_perm[s]
                     )
-                    vk_out[row] = vertex_key[nv]
                     for a in range(n):
                         x = 0.0
                         for i in range(k + 1):
                             x += lam[i] * grid_lines[a, cube_origin[ci, a] + ((ksimplex_corners[s, i] >> a) & 1)]
-                        vp_out[row, a] = x
+                        vertex_point[row, a] = x
                     nv += 1
-        # facets of the cube that M_A crosses (bit 2a + side): where continuation goes next
-        facets = np.int64(0)
-        for v in range(nv):
-            f = vertex_face[v]
-            for a in range(n):
-                if not (face_free[f] >> a) & 1:
-                    facets |= np.int64(1) << (2 * a + ((face_fixed[f] >> a) & 1))
-        crossed_facets[ci - lo] = facets
+        used_v += nv
         if nv == 0:
             continue
 
@@ -200,7 +164,7 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
         k1 = k + 1
         k1face0 = face_start[k1]
         n_k1faces = face_start[k1 + 1] - k1face0
-        ne = np.int64(0)  # (passed to _walk_edges: see _config)
+        ne = used_e  # (an int64, passed to _walk_edges: see _config)
         n_interior = walk_interior_corners.shape[0]
         for kf1 in range(n_k1faces):
             if masked:  # no vertex on a face where some F_j has one sign
@@ -275,22 +239,50 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
                                      boundary_found, found_vertex, np.int64(n_found), walked, edge_a, edge_b,
                                      edge_face, ne, k1face0 + kf1)
             degenerate += events
+        used_e = ne
+    cube_v0[stop - lo] = used_v
+    cube_e0[stop - lo] = used_e
+    return stop, used_v, used_e, degenerate
 
-        # 3. Cells (paper 3.1.2)
-        (e_out, c_out, i_out), n_cells, n_incidences, events, non_ball, n_non_ball = _cube_cells(
-            ci - lo, g_vertex, corner_vertex, n, k, kfact, binom, faces, nv, vertices, ne, edges, parent, cell_of_root,
-            cells_buf_a, cells_buf_b, (e_out, c_out, i_out), used_e, used_c, used_i, values, o, corner_row,
-            corner_signs, all_signs, balls, solve_scratch, non_ball, n_non_ball,
-        )
-        degenerate += events
-        used_v += nv
-        used_e += ne
-        used_c += n_cells
-        used_i += n_incidences
-    return (
-        _records_upto(vk_out, vp_out, e_out, c_out, i_out, used_v, used_e, used_c, used_i), crossed_facets, degenerate,
-        non_ball[:n_non_ball].copy(),
-    )
+
+@nb.njit(**JIT)
+def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex, tables):
+    """GCMH on the candidate cubes lo..hi-1, in the calling thread, in phases over the chunk:
+    vertices and edges (`_vertices_edges`), then cells (`cells.cells_phase`), again from the
+    first cube that did not fit once the chunk's arrays have grown.
+
+    values (NV, k) float64: F at grid vertices; corner c of cube i is row cube_row[i] + corner_row[c].
+    cube_origin (m, n): the global multi-index of each cube's origin; cube_vertex (m,): its global
+    linear vertex index (corner c adds corner_vertex[c]; keys come from these, never from rows).
+    grid_lines (n, max vertices per axis): the (perturbed) grid lines.  tables: `tables.CubeTables`.
+    Returns (vertex keys, vertex points, edges, cells, incidences) records in cube order,
+    each cube's crossed-facet mask, the number of degenerate events, and where M_A joins
+    pieces of G_H through a face of the cube (`_joined_pieces`: cells that are not balls;
+    n <= 7): rows (cube - lo, face, pieces joined).
+    """
+    # a cube has at most one vertex per k-simplex and one edge per two boundary nodes of a (k+1)-face's walk
+    per_cube_v = tables.ksimplex_corners.shape[0]
+    per_cube_e = (tables.face_start[tables.k + 2] - tables.face_start[tables.k + 1]) * (tables.walk_boundary_nodes // 2)
+    rows = 8 * (hi - lo) + 16
+    chunk = new_chunk(hi - lo, max(rows, 2 * per_cube_v), max(rows, 2 * per_cube_e), tables.n)
+    out = new_cells_out(rows, max(4 * per_cube_v, per_cube_e), per_cube_v)
+    used = (np.int64(0), np.int64(0), np.int64(0))
+    used_v = used_e = np.int64(0)
+    degenerate = 0
+    start = lo
+    while True:
+        stop, used_v, used_e, events = _vertices_edges(start, hi, lo, values, cube_row, cube_origin, cube_vertex,
+                                                       grid_lines, corner_row, corner_vertex, tables, chunk, used_v,
+                                                       used_e)
+        out, used, cells_events = cells_of_chunk(start, stop, lo, values, cube_row, corner_row, cube_vertex,
+                                                 corner_vertex, tables, chunk, out, used)
+        degenerate += events + cells_events
+        if stop == hi:
+            break
+        chunk = grown_chunk(chunk, used_v, used_e)
+        start = stop
+    records, crossed_facets, non_ball = chunk_records(chunk, out, used_v, used_e, used)
+    return records, crossed_facets, degenerate, non_ball
 
 
 _cubes_chunk_tables = cubes_chunk

@@ -4,8 +4,8 @@ import numba as nb
 import numpy as np
 
 from .._config import JIT
-from .cells import _cube_cells, _face_in_face, _face_key
-from .records import _grown_keys, _grown_rows, _new_records, _records_upto
+from .cells import _face_in_face, _face_key, cells_of_chunk
+from .records import _grown_keys, chunk_records, grown_chunk, new_cells_out, new_chunk
 from .solve import _simplex_crosses_call, _zero_side, crossable_face
 from .walk import _link, _walk_edges
 
@@ -305,9 +305,28 @@ def _node_index(slot_key, slot_node, node):
 def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex,
                      tables):
     """`cubes_chunk` for tables that hold faces only (`_tables.lazy_tables`) (no k-simplices, no walk
-    template): the same records, bit for bit.  A k-face's Kuhn simplices and, where a walk runs,
-    a (k+1)-face's come from `_kuhn_chains`; a vertex carries its permutation's rank itself.
+    template): the same records, bit for bit, by the same phases: vertices and edges
+    (`_vertices_edges_lazy`), then the cells (`cells.cells_phase`).
     (No check of joined pieces: `cubes_chunk` has none for n > 7 either.)"""
+    rows = 8 * (hi - lo) + 16
+    chunk = new_chunk(hi - lo, rows, rows, tables.n)
+    chunk, used_v, used_e, degenerate = _vertices_edges_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex,
+                                                             grid_lines, corner_row, corner_vertex, tables, chunk)
+    out, used, events = cells_of_chunk(lo, hi, lo, values, cube_row, corner_row, cube_vertex, corner_vertex, tables,
+                                       chunk, new_cells_out(rows, 64, 16), (np.int64(0), np.int64(0), np.int64(0)))
+    records, crossed_facets, non_ball = chunk_records(chunk, out, used_v, used_e, used)
+    return records, crossed_facets, degenerate + events, non_ball
+
+
+@nb.njit(**JIT)
+def _vertices_edges_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex,
+                         tables, chunk):
+    """Steps 1 and 2 of GCMH (paper 3.1.1) on the cubes lo..hi-1, each cube's vertices and edges into
+    `chunk` (`records.new_chunk`), grown as needed.  A k-face's Kuhn simplices and, where a walk
+    runs, a (k+1)-face's come from `_kuhn_chains`; a vertex carries its permutation's rank itself.
+    Returns (chunk, vertex rows, edge rows, degenerate events)."""
+    (cube_v0, cube_e0, _, vertex_key, vertex_point, vertex_face, vertex_perm, _, edge_a, edge_b, edge_face,
+     _) = chunk
     n = tables.n
     k = tables.k
     face_start = tables.face_start
@@ -315,8 +334,6 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
     face_fixed = tables.face_fixed
     face_rank = tables.face_rank
     n_subsets = tables.n_subsets
-    binom = tables.binom
-    n_codes = tables.n_codes
     kfact = tables.simplices_per_kface
     k1 = k + 1
     n_boundary = 2 * k1 * kfact  # the walk's boundary nodes, numbered as in the tables
@@ -349,12 +366,6 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
     mat = np.empty((k, k), np.float64)
     rhs = np.empty(k, np.float64)
     lam = np.empty(k + 1, np.float64)
-    vertex_face = np.empty(16, np.int64)
-    vertex_perm = np.empty(16, np.int64)
-    vertex_key = np.empty(16, np.int64)
-    edge_a = np.empty(16, np.int64)
-    edge_b = np.empty(16, np.int64)
-    edge_face = np.empty(16, np.int64)
     found_node = np.empty(16, np.int64)
     found_vertex = np.empty(16, np.int64)
     found_row = np.empty(16, np.int64)
@@ -366,19 +377,7 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
     node_crossed = np.empty(64, np.int8)
     next0 = np.empty(64, np.int64)
     next1 = np.empty(64, np.int64)
-    parent = np.empty(16, np.int64)
-    cell_of_root = np.empty(16, np.int64)
-    cells_buf_a = np.empty((64, 3), np.int64)
-    cells_buf_b = np.empty((64, 3), np.int64)
-    no_rows = np.zeros(0, np.int64)
-    non_ball = np.zeros((0, 3), np.int64)
-    n_non_ball = np.int64(0)
-    faces = (face_start, face_free, face_fixed, face_rank, n_subsets, n_codes)  # for _cube_cells
-    balls = (False, tables.kuhn, tables.ksimplex_kuhn, no_rows)  # (`_joined_pieces` needs the tables' simplices)
-    solve_scratch = (mat, rhs, lam)
-    vk_out, vp_out, e_out, c_out, i_out = _new_records(8 * (hi - lo) + 16, n)
-    used_v = used_e = used_c = used_i = np.int64(0)
-    crossed_facets = np.zeros(hi - lo, np.int64)
+    used_v = used_e = np.int64(0)
     n_corners = 1 << n
     all_signs = (np.int64(1) << k) - 1
     degenerate = 0
@@ -387,6 +386,8 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
     k1face0 = face_start[k1]
     n_k1faces = face_start[k1 + 1] - k1face0
     for ci in range(lo, hi):
+        cube_v0[ci - lo] = used_v
+        cube_e0[ci - lo] = used_e
         o = cube_row[ci]
         g_vertex = cube_vertex[ci]
         for c in range(n_corners):
@@ -432,33 +433,22 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
                     hit = _zero_side(values, o, corner_row, chain, np.int64(0), k, lam)
                 if not hit:
                     continue
-                if nv >= vertex_face.shape[0]:
-                    vertex_face = _grown_keys(vertex_face, nv)
-                    vertex_perm = _grown_keys(vertex_perm, nv)
-                    vertex_key = _grown_keys(vertex_key, nv)
                 row = used_v + nv
-                if row >= vk_out.shape[0]:
-                    vk_out = _grown_keys(vk_out, row)
-                    vp_out = _grown_rows(vp_out, row)
-                vertex_face[nv] = f
-                vertex_perm[nv] = leaf_rank[leaf]
-                vertex_key[nv] = (
+                if row >= vertex_key.shape[0]:
+                    chunk = grown_chunk(chunk, row, used_e)
+                    (cube_v0, cube_e0, _, vertex_key, vertex_point, vertex_face, vertex_perm, _, edge_a, edge_b,
+                     edge_face, _) = chunk
+                vertex_face[row] = f
+                vertex_perm[row] = leaf_rank[leaf]
+                vertex_key[row] = (
                     _face_key(g_vertex + corner_vertex[fixed], n_subsets[k], face_rank[f]) * kfact + leaf_rank[leaf]
                 )
-                vk_out[row] = vertex_key[nv]
                 for a in range(n):
                     x = 0.0
                     for i in range(k + 1):
                         x += lam[i] * grid_lines[a, cube_origin[ci, a] + ((chain[0, i] >> a) & 1)]
-                    vp_out[row, a] = x
+                    vertex_point[row, a] = x
                 nv += 1
-        facets = np.int64(0)
-        for v in range(nv):
-            f = vertex_face[v]
-            for a in range(n):
-                if not (face_free[f] >> a) & 1:
-                    facets |= np.int64(1) << (2 * a + ((face_fixed[f] >> a) & 1))
-        crossed_facets[ci - lo] = facets
         if nv == 0:
             continue
 
@@ -468,7 +458,7 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
             found_vertex = np.empty(2 * nv, np.int64)
             found_row = np.empty(2 * nv, np.int64)
             walked = np.empty(2 * nv, np.int8)
-        ne = np.int64(0)  # (passed to _walk_edges: see _config)
+        ne = used_e  # (an int64, passed to _walk_edges: see _config)
         for kf1 in range(n_k1faces):
             f1 = k1face0 + kf1
             ff = face_free[f1]
@@ -481,14 +471,14 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
             # the vertices on its boundary, as the walk's boundary nodes (local k-face, permutation)
             n_found = 0
             for v in range(nv):
-                g = vertex_face[v]
+                g = vertex_face[used_v + v]
                 if not _face_in_face(face_free[g], face_fixed[g], ff, fx):
                     continue
                 dropped = 0
                 while axes[dropped] != _lowest_bit(ff & ~face_free[g]):
                     dropped += 1
                 side = (face_fixed[g] >> axes[dropped]) & 1
-                node = ((k1 - 1 - dropped) * 2 + side) * kfact + vertex_perm[v]
+                node = ((k1 - 1 - dropped) * 2 + side) * kfact + vertex_perm[used_v + v]
                 i = n_found
                 while i > 0 and found_node[i - 1] > node:  # in node order, as the tables' kernel finds them
                     found_node[i] = found_node[i - 1]
@@ -500,9 +490,9 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
             if n_found == 0:
                 continue
             while ne + n_found >= edge_a.shape[0]:
-                edge_a = _grown_keys(edge_a, ne)
-                edge_b = _grown_keys(edge_b, ne)
-                edge_face = _grown_keys(edge_face, ne)
+                chunk = grown_chunk(chunk, used_v + nv, ne)
+                (cube_v0, cube_e0, _, vertex_key, vertex_point, vertex_face, vertex_perm, _, edge_a, edge_b,
+                 edge_face, _) = chunk
             if n_found == 2:
                 edge_a[ne] = found_vertex[0]
                 edge_b[ne] = found_vertex[1]
@@ -600,28 +590,11 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
             for i in range(n_nodes):  # the table empty for the next walk
                 slot_key[node_slot[i]] = -1
 
-        # 3. Cells (paper 3.1.2): no cell here is tested for a ball (`_joined_pieces` needs the tables)
-        if parent.shape[0] < nv:
-            parent = np.empty(2 * nv, np.int64)
-            cell_of_root = np.empty(2 * nv, np.int64)
-        if cells_buf_a.shape[0] < 4 * nv or cells_buf_a.shape[0] < ne:
-            cells_buf_a = np.empty((4 * nv + ne, 3), np.int64)
-            cells_buf_b = np.empty((4 * nv + ne, 3), np.int64)
-        (e_out, c_out, i_out), n_cells, n_incidences, events, non_ball, n_non_ball = _cube_cells(
-            ci - lo, g_vertex, corner_vertex, n, k, kfact, binom, faces, nv,
-            (vertex_face, vertex_perm, vertex_key, no_rows), ne, (edge_a, edge_b, edge_face), parent, cell_of_root,
-            cells_buf_a, cells_buf_b, (e_out, c_out, i_out), used_e, used_c, used_i, values, o, corner_row,
-            corner_signs, all_signs, balls, solve_scratch, non_ball, n_non_ball,
-        )
-        degenerate += events
         used_v += nv
-        used_e += ne
-        used_c += n_cells
-        used_i += n_incidences
-    return (
-        _records_upto(vk_out, vp_out, e_out, c_out, i_out, used_v, used_e, used_c, used_i), crossed_facets, degenerate,
-        non_ball[:n_non_ball].copy(),
-    )
+        used_e = ne
+    cube_v0[hi - lo] = used_v
+    cube_e0[hi - lo] = used_e
+    return chunk, used_v, used_e, degenerate
 
 
 @nb.njit(**JIT)

@@ -54,3 +54,70 @@ def _grown_rows(a, used):
 def _records_upto(vk, vp, e, c, i, used_v, used_e, used_c, used_i):
     """The written rows, copied out of the (up to twice too long) growing arrays."""
     return vk[:used_v].copy(), vp[:used_v].copy(), e[:used_e].copy(), c[:used_c].copy(), i[:used_i].copy()
+
+
+# A GCMH chunk between its phases (`gcmh.cubes_chunk`, `lazy.cubes_chunk_lazy`): the vertices and
+# edges of cubes lo..hi-1, cube i's in rows cube_v0[i - lo]..cube_v0[i - lo + 1] - 1 and
+# cube_e0[...]; an edge's ends are the cube's own vertex numbers (0..nv-1).  The vertex rows are
+# the vertex records; the edge records (edge_out) share the edges' rows.
+CHUNK_FIELDS = ("cube_v0", "cube_e0", "crossed_facets", "vertex_key", "vertex_point", "vertex_face", "vertex_perm",
+                "vertex_ksimplex", "edge_a", "edge_b", "edge_face", "edge_out")
+
+
+@nb.njit(**JIT)
+def new_chunk(cubes, vertex_rows, edge_rows, n):
+    """Empty chunk arrays (CHUNK_FIELDS) for `cubes` cubes."""
+    return (
+        np.zeros(cubes + 1, np.int64), np.zeros(cubes + 1, np.int64), np.zeros(cubes, np.int64),
+        np.empty(vertex_rows, np.int64), np.empty((vertex_rows, n), np.float64), np.empty(vertex_rows, np.int64),
+        np.empty(vertex_rows, np.int64), np.empty(vertex_rows, np.int64),
+        np.empty(edge_rows, np.int64), np.empty(edge_rows, np.int64), np.empty(edge_rows, np.int64),
+        np.empty((edge_rows, EDGE_COLS), np.int64),
+    )
+
+
+@nb.njit(**JIT)
+def grown_chunk(chunk, used_v, used_e):
+    """The chunk with room for twice the vertex and edge rows, the first used_v and used_e kept."""
+    (cube_v0, cube_e0, crossed_facets, vertex_key, vertex_point, vertex_face, vertex_perm, vertex_ksimplex, edge_a,
+     edge_b, edge_face, edge_out) = chunk
+    return (
+        cube_v0, cube_e0, crossed_facets,
+        _grown_keys(vertex_key, used_v), _grown_rows(vertex_point, used_v), _grown_keys(vertex_face, used_v),
+        _grown_keys(vertex_perm, used_v), _grown_keys(vertex_ksimplex, used_v),
+        _grown_keys(edge_a, used_e), _grown_keys(edge_b, used_e), _grown_keys(edge_face, used_e),
+        _grown_rows(edge_out, used_e),
+    )
+
+
+@nb.njit(**JIT)
+def new_cells_out(rows, levels, vertices):
+    """What `cells.cells_phase` writes: cell and incidence records, rows (cube - lo, face, pieces
+    joined), and its scratch: the pieces of two levels (face, a vertex, key), a union-find over
+    a cube's vertices (parent, cell_of_root)."""
+    return (
+        np.empty((rows, CELL_COLS), np.int64), np.empty((rows, INC_COLS), np.int64), np.empty((4, 3), np.int64),
+        np.empty((2, levels, 3), np.int64), np.empty(vertices, np.int64), np.empty(vertices, np.int64),
+    )
+
+
+@nb.njit(**JIT)
+def grown_cells_out(out, used):
+    """`out` with room for twice the rows, the used (cells, incidences, non_ball) kept; the
+    scratch twice as large (a cube that did not fit is done again)."""
+    c_out, i_out, non_ball, levels, parent, _ = out
+    used_c, used_i, n_non_ball = used
+    return (
+        _grown_rows(c_out, used_c), _grown_rows(i_out, used_i), _grown_rows(non_ball, n_non_ball),
+        np.empty((2, 2 * levels.shape[1] + 1, 3), np.int64), np.empty(2 * parent.shape[0] + 1, np.int64),
+        np.empty(2 * parent.shape[0] + 1, np.int64),
+    )
+
+
+@nb.njit(**JIT)
+def chunk_records(chunk, out, used_v, used_e, used):
+    """The records of a chunk (vertex keys, points, edges, cells, incidences), its crossed facets
+    and rows (cube - lo, face, pieces joined), copied out."""
+    used_c, used_i, n_non_ball = used
+    records = _records_upto(chunk[3], chunk[4], chunk[11], out[0], out[1], used_v, used_e, used_c, used_i)
+    return records, chunk[2], out[2][:n_non_ball].copy()
