@@ -18,6 +18,10 @@ and a probe of F on a coarse grid (a few thousand vertices, milliseconds):
   and each costs the bytes measured below.  On a grid finer than the probe a
   candidate cube is cut by M as by a random plane, which crosses
   C(n-k, d-k) 2^(n-d) of its d-faces on average (for k = 1 that sums to 3^(n-1)).
+  Sampled data may be rough at the scale of a cube (noise), which a strided probe
+  smooths away: the probe also reads blocks of the run's own cubes (`_fine_blocks`),
+  and from them judges whether GCMH's n = 3 marching pass, whose records are a fifth
+  of the general kernel's, will hand the run over (`_hands_over`).
 
 `check_budget` refuses (`TooLargeError`, an `InputError`) a run whose peak exceeds
 the memory this machine can give (MemAvailable, or $GCMH_MEMORY_LIMIT), or whose work
@@ -93,6 +97,15 @@ _VERTEX_SECONDS = 4e-9
 _GLUED_VERTEX_FACTOR = 2.8
 _RECORD_SECONDS_PER_N = 1.5e-9  # per byte of records and dimension n (the walks grow with n)
 WORK_LIMIT_SECONDS = 300.0
+# Sampled data: blocks of the run's own cubes the probe reads at full resolution (`_fine_blocks`), and what
+# their ambiguous squares say of the marching pass's hand-over (`_hands_over`): cubes whose piece of M is
+# not a ball per candidate cube, measured against the share s of ambiguous squares per candidate cube
+# (noisy spheres: 3 in 687,162 at s = 0.0122, 512^3 noise 0.001; 2,523 in 396,509 at s = 0.168, 256^3
+# noise 0.01; none at s = 0.0014: about 2 s^3), and the expected count from which the run is taken to
+# hand over (a false alarm costs a larger estimate, a miss 1 / _MARCHING_RECORDS times the records).
+_FINE_BLOCKS = 96
+_NONBALL_PER_AMBIGUITY3 = 2.5
+_HAND_OVER_EXPECTED = 0.05
 # A run goes ahead only when the memory available is this many times its estimated peak.
 MEMORY_MARGIN = 2.0
 _KEY_LIMIT = 2**63
@@ -342,9 +355,10 @@ def _crossed_faces(values: np.ndarray, cand: np.ndarray, n: int, k: int) -> np.n
     return np.bincount(free, weights=crossed.sum(axis=0), minlength=n + 1)[: n + 1] / len(picked)
 
 
-def _probe(n, k, div, bounds, system, sampled) -> tuple[float, np.ndarray, bool]:
+def _probe(n, k, div, bounds, system, sampled) -> tuple[float, np.ndarray, bool, bool]:
     """F on a coarse grid: (candidate cubes of the run expected, crossed faces of each
-    dimension per candidate cube, whether the probe grid is the run's grid)."""
+    dimension per candidate cube, whether the probe grid is the run's grid, whether the n = 3
+    marching pass will hand the run over to the general kernel: `_hands_over`)."""
     div = np.asarray(div, np.int64)
     for budget in (_PROBE_VERTICES, 4 * _PROBE_VERTICES):  # finer once if it saw nothing
         values, pdiv, exact = _probe_grid(n, div, bounds, system, sampled, budget)
@@ -356,23 +370,91 @@ def _probe(n, k, div, bounds, system, sampled) -> tuple[float, np.ndarray, bool]
     s = (cubes / float(np.prod(pdiv))) ** (1.0 / n)  # run cubes per probe cube, per axis
     plane = _random_plane_faces(n, k)
     if count == 0:  # nothing seen: M (if any) is smaller than a probe cube
-        return (0.0 if exact else min(cubes, s ** (n - k))), plane, exact
+        return (0.0 if exact else min(cubes, s ** (n - k))), plane, exact, False
     if exact:
-        expected = float(count)
-    else:
-        # M meets s^e times as many cubes on a grid s times finer, e -> n - k once the
-        # probe resolves M; e halfway between that and what the probe shows against its
-        # every-other-line subgrid (which still grows towards n - k)
-        e = float(n - k)
-        if np.all(pdiv >= 4) and sampled is None:
-            half = int(_candidates(values[tuple(slice(None, None, 2) for _ in range(n))]).sum())
-            if half:
-                e = 0.5 * (e + min(e, max(1.0, math.log2(count / half))))
-        expected = min(cubes, count * s**e)
+        return float(count), _crossed_faces(values, cand, n, k), True, _hands_over(values, cand, float(count), n, k)
+    if sampled is not None:  # data may be rough at the scale of a cube: look at some at full resolution
+        fine, fine_cand, covered = _fine_blocks(sampled, cand, div, pdiv)
+        per_probe_cube = float(fine_cand.sum()) / fine.shape[0]
+        expected = min(cubes, count * per_probe_cube * cubes / covered)
+        if not fine_cand.any():
+            return expected, plane, False, bool(not np.isfinite(fine).all())
+        if n > 10:
+            faces = plane
+        else:  # the blocks end to end along axis 0; the cubes across two blocks are no candidates
+            joined = np.zeros((fine.shape[0] * fine.shape[1] - 1, *fine_cand.shape[2:]), bool)
+            for b, c in enumerate(fine_cand):
+                joined[b * fine.shape[1]: b * fine.shape[1] + c.shape[0]] = c
+            faces = _crossed_faces(fine.reshape(-1, *fine.shape[2:]), joined, n, k)
+        return expected, faces, False, _hands_over(fine, fine_cand, expected, n, k, batch=True)
+    # M meets s^e times as many cubes on a grid s times finer, e -> n - k once the
+    # probe resolves M; e halfway between that and what the probe shows against its
+    # every-other-line subgrid (which still grows towards n - k)
+    e = float(n - k)
+    if np.all(pdiv >= 4):
+        half = int(_candidates(values[tuple(slice(None, None, 2) for _ in range(n))]).sum())
+        if half:
+            e = 0.5 * (e + min(e, max(1.0, math.log2(count / half))))
+    expected = min(cubes, count * s**e)
     faces = plane if n > 10 else _crossed_faces(values, cand, n, k)
-    if not exact:  # on a finer grid M is flatter in each cube: towards the plane's count
-        faces = faces + (plane - faces) * (1.0 - 1.0 / s)
-    return expected, faces, exact
+    # on a finer grid M is flatter in each cube: towards the plane's count
+    return expected, faces + (plane - faces) * (1.0 - 1.0 / s), False, False
+
+
+def _fine_blocks(sampled, cand: np.ndarray, div: np.ndarray, pdiv: np.ndarray):
+    """Sampled values at full resolution on (up to _FINE_BLOCKS of) the probe's candidate cubes, each block
+    the run's cubes inside one probe cube: (the blocks (b, s0 + 1, ..., k), their candidate cubes (b, s0, ...),
+    the run's cubes the probe's cubes cover).  A strided probe of rough data (noise at the scale of a grid
+    cube) sees a smooth surface: at 256^3 with noise 0.01 it expected 196,000 candidate cubes of 397,000."""
+    step = np.maximum(div // pdiv, 1)
+    picked = np.flatnonzero(cand.reshape(-1))
+    picked = picked[np.linspace(0, len(picked) - 1, min(len(picked), _FINE_BLOCKS)).astype(np.int64)]
+    origins = np.stack(np.unravel_index(picked, cand.shape), axis=1) * step
+    fine = np.stack([np.asarray(sampled[tuple(slice(int(o), int(o + s) + 1) for o, s in zip(origin, step))],
+                                np.float64) for origin in origins])
+    # the blocks' candidates: the probe's test on each block (a leading axis of blocks, never ORed across)
+    cands = np.stack([_candidates(block) for block in fine])
+    return fine, cands, float(np.prod(pdiv.astype(np.float64) * step))
+
+
+def _hands_over(values: np.ndarray, cand: np.ndarray, expected: float, n: int, k: int, batch: bool = False) -> bool:
+    """Whether GCMH's n = 3 marching pass (`sweep._march`) will give the run to the general kernel, whose
+    records take about 1 / _MARCHING_RECORDS times the memory: at a value that is not finite, or at the
+    first cube whose piece of M is not a ball (`kernels.marching3`, a case of its 8 corner signs).  On
+    the run's own grid (the exact probe) the cases say it; on samples of it (`batch`: blocks of
+    the run's cubes) one such cube in a million is enough, too rare to be seen, so it is expected from
+    the share of squares whose signs alternate (the ambiguous squares of marching cubes), which
+    noise makes common: _NONBALL_PER_AMBIGUITY3 times its cube per candidate cube."""
+    if (n, k) != (3, 1):
+        return False
+    if not np.isfinite(values).all():
+        return True
+    from .kernels.marching3 import cube_cases
+
+    lead = (slice(None),) if batch else ()
+    pos = values[..., 0] >= 0
+
+    def shifted(offsets):  # pos at each cube's (or square's) corner `offsets` (0, 1 or None: every layer)
+        return pos[lead + tuple(slice(None) if o is None else slice(o, pos.shape[len(lead) + a] - 1 + o)
+                                for a, o in enumerate(offsets))]
+
+    case = np.zeros(shifted((0, 0, 0)).shape, np.uint8)
+    for c in range(8):  # corner c: bit a set = +1 along axis a (as `cube_cases`)
+        case |= shifted(tuple(c >> a & 1 for a in range(3))).astype(np.uint8) << np.uint8(c)
+    nonball = int(np.count_nonzero(cube_cases().cube_nonball[case]))
+    if not batch:
+        return nonball > 0
+    ambiguous = 0
+    for a in range(3):  # the squares normal to axis a whose diagonal corners agree and neighbours differ
+        corners = {}
+        for i in range(2):
+            for j in range(2):
+                it = iter((i, j))
+                corners[i, j] = shifted(tuple(None if b == a else next(it) for b in range(3)))
+        ambiguous += int(np.count_nonzero((corners[0, 0] == corners[1, 1]) & (corners[0, 1] == corners[1, 0])
+                                          & (corners[0, 0] != corners[0, 1])))
+    share = ambiguous / max(1, int(cand.sum()))
+    return max(nonball / max(1, int(cand.sum())), _NONBALL_PER_AMBIGUITY3 * share**3) * expected >= _HAND_OVER_EXPECTED
 
 
 # ----------------------------------------------------------------------------- the estimate
@@ -418,18 +500,19 @@ def estimate_run(
     pruned = not glued and not continuation and scheduler is None and _prunable(system, sampled, cubes)
     if probe is None:  # every cube crossed, like a plane: an upper bound
         worst = _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, float(cubes), plane, False,
-                      checked, glued)
+                      checked, glued, hands_over=sampled is not None)
         if worst.peak_bytes <= worst.available_bytes // 8 and worst.seconds <= worst.seconds_limit / 10:
             return worst
     probe_bytes = 0
+    hands_over = False
     if system is not None or sampled is not None:
-        expected, faces, _ = _probe(n, k, div_t, bounds, system, sampled)
+        expected, faces, _, hands_over = _probe(n, k, div_t, bounds, system, sampled)
         if sampled is None:
             probe_bytes = _probe_bytes(k, _probe_vertices(div_t))
     else:
         expected, faces = min(float(cubes), float(cubes) ** ((n - k) / n)), plane
     est = _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, expected, faces, pruned, checked,
-                glued)
+                glued, hands_over)
     if probe_bytes + _PROBE_OVERHEAD > est.peak_bytes:   # (the probe's peak, before the run's)
         est = replace(est, peak_bytes=int(probe_bytes + _PROBE_OVERHEAD))
     return est
@@ -479,7 +562,7 @@ def _prunable(system, sampled, cubes: int) -> bool:
 
 
 def _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, expected, faces, pruned,
-          checked=False, glued=False) -> Estimate:
+          checked=False, glued=False, hands_over=False) -> Estimate:
     from .sweep import SLAB_VERTICES
 
     dims = [d + 1 for d in div_t]
@@ -487,7 +570,8 @@ def _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, exp
     # (the simplicial methods' tables are the cube tables' Kuhn triangulation, n <= 7)
     table_peak, tables_held, table_seconds = table_cost(n, k)
     records = expected * _bytes_per_cube(n, k, faces) * (factorial(n) / 2 if simplicial else 1.0)
-    if (n, k) == (3, 1) and not simplicial and not continuation and scheduler is None and _marching():
+    if (n, k) == (3, 1) and not simplicial and not continuation and scheduler is None and _marching() \
+            and not hands_over:  # (else the general kernel's records, after the pass gave up: `_hands_over`)
         records *= _MARCHING_RECORDS
     grid = sum(dims) * 8 * 4  # lines, their offsets, the stacked copy in Grid
     layer = math.prod(dims[1:])

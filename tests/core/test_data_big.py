@@ -2,7 +2,11 @@
 block by block from the maps (`data_files.MappedValues`), never written whole, and give the bytes of
 the local run; the budget estimates such a run before anything is read."""
 
+import json
+import os
 import pickle
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -110,3 +114,58 @@ def test_the_budget_estimates_a_cluster_run_before_reading(files, monkeypatch):
     monkeypatch.setattr(df, "_fill", lambda *a: pytest.fail("the data were read"))
     with pytest.raises(TooLargeError):
         extract_data(files["a"], 0.5, scheduler="local")
+
+
+# A child: write nothing, compile on a tiny volume, estimate (`gcmh extract --dry-run`'s estimate), then run
+# with the high-water mark reset (as tests/core/test_budget.py measures) and print both.
+PEAK_CHILD = r"""
+import json, sys
+import numpy as np
+from gcmh_core.data_files import estimate_data, extract_data
+path, tiny = sys.argv[1], sys.argv[2]
+extract_data(tiny, 0.0)
+est = estimate_data(path, 0.0)
+def status(key):
+    with open("/proc/self/status") as f:
+        return next(int(line.split()[1]) for line in f if line.startswith(key))
+import ctypes
+ctypes.CDLL("libc.so.6").malloc_trim(0)
+with open("/proc/self/clear_refs", "w") as f:
+    f.write("5")
+base = status("VmRSS:")
+cx = extract_data(path, 0.0)
+print(json.dumps(dict(measured=(status("VmHWM:") - base) * 1024, estimate=est.peak_bytes,
+                      expected=est.candidate_cubes, cand=cx.meta["candidate_cubes"],
+                      split=cx.meta["non_ball_split"])))
+"""
+
+
+def rough_sphere(side: int, noise: float, seed: int = 1) -> np.ndarray:
+    """Distance to a sphere of radius 0.7 on [-1, 1]^3, float32, plus Gaussian noise (standard deviation
+    ``noise``): near the grid spacing the isosurface has pieces that are not balls in some cubes."""
+    t = np.linspace(-1.0, 1.0, side, dtype=np.float32)
+    x, y, z = np.meshgrid(t, t, t, indexing="ij", sparse=True)
+    v = np.sqrt(x * x + y * y + z * z) - np.float32(0.7)
+    return (v + np.random.default_rng(seed).normal(0, noise, v.shape).astype(np.float32)) if noise else v
+
+
+@pytest.mark.skipif(not os.path.exists("/proc/self/clear_refs"), reason="measures the peak from /proc (Linux)")
+@pytest.mark.parametrize("side, noise, hands_over", [(256, 0.0, False), (128, 0.02, True), (200, 0.012, True)])
+def test_the_estimate_is_within_its_margin_of_the_measured_peak(tmp_path, side, noise, hands_over):
+    # rough data send the n = 3 marching pass to the general kernel (a piece of M in a cube that is not a
+    # ball), whose records take about five times the memory: the estimate must see it coming
+    # (budget._hands_over); smooth data stay in the pass.  The budget lets a run through with room for
+    # a factor MEMORY_MARGIN of error.
+    from gcmh_core.budget import MEMORY_MARGIN
+
+    np.save(tmp_path / "v.npy", rough_sphere(side, noise))
+    np.save(tmp_path / "tiny.npy", rough_sphere(12, noise))
+    proc = subprocess.run([sys.executable, "-c", PEAK_CHILD, str(tmp_path / "v.npy"), str(tmp_path / "tiny.npy")],
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    m = json.loads(proc.stdout.splitlines()[-1])
+    print(f"\n  {side}^3 noise {noise}: candidates {m['cand']:,} (expected {m['expected']:,}), non-ball cells "
+          f"{m['split']}, peak {m['measured'] / 1e6:.0f} MB, estimate {m['estimate'] / 1e6:.0f} MB")
+    assert (m["split"] > 0) is hands_over, m  # (the case the volume was made for)
+    assert m["measured"] > 20e6, m  # (tens of MB: above the allocator's noise)
+    assert 1 / MEMORY_MARGIN <= m["estimate"] / m["measured"] <= MEMORY_MARGIN, m
