@@ -1,7 +1,9 @@
 """numba kernels of :mod:`gcmh_core.homology`: the coreduction Morse matching and the flow
-along it (their slow twin: tests/core/naive_homology.py, compared on random complexes in
-tests/core/test_homology.py).  A module of their own: numba's cache is keyed on the file,
-so editing the Python around them does not recompile them."""
+along it, orienting, edge classes, the loops of a shortest-path tree, shortening a chain
+(their slow twins: tests/core/naive_homology.py and homology_naive.py, compared on random
+inputs in tests/core/test_homology.py and test_homology_kernels.py).  A module of their
+own: numba's cache is keyed on the file, so editing the Python around them does not
+recompile them."""
 
 from __future__ import annotations
 
@@ -489,61 +491,68 @@ def _edge_classes(order, b1, dims, partner, bd_off, bd, bdv, pos, c1):
 
 
 @njit(**JIT)
-def _tree_xor(order, pred, tree_bits):
-    """path[x] = path[pred[x]] ^ tree_bits[x] along a shortest-path tree, vertices in
-    `order` (by distance from the root: a parent before its children; pred < 0 at the
-    root and at vertices not reached)."""
-    path = np.zeros(pred.size, dtype=np.uint64)
-    for i in range(order.size):
-        x = order[i]
-        if pred[x] >= 0:
-            path[x] = path[pred[x]] ^ tree_bits[x]
-    return path
+def _root_loops(adj_off, adj_to, adj_edge, weight, eu, ev, edge_bits, root, radius, nearest):
+    """The loops closed by a shortest-path tree from `root` (Dijkstra on the graph in CSR:
+    adj_to, adj_edge the neighbour and the edge to it, weight per edge >= 0), then for each
+    edge e = (u, v) off the tree with both ends settled, the loop root -> u -> v -> root:
+    its length dist[u] + weight[e] + dist[v] and its class mask, the xor of edge_bits along
+    it (path bits down the tree, in settle order).  Only loops whose mask is not 0 are kept,
+    in edge order.  The heap moves a vertex up when a shorter way in is found (each vertex
+    in it once).
 
+    A vertex is settled (and its edges followed) when it is at most `radius` away, or
+    nearer to the root than `nearest` (the distance to the roots before, updated here: the
+    farthest-point choice of roots needs it exact, and a vertex no nearer to this root
+    than to those before has no vertex behind it that is).  Every loop through the root
+    of length L keeps within L / 2 of it, so a radius of L / 2 finds all loops of length
+    at most L, on the same tree as an unbounded walk (the same order of settling up to L / 2).
 
-@njit(**JIT)
-def _shortest_tree(adj_off, adj_to, adj_edge, weight, root):
-    """Dijkstra from `root` over a graph in CSR (adj_to, adj_edge: the neighbour and the
-    edge to it; weight per edge, >= 0).  Returns (dist (V,) float64, inf where not
-    reached; pred_edge (V,) int64, the tree edge into each vertex, -1 at the root and
-    where not reached; pred (V,) int64 likewise; order: the vertices settled, nearest
-    first)."""
+    Returns (edges, lengths, masks, dist, pred_edge, pred); dist is inf, pred_edge and
+    pred -1 at the vertices not settled (pred_edge and pred -1 at the root too).
+    """
     n = adj_off.size - 1
     dist = np.full(n, np.inf)
     pred = np.full(n, -1, dtype=np.int64)
     pred_edge = np.full(n, -1, dtype=np.int64)
     done = np.zeros(n, dtype=np.bool_)
-    order = np.empty(n, dtype=np.int64)
-    n_done = 0
-    cap = adj_to.size + 1   # one push per edge end at most, and the root
-    hkey = np.empty(cap, dtype=np.float64)
-    hval = np.empty(cap, dtype=np.int64)
+    path = np.zeros(n, dtype=np.uint64)
+    # a binary heap of vertices keyed by dist, with each one's place (-1: not in it), so a
+    # shorter way in moves it up (decrease-key) instead of pushing it again
+    heap = np.empty(n, dtype=np.int64)
+    place = np.full(n, -1, dtype=np.int64)
     size = 1
-    hkey[0] = 0.0
-    hval[0] = root
+    heap[0] = root
+    place[root] = 0
     dist[root] = 0.0
     while size > 0:
-        d = hkey[0]
-        u = hval[0]
+        u = heap[0]
+        d = dist[u]
+        place[u] = -1
         size -= 1
-        hkey[0] = hkey[size]
-        hval[0] = hval[size]
-        i = 0
-        while True:   # sift down: the least key at the top
-            small = i
-            for c in (2 * i + 1, 2 * i + 2):
-                if c < size and hkey[c] < hkey[small]:
-                    small = c
-            if small == i:
-                break
-            hkey[i], hkey[small] = hkey[small], hkey[i]
-            hval[i], hval[small] = hval[small], hval[i]
-            i = small
-        if done[u] or d > dist[u]:
+        if size > 0:   # the last one sifts down from the top
+            x = heap[size]
+            dx = dist[x]
+            i = 0
+            while True:
+                c = 2 * i + 1
+                if c >= size:
+                    break
+                if c + 1 < size and dist[heap[c + 1]] < dist[heap[c]]:
+                    c += 1
+                if dist[heap[c]] >= dx:
+                    break
+                heap[i] = heap[c]
+                place[heap[i]] = i
+                i = c
+            heap[i] = x
+            place[x] = i
+        if d > radius and d >= nearest[u]:
             continue
         done[u] = True
-        order[n_done] = u
-        n_done += 1
+        if d < nearest[u]:
+            nearest[u] = d
+        if pred[u] >= 0:   # its parent settled before it
+            path[u] = path[pred[u]] ^ edge_bits[pred_edge[u]]
         for j in range(adj_off[u], adj_off[u + 1]):
             v = adj_to[j]
             nd = d + weight[adj_edge[j]]
@@ -551,15 +560,133 @@ def _shortest_tree(adj_off, adj_to, adj_edge, weight, root):
                 dist[v] = nd
                 pred[v] = u
                 pred_edge[v] = adj_edge[j]
-                hkey[size] = nd
-                hval[size] = v
-                i = size
-                size += 1
+                i = place[v]
+                if i < 0:
+                    i = size
+                    size += 1
                 while i > 0:   # sift up
-                    p = (i - 1) // 2
-                    if hkey[p] <= hkey[i]:
+                    p = (i - 1) >> 1
+                    if dist[heap[p]] <= nd:
                         break
-                    hkey[i], hkey[p] = hkey[p], hkey[i]
-                    hval[i], hval[p] = hval[p], hval[i]
+                    heap[i] = heap[p]
+                    place[heap[i]] = i
                     i = p
-    return dist, pred_edge, pred, order[:n_done]
+                heap[i] = v
+                place[v] = i
+    for x in range(n):   # the vertices reached but not settled hang from nothing
+        if not done[x]:
+            dist[x] = np.inf
+            pred[x] = -1
+            pred_edge[x] = -1
+    n_edges = eu.size
+    out_e = np.empty(n_edges, dtype=np.int64)
+    out_len = np.empty(n_edges, dtype=np.float64)
+    out_mask = np.empty(n_edges, dtype=np.uint64)
+    k = 0
+    for e in range(n_edges):
+        u = eu[e]
+        v = ev[e]
+        if not (done[u] and done[v]) or pred_edge[u] == e or pred_edge[v] == e:
+            continue
+        m = path[u] ^ path[v] ^ edge_bits[e]
+        if m != 0:
+            out_e[k] = e
+            out_len[k] = dist[u] + weight[e] + dist[v]
+            out_mask[k] = m
+            k += 1
+    return out_e[:k], out_len[:k], out_mask[:k], dist, pred_edge, pred
+
+
+@njit(**JIT)
+def _shorten_chain(cells, coefs, b, bd_off, bd, bdv, cb_off, cb, weight):
+    """A smaller q-cycle in the same class (the kernel of homology._shorten): z -> z - t d(f)
+    for a (q+1)-cell f and t = +1, then -1, while that lowers sum weight[c - b] |z_c|.
+
+    The (q+1)-cells to try wait in a first-in first-out queue, each once at a time: first
+    the cofaces of z's cells in their order, then, whenever z changes on a q-cell, that
+    cell's cofaces not waiting already.  Each step lowers the weight by more than 1e-9,
+    so no chain comes twice: it ends.  cells: global ids of q-cells (b the global id of
+    q-cell 0), weight per q-cell.  Returns (cells, coefficients), cells ascending.
+    """
+    n_q = weight.size
+    z = np.zeros(n_q, dtype=np.int64)
+    on = np.zeros(n_q, dtype=np.bool_)
+    members = np.empty(max(cells.size, 16), dtype=np.int64)   # q-cells z has touched
+    n_mem = 0
+    for i in range(cells.size):
+        c = cells[i] - b
+        z[c] += coefs[i]
+        if not on[c]:
+            on[c] = True
+            members = _room(members, n_mem, 1)
+            members[n_mem] = c
+            n_mem += 1
+    waiting = np.zeros(cb_off.size - 1, dtype=np.bool_)
+    queue = np.empty(64, dtype=np.int64)   # a ring buffer
+    head = 0
+    count = 0
+    for i in range(n_mem):
+        c = members[i] + b
+        for j in range(cb_off[c], cb_off[c + 1]):
+            f = cb[j]
+            if not waiting[f]:
+                waiting[f] = True
+                if count == queue.size:
+                    queue = _grow_ring(queue, head, count)
+                    head = 0
+                queue[(head + count) % queue.size] = f
+                count += 1
+    while count > 0:
+        f = queue[head]
+        head = (head + 1) % queue.size
+        count -= 1
+        waiting[f] = False
+        for t in (1, -1):
+            delta = 0.0
+            for j in range(bd_off[f], bd_off[f + 1]):
+                c = bd[j] - b
+                delta += weight[c] * (abs(z[c] - t * bdv[j]) - abs(z[c]))
+            if delta < -1e-9:
+                for j in range(bd_off[f], bd_off[f + 1]):
+                    c = bd[j] - b
+                    z[c] -= t * bdv[j]
+                    if not on[c]:
+                        on[c] = True
+                        members = _room(members, n_mem, 1)
+                        members[n_mem] = c
+                        n_mem += 1
+                    for k in range(cb_off[bd[j]], cb_off[bd[j] + 1]):
+                        g = cb[k]
+                        if not waiting[g]:
+                            waiting[g] = True
+                            if count == queue.size:
+                                queue = _grow_ring(queue, head, count)
+                                head = 0
+                            queue[(head + count) % queue.size] = g
+                            count += 1
+                break
+    kept = 0
+    for i in range(n_mem):
+        if z[members[i]] != 0:
+            kept += 1
+    out = np.empty(kept, dtype=np.int64)
+    k = 0
+    for i in range(n_mem):
+        if z[members[i]] != 0:
+            out[k] = members[i]
+            k += 1
+    out.sort()
+    vals = np.empty(kept, dtype=np.int64)
+    for i in range(kept):
+        vals[i] = z[out[i]]
+        out[i] += b
+    return out, vals
+
+
+@njit(**JIT)
+def _grow_ring(queue, head, count):
+    """A ring buffer of `count` entries from `head`, copied in order into one twice as long."""
+    grown = np.empty(2 * queue.size, dtype=queue.dtype)
+    for i in range(count):
+        grown[i] = queue[(head + i) % queue.size]
+    return grown

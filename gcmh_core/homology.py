@@ -618,7 +618,7 @@ def _short_loops(cx, chain, partner, time, classes, n_free, old):
     too many for 64-bit class masks.  After the n_free free loops, one entry per torsion
     generator: the shortest loop tried that can stand for it, or None.
     """
-    from ._homology_kernels import _edge_classes, _shortest_tree, _tree_xor
+    from ._homology_kernels import _edge_classes, _root_loops
 
     base, dims, bd_off, bd, bdv, _, _ = chain
     b1, n_edges, n_vert = int(base[1]), cx.count(1), cx.count(0)
@@ -647,31 +647,38 @@ def _short_loops(cx, chain, partner, time, classes, n_free, old):
     weight = _edge_lengths(cx)
     adj_off, adj_to, adj_edge = _adjacency(E, n_vert)
     n_roots = max(_ROOTS[0], min(_ROOTS[1], _ROOT_WORK // max(n_edges, 1)))
+    # even torsion classes mod 2: the loops that can stand for them (odd ones vanish mod 2)
+    wants = [int(_xor_reduce(bits(np.array(m, dtype=np.int64)[None, :]), image)[0]) if order % 2 == 0 else 0
+             for m, order in zip(classes.torsion_cycles, classes.orders)]
     lengths: list = []
     masks: list = []
     which: list = []
     trees: list = []
     used: list = []
     u, v = E[:, 0], E[:, 1]
+    # No loop longer than `bound` can be taken: the greedy basis from more loops is
+    # shorter place by place (a matroid's), so the longest of one taken already bounds it,
+    # and a torsion class's shortest loop seen bounds the one that stands for it.  Loops
+    # past it are dropped, and a walk from a root goes no farther than half of it (beyond
+    # the vertices nearer to it than to the roots before, which choose the next root).
+    bound = [np.inf]
+    nearest = np.full(n_vert, np.inf)
+    far_enough = np.zeros(n_vert)    # re-roots choose no root: they walk their half bound only
 
-    def grow(r):
-        """The loops closed by the shortest-path tree from r; returns its distances."""
-        dist, pred_edge, pred, settled = _shortest_tree(adj_off, adj_to, adj_edge, weight, r)
-        tree_bits = np.where(pred_edge >= 0, edge_bits[np.maximum(pred_edge, 0)], np.uint64(0))
-        path = _tree_xor(settled, pred, tree_bits)
-        off_tree = np.isfinite(dist[u]) & np.isfinite(dist[v])
-        off_tree[pred_edge[pred_edge >= 0]] = False
-        m = path[u] ^ path[v] ^ edge_bits
-        keep = np.flatnonzero(off_tree & (m != 0))
-        lengths.append(dist[u[keep]] + weight[keep] + dist[v[keep]])
-        masks.append(m[keep])
-        which.append(np.stack([np.full(keep.size, len(trees)), keep], axis=1))
+    def grow(r, nearest):
+        """The loops closed by the shortest-path tree from r."""
+        radius = 0.5 * bound[0] * (1 + 1e-9)
+        keep, length, m, _, pred_edge, pred = _root_loops(adj_off, adj_to, adj_edge, weight, u, v,
+                                                          edge_bits, r, radius, nearest)
+        short = length <= 2 * radius
+        lengths.append(length[short])
+        masks.append(m[short])
+        which.append(np.stack([np.full(int(short.sum()), len(trees)), keep[short]], axis=1))
         trees.append((pred_edge, pred))
         used.append(r)
-        return dist
 
     def greedy():
-        """The shortest loops independent mod 2: [(tree, edge)] (None if too few)."""
+        """The shortest loops independent mod 2: [(tree, edge)] (None if too few); lowers bound."""
         length = np.concatenate(lengths)
         o = np.argsort(length, kind="stable")
         mask, order = np.concatenate(masks)[o], np.concatenate(which)[o]
@@ -686,14 +693,22 @@ def _short_loops(cx, chain, partner, time, classes, n_free, old):
             basis.append(int(mask[i]))
             mask = _xor_reduce(mask, basis[-1:])
             chosen.append(tuple(int(x) for x in order[i]))
+        longest = float(length[o[i]])
+        every = np.concatenate(masks)
+        for w in filter(None, wants):   # (a torsion class with no loop seen yet bounds nothing)
+            seen = length[every == np.uint64(w)]
+            longest = max(longest, float(seen.min()) if seen.size else np.inf)
+        bound[0] = min(bound[0], longest)
         return chosen
 
     # roots spread out: the first on a cycle of the Smith form, each next one the vertex
-    # farthest from those before (an unreached one first: another component)
+    # farthest from those before (an unreached one first: another component); the greedy
+    # basis after the first few bounds the walks of the rest
     r = int(E[old[0][0] - b1, 0]) if old and len(old[0]) else 0
-    nearest = np.full(n_vert, np.inf)
-    for _ in range(min(n_roots, n_vert)):
-        np.minimum(nearest, grow(r), out=nearest)
+    for i in range(min(n_roots, n_vert)):
+        grow(r, nearest)
+        if i + 1 in (1, 2, 4, 8):
+            greedy()
         far = np.isinf(nearest)
         r = int(np.flatnonzero(far)[0]) if far.any() else int(np.argmax(nearest))
     chosen = greedy()
@@ -706,7 +721,7 @@ def _short_loops(cx, chain, partner, time, classes, n_free, old):
         if not new:
             break
         for r in sorted(new):
-            grow(r)
+            grow(r, far_enough)
         chosen = greedy()
     if chosen is None:
         return None
@@ -721,10 +736,9 @@ def _short_loops(cx, chain, partner, time, classes, n_free, old):
     # a torsion class of even order: the shortest loop with its class mod 2 that can stand for it
     o = np.argsort(np.concatenate(lengths), kind="stable")
     every, where = np.concatenate(masks)[o], np.concatenate(which)[o]
-    for j, (m_t, order) in enumerate(zip(classes.torsion_cycles, classes.orders)):
-        want = int(_xor_reduce(bits(np.array(m_t, dtype=np.int64)[None, :]), image)[0])
+    for j, want in enumerate(wants):
         found = None
-        if want and order % 2 == 0:
+        if want:
             for i in np.flatnonzero(every == np.uint64(want))[:_TORSION_TRIES].tolist():
                 cells, coefs = _tree_loop(E, trees[int(where[i, 0])], int(where[i, 1]))
                 if classes.replaces(j, (coefs[:, None] * phi[cells]).sum(axis=0).tolist(), morse):
@@ -827,28 +841,11 @@ def _shorten(cells, coefs, chain, weight, q=1):
 
     cells: global ids of q-cells, coefs their coefficients.
     """
-    base, dims, bd_off, bd, bdv, cb_off, cb = chain
-    b1 = int(base[q])
-    z = dict(zip(cells.tolist(), coefs.tolist()))
-    todo = {int(f) for e in z for f in cb[cb_off[e]:cb_off[e + 1]].tolist()}
-    while todo:
-        f = todo.pop()
-        edges = bd[bd_off[f]:bd_off[f + 1]].tolist()
-        signs = bdv[bd_off[f]:bd_off[f + 1]].tolist()
-        w = [weight[e - b1] for e in edges]
-        for t in (1, -1):
-            delta = sum(we * (abs(z.get(e, 0) - t * se) - abs(z.get(e, 0))) for e, se, we in zip(edges, signs, w))
-            if delta < -1e-9:
-                for e, se in zip(edges, signs):
-                    v = z.get(e, 0) - t * se
-                    if v:
-                        z[e] = v
-                    else:
-                        z.pop(e, None)
-                    todo.update(int(g) for g in cb[cb_off[e]:cb_off[e + 1]].tolist())
-                break
-    out = np.array(sorted(z), dtype=np.int64)
-    return out, np.array([z[e] for e in out.tolist()], dtype=np.int64)
+    from ._homology_kernels import _shorten_chain
+
+    base, _, bd_off, bd, bdv, cb_off, cb = chain
+    return _shorten_chain(np.asarray(cells, dtype=np.int64), np.asarray(coefs, dtype=np.int64), int(base[q]),
+                          bd_off, bd, bdv, cb_off, cb, np.asarray(weight, dtype=np.float64))
 
 
 def _shorten_w1(off, fac, eps, loop, weight):

@@ -58,20 +58,71 @@ def edge_classes(order, b1, dims, partner, bd_off, bd, bdv, pos, c1):
     return [phi[e] for e in range(len(order))]
 
 
-def tree_xor(order, pred, tree_bits):
-    """Twin of ``_tree_xor``: each vertex's bits, xor of the tree bits on its way to the root."""
+def root_loops(n, edges, weight, edge_bits, pred_edge, root, radius, nearest):
+    """Twin of ``_root_loops`` given its tree (`pred_edge`: which of the equally short paths it
+    took is the heap's choice): the distances by Bellman-Ford; the settled vertices those
+    reached at most `radius` away or nearer than `nearest`; each edge off the tree between two
+    of them closes the loop root -> u -> v -> root, its mask the xor of the bits on that
+    loop's edges, walked up the tree.  Returns (edges, lengths, masks) of the loops whose
+    mask is not 0, in edge order, and the settled vertices."""
+    dist = shortest_distances(n, edges, weight, root)
+    settled = [d < math.inf and (d <= radius or d < near) for d, near in zip(dist, nearest)]
+    tree = {int(e) for e in pred_edge if e >= 0}
+
+    def up(x):   # the xor of the bits from x up to the root
+        acc = 0
+        while pred_edge[x] >= 0:
+            e = int(pred_edge[x])
+            acc ^= int(edge_bits[e])
+            x = edges[e][0] if edges[e][1] == x else edges[e][1]
+        return acc
+
     out = []
-    for x in range(len(pred)):
-        acc, y = 0, x
-        while pred[y] >= 0:
-            acc ^= int(tree_bits[y])
-            y = int(pred[y])
-        out.append(acc)
-    return out
+    for e, (u, v) in enumerate(edges):
+        if settled[u] and settled[v] and e not in tree:
+            m = up(u) ^ up(v) ^ int(edge_bits[e])
+            if m:
+                out.append((e, dist[u] + weight[e] + dist[v], m))
+    return out, settled
+
+
+def shorten_chain(cells, coefs, b, bd_off, bd, bdv, cb_off, cb, weight):
+    """Twin of ``_shorten_chain``: z as a dict; the (q+1)-cells to try in a deque, each once at a
+    time (first the cofaces of z's cells in their order, then those of every q-cell a step
+    changes); a step z -> z - t d(f), t = +1 then -1, when it lowers sum weight |z|."""
+    z: dict = {}
+    for c, v in zip(cells, coefs):
+        z[int(c)] = z.get(int(c), 0) + int(v)
+    todo: deque = deque()
+    waiting: set = set()
+
+    def wait(c):
+        for f in cb[cb_off[c]:cb_off[c + 1]]:
+            if int(f) not in waiting:
+                waiting.add(int(f))
+                todo.append(int(f))
+
+    for c in dict.fromkeys(int(c) for c in cells):
+        wait(c)
+    while todo:
+        f = todo.popleft()
+        waiting.discard(f)
+        faces = [(int(bd[j]), int(bdv[j])) for j in range(bd_off[f], bd_off[f + 1])]
+        for t in (1, -1):
+            delta = 0.0
+            for c, s in faces:
+                delta += weight[c - b] * (abs(z.get(c, 0) - t * s) - abs(z.get(c, 0)))
+            if delta < -1e-9:
+                for c, s in faces:
+                    z[c] = z.get(c, 0) - t * s
+                    wait(c)
+                break
+    kept = sorted(c for c, v in z.items() if v)
+    return kept, [z[c] for c in kept]
 
 
 def shortest_distances(n, edges, weight, root):
-    """Twin of ``_shortest_tree``'s distances: Bellman-Ford relaxation until nothing changes."""
+    """The distances ``_root_loops`` finds: Bellman-Ford relaxation until nothing changes."""
     dist = [math.inf] * n
     dist[root] = 0.0
     changed = True

@@ -3,10 +3,10 @@
 
 import numpy as np
 import pytest
-from homology_naive import edge_classes, orient_top, shortest_distances, tree_xor
+from homology_naive import edge_classes, orient_top, root_loops, shorten_chain, shortest_distances
 from test_homology import simplicial
 
-from gcmh_core._homology_kernels import _coreduce, _edge_classes, _orient_top, _shortest_tree, _tree_xor
+from gcmh_core._homology_kernels import _coreduce, _edge_classes, _orient_top, _root_loops, _shorten_chain
 from gcmh_core.homology import _adjacency, _chain_complex, _incidences
 
 hypothesis = pytest.importorskip("hypothesis")
@@ -38,29 +38,64 @@ def test_orient_top_against_naive(case):
     assert eps.tolist() == eps2 and bad.tolist() == bad2
 
 
-@settings(max_examples=60, deadline=None, derandomize=True)
-@given(st.integers(2, 40), st.integers(0, 2**31 - 1))
-def test_shortest_tree_against_naive(n, seed):
+@settings(max_examples=80, deadline=None, derandomize=True)
+@given(st.integers(2, 40), st.integers(0, 2**31 - 1), st.booleans(), st.integers(0, 3))
+def test_root_loops_against_naive(n, seed, bounded, others):
+    """Random graphs (loops and parallel edges too), a radius or none, and `nearest` the distances
+    to 0 to 3 other roots (as the farthest-point choice of roots has them)."""
     rng = np.random.default_rng(seed)
     m = int(rng.integers(1, 3 * n))
     edges = rng.integers(0, n, (m, 2))
     weight = rng.random(m)
+    bits = rng.integers(0, 2**63, m, dtype=np.uint64)
     root = int(rng.integers(0, n))
-    dist, pred_edge, pred, order = _shortest_tree(*_adjacency(edges, n), weight, root)
     want = shortest_distances(n, edges.tolist(), weight.tolist(), root)
-    assert np.allclose(dist, want) and np.array_equal(np.isinf(dist), np.isinf(want))
-    # the tree: each reached vertex but the root hangs from its predecessor by an edge of the graph
-    reached = np.isfinite(dist)
-    assert sorted(order.tolist()) == np.flatnonzero(reached).tolist() and order[0] == root
-    for x in np.flatnonzero(reached & (np.arange(n) != root)):
+    finite = [d for d in want if np.isfinite(d)]
+    radius = float(rng.uniform(0, max(finite))) if bounded else np.inf
+    nearest = np.full(n, np.inf)
+    for r in rng.integers(0, n, others):
+        np.minimum(nearest, shortest_distances(n, edges.tolist(), weight.tolist(), int(r)), out=nearest)
+    before = nearest.copy()
+    loop_edges, lengths, masks, dist, pred_edge, pred = _root_loops(
+        *_adjacency(edges, n), weight, edges[:, 0].copy(), edges[:, 1].copy(), bits, root, radius, nearest)
+    twin, settled = root_loops(n, edges.tolist(), weight.tolist(), bits, pred_edge.tolist(), root, radius, before)
+    settled = np.array(settled)
+    # the settled vertices at their distances, the rest inf; nearest lowered to them
+    assert np.allclose(dist[settled], np.array(want)[settled]) and np.isinf(dist[~settled]).all()
+    assert np.allclose(nearest, np.minimum(before, np.where(settled, want, np.inf)))
+    # the tree: each settled vertex but the root hangs from its predecessor by an edge of the graph
+    assert pred_edge[root] == -1 and (pred_edge[~settled] == -1).all() and (pred[~settled] == -1).all()
+    for x in np.flatnonzero(settled & (np.arange(n) != root)):
         e = pred_edge[x]
-        assert sorted(edges[e]) == sorted((pred[x], x))
+        assert settled[pred[x]] and sorted(edges[e]) == sorted((pred[x], x))
         assert np.isclose(dist[x], dist[pred[x]] + weight[e])
-    assert np.all(np.diff(dist[order]) >= 0)   # nearest first
-    # the xor of bits down the tree
-    bits = rng.integers(0, 2**63, n, dtype=np.uint64)
-    tree_bits = np.where(pred_edge >= 0, bits, np.uint64(0))
-    assert _tree_xor(order, pred, tree_bits).tolist() == tree_xor(order, pred, tree_bits)
+    assert loop_edges.tolist() == [e for e, _, _ in twin]
+    assert np.allclose(lengths, [d for _, d, _ in twin])
+    assert masks.tolist() == [k for _, _, k in twin]
+
+
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(simplicial(), st.integers(0, 2**31 - 1))
+def test_shorten_chain_against_naive(cx, seed):
+    """Random integer q-chains (cycles or not) of random simplicial complexes, random weights."""
+    if cx.dim < 2:
+        return
+    rng = np.random.default_rng(seed)
+    base, dims, bd_off, bd, bdv, cb_off, cb = _chain_complex(cx, _incidences(cx))
+    q = int(rng.integers(1, cx.dim))
+    n_q = cx.count(q)
+    cells = rng.integers(0, n_q, int(rng.integers(1, n_q + 3))) + base[q]
+    coefs = rng.choice([-2, -1, 1, 2], cells.size)
+    weight = rng.uniform(1, 2, n_q)
+    out, vals = _shorten_chain(cells, coefs, int(base[q]), bd_off, bd, bdv, cb_off, cb, weight)
+    want = shorten_chain(cells.tolist(), coefs.tolist(), int(base[q]), bd_off, bd, bdv, cb_off, cb, weight.tolist())
+    assert (out.tolist(), vals.tolist()) == want
+    # and it is no larger, in the same class: the difference is a boundary (d of the difference is d z's)
+    before = np.zeros(n_q, dtype=np.int64)
+    np.add.at(before, cells - base[q], coefs)
+    after = np.zeros(n_q, dtype=np.int64)
+    after[out - base[q]] = vals
+    assert weight @ np.abs(after) <= weight @ np.abs(before) + 1e-9
 
 
 @settings(max_examples=40, deadline=None, derandomize=True)
