@@ -66,14 +66,20 @@ def _describe_boundary(rep) -> str:
             f"({rep['boundary_facets']:,} facets)")
 
 
-def _describe_orientation(rep) -> tuple[str, bool | None]:
+def _describe_orientation(rep, w1_edges=None) -> tuple[str, bool | None]:
+    """The orientation row.  A surface that is not orientable says across how many edges its
+    normals flip once the homology has its w1 loop (`w1_edges`: the loop the w1 switch draws,
+    shortened; the breadth-first orientation of the report conflicts on a longer set of
+    edges in the same class, whose size depends on the search order, so it is not shown)."""
     o = rep.get("orientation")
     if o is None:
         return ("— (only for surfaces)", None)
     if o["consistent"]:
         return (f"consistent (orientable)\n{o['n_flipped']:,} loops reversed", True)
     bad = o["n_components"] - o["orientable_components"]
-    text = f"not orientable\n{o['conflict_edges']:,} edges conflict"
+    text = "not orientable"
+    if w1_edges is not None:
+        text += f"\nnormals flip across {w1_edges:,} edges (w1)"
     if o["n_components"] > 1:
         text += f" ({bad} of {o['n_components']} pieces)"
     if o["nonmanifold_edges"]:
@@ -128,6 +134,7 @@ class QtTopologyPanel(QWidget):
             self.form.addRow(label + ":", value)
         layout.addWidget(box)
         self.homology_box = QtHomologyBox(self.studio)
+        self.homology_box.computed.connect(self._show_orientation)   # the w1 loop's length
         layout.addWidget(self.homology_box)
 
         refine_box = QGroupBox("Refine and confirm")
@@ -206,9 +213,7 @@ class QtTopologyPanel(QWidget):
         v["euler"].setText(str(report["euler_characteristic"]))
         v["components"].setText(str(report["connected_components"]))
         v["boundary"].setText(_describe_boundary(report))
-        text, ok = _describe_orientation(report)
-        v["orientation"].setText(text)
-        v["orientation"].setStyleSheet("" if ok is None else (GOOD_STYLE if ok else BAD_STYLE))
+        self._show_orientation()
         residual = report.get("max_abs_F")
         v["residual"].setText("—" if residual is None else f"{residual:.3g}")
         timings = report.get("timings") or {}
@@ -216,6 +221,24 @@ class QtTopologyPanel(QWidget):
         v["seconds"].setText(_seconds(report.get("seconds")))
         self.refine_label.setText("")
         self._update_enabled()
+
+    def _w1_edges(self) -> int | None:
+        """The number of edges of the w1 loop the homology box has for the result reported, or None."""
+        data = self.homology_box.data
+        if data is None or self._report is None or self._report["dim"] != 2:
+            return None
+        h = data["homology"]
+        if h.orientation_cycle is None or h.orientation is None or h.orientation.size != self._report["counts"][2]:
+            return None
+        return int(h.orientation_cycle.size)
+
+    def _show_orientation(self) -> None:
+        if self._report is None:
+            return
+        text, ok = _describe_orientation(self._report, self._w1_edges())
+        label = self.values["orientation"]
+        label.setText(text)
+        label.setStyleSheet("" if ok is None else (GOOD_STYLE if ok else BAD_STYLE))
 
     def clear(self) -> None:
         """No result: every value back to a dash, refinement off."""

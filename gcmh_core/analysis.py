@@ -98,7 +98,10 @@ class Orientation:
     conflict_edges : (c,) int64
         Interior edges run through in the same direction by both polygons
         (empty when consistent).  Non-empty for a Moebius strip, whatever the
-        choice of windings.
+        choice of windings; which edges, and how many, depend on the order of
+        the search (any edge set in the class dual to w1 can come out).  The
+        loop :func:`gcmh_core.homology` gives as ``orientation_cycle`` is that
+        class shortened: the one the app draws and counts.
     nonmanifold_edges : (m,) int64
         Edges with three or more polygons on them (not used for orientation).
     """
@@ -374,7 +377,8 @@ def topology_report(cx: CellComplex, system: System | None = None) -> dict:
         ``cx.meta['timings']``); ``seconds`` (float or None, total);
         ``orientation`` (None unless dim == 2, else a dict with ``consistent``,
         ``n_flipped``, ``n_components``, ``orientable_components``,
-        ``conflict_edges`` and ``nonmanifold_edges`` (counts)).
+        ``conflict_edges`` and ``nonmanifold_edges`` (counts; conflict_edges
+        depends on the search order: see :class:`Orientation`)).
     """
     _check_complex(cx, "topology_report")
     _check_system(cx, system, "topology_report")

@@ -117,3 +117,27 @@ def test_toggles_write_and_show_the_model(panel, check, field):
     assert seen == [True, False]
     panel.studio.set_style(**{field: True})   # the View tab's switch, say: this one follows
     assert box.isChecked()
+
+
+def test_w1_count_is_the_loop_drawn(panel, qtbot):
+    """The closed Klein bottle: the orientation row counts the edges of the w1 loop the box draws
+    (not the breadth-first search's conflicts, a longer set whose size depends on the search)."""
+    ex = load_example("klein-bottle-closed")
+    cx = extract(ex.formulas, ex.bounds, [12, 12, 6, 12, 12], variables=ex.variables, periodic=ex.periodic)
+    box = panel.homology_box
+    with qtbot.waitSignal(box.computed, timeout=60000):
+        panel.set_result(cx)
+    h = box.data["homology"]
+    text = panel.values["orientation"].text()
+    assert text.startswith("not orientable")
+    assert f"normals flip across {h.orientation_cycle.size:,} edges (w1)" in text
+    assert "conflict" not in text
+    box.w1_check.setChecked(True)
+    from gcmh_studio.cycles import w1_lines
+
+    (_, EL), _ = w1_lines(cx, h.orientation_cycle, h.orientation)
+    assert len(EL) == h.orientation_cycle.size
+    # another result: the row no longer counts the old loop
+    sphere, _ = _example("sphere")
+    panel.set_result(sphere)
+    assert "flip" not in panel.values["orientation"].text()
