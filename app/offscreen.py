@@ -1,5 +1,5 @@
 """Off-screen rendering: pictures and animation frames of a :class:`gcmh_studio.scene.Scene` on off-screen
-plotters, and (:class:`StillJob`) the window's still picture drawn in a thread.  No Qt here."""
+plotters, and (:class:`StillJob`) the window's still picture drawn in a worker process.  No Qt here."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 import pyvista as pv
 
-from .background import Picture, draw_in_background, started, wait_background
+from .background import wait_background
 from .camera import copy_camera, default_camera, keep_framing, refit_camera
 from .scene import Scene
 from .sections import SectionScene
@@ -50,7 +50,6 @@ def render_image(scene: Scene, path=None, size=(1600, 1200), transparent: bool =
     the picture shows what the window of ``camera_size`` showed. ``decorate(plotter)``: draws what the
     window adds to its view (the presentation's card) on this picture. Returns the (h, w, 3 or 4) image.
     """
-    gl_lifecycle()
     pl = pv.Plotter(off_screen=True, window_size=[int(size[0]), int(size[1])])
     try:
         other = SectionScene(pl, anti_aliasing="ssaa")
@@ -77,17 +76,14 @@ def render_image(scene: Scene, path=None, size=(1600, 1200), transparent: bool =
             atomic_write(path, lambda temp: Image.fromarray(np.asarray(img)).save(temp, format="PNG"), ".png",
                          what=str(path))
     finally:
-        gl_lifecycle()
         pl.close()
     return img
 
 
 def gl_lifecycle() -> None:
-    """Call on the GUI thread before a render window is made, first drawn or closed (a window opened or closed,
-    an off-screen plotter for a picture): it waits for a still picture drawing in the background. Renders wait
-    already (a Scene's StartEvent); making and ending GL contexts and X connections while another thread
-    draws is what Xlib and Mesa's GLX do not guard (issue 26, item 8: ``free(): corrupted unsorted chunks`` as
-    the classroom benchmark opened new windows)."""
+    """Returns at once (:mod:`gcmh_studio.background`): it waited for a still picture drawn in a thread before a
+    GL context was made or ended; that picture is drawn in a worker process now. Stays until its callers in
+    files of other owners (``qt_main_window``, ``headless``) drop it."""
     wait_background()
 
 
@@ -166,99 +162,104 @@ def checked_screenshot(scene: Scene, transparent: bool = False) -> np.ndarray:
 
 
 
-# ------------------------------------------------------------------ the still picture off the GUI thread
+# ------------------------------------------------------------------ the still picture in a process of its own
 # A see-through result's still render takes about 0.3 s in software GL (every layer of every pixel shaded
-# under five lights), and the GUI cannot tick while VTK draws on its thread. A StillJob draws that picture
-# on an off-screen plotter of its own in a thread (VTK lets go of the GIL while it renders) from deep copies
-# of the scene's meshes; the window shows the image until it renders again. One such picture at a time, the
-# newest wins (one still waiting when the view asks for another is never drawn), and every other render
-# waits for it (:mod:`gcmh_studio.background`).
-SETTLE_RENDERS = 1          # cheap renders before the picture (see StillJob._run)
+# under five lights), and the GUI cannot tick while VTK draws on its thread. A StillJob has that picture drawn
+# by the worker process of :mod:`gcmh_studio.still_process` (a thread of the app drawing with VTK while the
+# GUI thread does too cannot be proven safe: issue 26, item 8) from a detached copy of the scene, pickled on
+# the GUI thread; the window shows the image until it renders again. The newest picture wins.
+SETTLE_RENDERS = 1          # cheap renders before the picture (see draw_still)
 
 
 class StillJob:
-    """The still picture of ``scene`` at ``size`` (w, h) under ``camera`` (:func:`camera_values`), rendered
-    in a thread on an off-screen plotter set up as the window's (``anti_aliasing``, no multi-sampling).
+    """The still picture of ``scene`` at ``size`` (w, h) under ``camera`` (:func:`camera_values`), drawn by the
+    worker process on an off-screen plotter set up as the window's (``anti_aliasing``, no multi-sampling).
 
-    Made on the GUI thread: the copies are taken and the off-screen scene is built there (no GL yet), with
-    ``decorate(plotter)`` (what the window draws over its view); when that adds anything the job is
-    ``declined`` (the window draws its own picture). Then ``done()``, and ``image`` ((h, w, 3) uint8) or
-    ``error``; or no image at all, when a newer picture was asked for before this one began.
+    Made on the GUI thread. ``decorate(plotter)`` draws what the window draws over its view: when that adds
+    anything the job is ``declined`` (the window draws its own picture). Then ``done()``, and ``image``
+    ((h, w, 3) uint8) or ``error``; or neither, when a newer picture was asked for first.
     ``stale`` is the caller's: set it when the picture is no longer wanted."""
 
     def __init__(self, scene: Scene, size, camera: dict, anti_aliasing: str | None = "fxaa", decorate=None):
+        from .still_process import still_process
+
         self.size = (int(size[0]), int(size[1]))
-        self.image: np.ndarray | None = None
-        self.error: BaseException | None = None
         self.stale = False
-        self.declined = False
-        self.seconds = 0.0
-        self._plotter: Any = None          # the off-screen plotter and scene, while the thread has them
-        self._scene: Any = None
-        self.picture: Picture | None = None
-        # (made here, not in the thread: ``decorate`` is the window's; a plotter kept for the next job would
-        # outlive the X server in a test run, and Xlib ends a process whose display went away; no GL context
-        # is made here: that is the thread's first render, and the thread closes it)
-        pl = pv.Plotter(off_screen=True, window_size=list(self.size))
-        try:
-            window: Any = pl.ren_win           # (an open plotter has its render window)
-            window.SetMultiSamples(0)          # as the window: FXAA, no multi-sampling
-            sc = SectionScene(pl, anti_aliasing=None)
-            if anti_aliasing == "fxaa":    # (as pyvista would, without its 20 ms check for EGL: the caller's)
-                pl.renderer.SetUseFXAA(True)
-                sc.anti_aliasing = "fxaa"
-            else:
-                sc.set_anti_aliasing(anti_aliasing)
-            src = scene.detached()
-            sc.adopt(src, src.style)
-            for key, value in camera.items():
-                setattr(pl.camera, key, value)
-            pl.renderer.ResetCameraClippingRange()
-            if decorate is not None:
-                before = len(pl.renderer.actors)
-                decorate(pl)
-                self.declined = len(pl.renderer.actors) != before
-        except BaseException:
-            pl.close()
-            raise
-        if self.declined:
-            pl.close()
-            return
-        self._plotter, self._scene = pl, sc
-        self.picture = draw_in_background(self._run, self._close)
+        self.declined = decorate is not None and draws_over(decorate)
+        self.request = None
+        if not self.declined:
+            self.request = still_process().ask(still_payload(scene, self.size, camera, anti_aliasing))
 
     def done(self) -> bool:
-        """Drawn, failed, declined, or dropped for a newer picture (then ``image`` is None)."""
-        return self.picture is None or self.picture.done()
+        """Drawn, failed, declined, or dropped for a newer picture (then ``image`` is None); a worker that
+        hangs is ended here (the GUI's poll asks)."""
+        from .still_process import still_process
 
-    def _run(self) -> None:
-        import time
+        if self.request is None:
+            return True
+        still_process().check()
+        return self.request.done()
 
-        t0 = time.perf_counter()
-        pl = self._plotter
-        try:
-            # first a cheap render, the complex shrunk to a point (its colours mapped, no pixels): the colour bar
-            # lays its labels out from what the frame before drew (in a first frame they sit over the bar)
-            actor = self._scene.actor
-            if actor is not None:
-                actor.SetScale(1e-6, 1e-6, 1e-6)
-                for _ in range(SETTLE_RENDERS):
-                    pl.ren_win.Render()
-                actor.SetScale(1.0, 1.0, 1.0)
-            pl.ren_win.Render()                    # (VTK lets go of the GIL while it draws)
-            self.image = window_pixels(pl.ren_win)
-        except BaseException as e:  # noqa: BLE001 - told to the GUI thread, which draws the picture itself
-            self.error = e
-        finally:
-            self._close()
-            self.seconds = time.perf_counter() - t0
+    @property
+    def image(self) -> np.ndarray | None:
+        return None if self.request is None else self.request.image
 
-    def _close(self) -> None:
-        try:
-            self._plotter.close()
-        except Exception:  # noqa: BLE001
-            pass
-        self._plotter = self._scene = None
+    @property
+    def error(self) -> str | None:
+        return None if self.request is None else self.request.error
+
+
+def still_payload(scene: Scene, size, camera: dict, anti_aliasing: str | None) -> bytes:
+    """What the worker process needs to draw ``scene``'s still picture (:func:`draw_still`'s arguments),
+    pickled: a :meth:`Scene.detached` copy (numpy arrays, and meshes pyvista pickles as VTK's own format;
+    no VTK object shared), the size (w, h), the camera's values and the anti-aliasing."""
+    import pickle
+
+    job = dict(scene=scene.detached(), size=(int(size[0]), int(size[1])), camera=dict(camera),
+               anti_aliasing=anti_aliasing)
+    return pickle.dumps(job, protocol=pickle.HIGHEST_PROTOCOL)
+
+
+def draws_over(decorate) -> bool:
+    """``decorate(plotter)`` adds something to a plotter's view (made and closed here: no GL context)."""
+    pl = pv.Plotter(off_screen=True, window_size=[64, 48])
+    try:
+        before = len(pl.renderer.actors)
+        decorate(pl)
+        return len(pl.renderer.actors) != before
+    finally:
+        pl.close()
+
+
+def draw_still(scene: Scene, size, camera: dict, anti_aliasing: str | None) -> np.ndarray:
+    """The worker process's side of a :class:`StillJob`: the (h, w, 3) uint8 still picture of ``scene``
+    (a :meth:`Scene.detached` copy) drawn as the window draws it."""
+    pl = pv.Plotter(off_screen=True, window_size=[int(size[0]), int(size[1])])
+    try:
+        window: Any = pl.ren_win           # (an open plotter has its render window)
+        window.SetMultiSamples(0)          # as the window: FXAA, no multi-sampling
+        sc = SectionScene(pl, anti_aliasing=None)
+        if anti_aliasing == "fxaa":    # (as pyvista would, without its 20 ms check for EGL: the window's)
+            pl.renderer.SetUseFXAA(True)
+            sc.anti_aliasing = "fxaa"
+        else:
+            sc.set_anti_aliasing(anti_aliasing)
+        sc.adopt(scene, scene.style)
+        for key, value in camera.items():
+            setattr(pl.camera, key, value)
+        pl.renderer.ResetCameraClippingRange()
+        # first a cheap render, the complex shrunk to a point (its colours mapped, no pixels): the colour bar
+        # lays its labels out from what the frame before drew (in a first frame they sit over the bar)
+        actor = sc.actor
+        if actor is not None:
+            actor.SetScale(1e-6, 1e-6, 1e-6)
+            for _ in range(SETTLE_RENDERS):
+                window.Render()
+            actor.SetScale(1.0, 1.0, 1.0)
+        window.Render()
+        return window_pixels(window)
+    finally:
+        pl.close()
 
 
 def window_pixels(ren_win) -> np.ndarray:
@@ -277,25 +278,16 @@ def window_pixels(ren_win) -> np.ndarray:
     return np.ascontiguousarray(vtk_to_numpy(out.GetPointData().GetScalars()).reshape(h, w, 3)[::-1])
 
 
-def warm_background() -> None:
-    """Draw a small off-screen picture in the background now (the window calls this when it opens): the first
-    one of a process loads modules holding the GIL for about a second, which would fall on the first result's
-    picture. The window's renders wait for it as for any job."""
-
-    def run() -> None:
-        try:
-            pl = pv.Plotter(off_screen=True, window_size=[160, 120])
-            try:
-                m = pv.Plane(i_resolution=2, j_resolution=2)
-                m.point_data["t"] = np.arange(m.n_points, dtype=float)
-                pl.add_mesh(m, scalars="t", scalar_bar_args=dict(title="t", vertical=True))
-                pl.add_text("warm", font_size=10)
-                window: Any = pl.ren_win
-                window.Render()
-            finally:
-                pl.close()
-        except Exception:  # noqa: BLE001 - the first job will say
-            pass
-
-    if not started():
-        draw_in_background(run)
+def warm_up() -> None:
+    """Draw a small off-screen picture (the worker process does when it starts): the first one of a process
+    loads modules for about a second, which would fall on the first result's picture."""
+    pl = pv.Plotter(off_screen=True, window_size=[160, 120])
+    try:
+        m = pv.Plane(i_resolution=2, j_resolution=2)
+        m.point_data["t"] = np.arange(m.n_points, dtype=float)
+        pl.add_mesh(m, scalars="t", scalar_bar_args=dict(title="t", vertical=True))
+        pl.add_text("warm", font_size=10)
+        window: Any = pl.ren_win
+        window.Render()
+    finally:
+        pl.close()

@@ -1,9 +1,11 @@
-"""QtStillPicture: a see-through result's still picture, drawn in a thread and shown over the 3D view.
+"""QtStillPicture: a see-through result's still picture, drawn in a worker process and shown over the 3D view.
 
-A see-through result's still picture (0.3 s of software GL for the three-torus) is drawn in a thread on an
-off-screen copy (:class:`gcmh_studio.offscreen.StillJob`) and shown over the view (a label) until the view
-renders again. A new result is drawn in short GUI steps of their own: the picture in a thread, or the
-window's unshown render (:meth:`QtStillPicture.settle`) and then its own.
+A see-through result's still picture (0.3 s of software GL for the three-torus) is drawn by the worker
+process of :mod:`gcmh_studio.still_process` from an off-screen copy (:class:`gcmh_studio.offscreen.StillJob`)
+and shown over the view (a label) until the view renders again; the GUI looks for it every ``STILL_POLL_MS``
+and never waits. When the worker fails (it died, hung, or failed too often) the window renders the picture
+itself. A new result is drawn in short GUI steps of their own: the picture in the worker, or the window's
+unshown render (:meth:`QtStillPicture.settle`) and then its own.
 """
 
 from __future__ import annotations
@@ -15,8 +17,9 @@ from qtpy.QtWidgets import QLabel
 
 from .camera import camera_values
 from .offscreen import StillJob
+from .still_process import still_process
 
-STILL_POLL_MS = 15       # how often the GUI looks whether the still picture drawn in a thread is there
+STILL_POLL_MS = 15       # how often the GUI looks whether the still picture drawn by the worker is there
 
 
 class QtStillPicture:
@@ -28,7 +31,7 @@ class QtStillPicture:
         self.job: StillJob | None = None
         self.image: np.ndarray | None = None    # the last one shown
         self.settling = False
-        self.fresh = False        # a new result the window has not drawn yet (its picture drawn in a thread)
+        self.fresh = False        # a new result the window has not drawn yet (its picture drawn by the worker)
         # what covers the view until the new result is on screen (the waiting picture): hiding a label over the
         # view repaints it, a render on the GUI thread, so it goes when the picture or the window's frame is there
         self.cover = None
@@ -44,34 +47,38 @@ class QtStillPicture:
         self.step.setInterval(0)
         self.step.timeout.connect(self._next_step)
         viewer.plotter.ren_win.AddObserver("StartEvent", lambda *a: self._view_renders())
+        if self.off_thread:   # (its start-up, a second of imports, falls in the window's opening, not a result's)
+            still_process().start()
 
     def start(self) -> None:
         """A new result: its picture in steps of their own (one render asked)."""
         self.drop()
-        self.fresh = self.in_thread()   # (the unshown render comes before the window's first)
+        self.fresh = self.in_worker()   # (the unshown render comes before the window's first)
         self.steps = [self.render] if self.fresh else [self.settle, self.render]
         self.step.start()
 
-    def in_thread(self) -> bool:
-        """Draw the still picture in a thread: a see-through result (0.3 s of software GL for the three-torus)
-        in a view on screen with nothing of the window's own drawn over it (the presentation's card)."""
+    def in_worker(self) -> bool:
+        """Draw the still picture in the worker process: a see-through result (0.3 s of software GL for the
+        three-torus) in a view on screen with nothing of the window's own drawn over it (the presentation's
+        card), while the worker has not failed too often."""
         v = self.viewer
         aa = v.scene.anti_aliasing   # (FXAA as asked: an EGL build falls back to super-sampling)
-        return (self.off_thread and v.scene.see_through() and v.widget.isVisible()
+        return (self.off_thread and still_process().usable() and v.scene.see_through() and v.widget.isVisible()
                 and min(v.size()) > 0 and (aa != "fxaa" or bool(v.plotter.renderer.GetUseFXAA())))
 
     def render(self) -> None:
-        """The still look of the scene as it is, drawn in a thread, shown when it arrives (else the window
+        """The still look of the scene as it is, drawn by the worker, shown when it arrives (else the window
         renders it); the render was counted when it was asked for."""
         self.drop()
-        if not self.in_thread():
+        if not self.in_worker():
             self._uncover()
             self.viewer.widget.update()
             return
         v = self.viewer
         try:
             job = StillJob(v.scene, v.plotter.ren_win.GetSize(), camera_values(v.plotter.camera),
-                           anti_aliasing=v.scene.anti_aliasing, decorate=v._decorate)
+                           anti_aliasing=v.scene.anti_aliasing,
+                           decorate=v._decorate if v.picture_decorators else None)
         except Exception:  # noqa: BLE001 - the window draws it itself
             job = None
         if job is None or job.declined:   # (the presentation draws over the view: the window's own render)
@@ -120,7 +127,7 @@ class QtStillPicture:
         self.job = None
         w, h = self.viewer.plotter.ren_win.GetSize()
         img = job.image
-        if job.stale or img is None or img.shape[:2] != (h, w):   # failed, or the view changed size
+        if job.stale or img is None or img.shape[:2] != (h, w):   # failed, dropped, or the view changed size
             if not job.stale:
                 self.viewer.render()
             return
@@ -160,10 +167,10 @@ class QtStillPicture:
             self.settling = False
 
     def shown(self) -> bool:
-        """The view shows a still picture drawn in a thread (tests and the benchmark ask)."""
+        """The view shows a still picture drawn by the worker (tests and the benchmark ask)."""
         return self.label.isVisible()
 
     def pending(self) -> bool:
-        """A new result's picture is on its way (its steps, or its thread)."""
+        """A new result's picture is on its way (its steps, or the worker)."""
         return bool(self.steps) or self.job is not None
 

@@ -8,7 +8,7 @@ Only the GUI thread touches it; problems go to the model's status line.
 
 Never frozen: a new result is drawn with one render (pyvista would render after
 every actor it adds) in short GUI steps of their own; a see-through result's still
-picture (0.3 s of software GL for the three-torus) is drawn in a thread on an
+picture (0.3 s of software GL for the three-torus) is drawn in a worker process from an
 off-screen copy (:class:`gcmh_studio.qt_still_picture.QtStillPicture`) and shown over the view until the view
 renders again. The window anti-aliases with FXAA (super-sampling only for
 screenshots), and while a slider or a drag moves the view it is drawn in a cheaper
@@ -45,7 +45,7 @@ from .camera import (
 from .inputs import format_value
 from .labels import labels_for, view_subtitle, warm_labels
 from .model import StudioModel, slice_params
-from .offscreen import render_image, warm_background
+from .offscreen import render_image
 from .overlays import PICK_COLOR, draw_overlays
 from .projection import ProjectionModel
 from .qt_drag_turn import QtDragTurn
@@ -67,9 +67,6 @@ class QtViewer:
 
         self.model = model
         # no multi-sampling: with software GL it doubles every frame; FXAA smooths the edges instead
-        from .offscreen import gl_lifecycle
-
-        gl_lifecycle()  # (no GL context made while a still picture draws in the background: issue 26, item 8)
         self.plotter = QtInteractor(parent, auto_update=False, multi_samples=0)
         self.widget = self.plotter.interactor
         self.scene: Scene = SectionScene(self.plotter, anti_aliasing="fxaa")   # a sliced solid shows its section
@@ -98,12 +95,10 @@ class QtViewer:
         self._wait_note.start()
         self._drag = QtDragTurn(self)
         self.widget.installEventFilter(self._drag)
-        # a see-through result's still picture is drawn in a thread and shown over the view until the
-        # view renders again
+        # a see-through result's still picture is drawn in a worker process and shown over the view until
+        # the view renders again
         self.still = QtStillPicture(self)
         self.still.cover = self.waiting     # (it goes when the first result's picture is on screen)
-        if self.still.off_thread:
-            warm_background()
         self.angles = angle_look(model)
         self.angles.changed.connect(self.on_angles)
         ev = model.events   # (the view's own listeners come before the presentation's relays)

@@ -20,7 +20,7 @@ A view is a :class:`gcmh_studio.projection.View` (or a plain (3, n) matrix: line
 
 The same class renders into the Qt window (a ``pyvistaqt.QtInteractor``) and
 into an off-screen ``pyvista.Plotter`` for headless screenshots and animations,
-and (:class:`gcmh_studio.offscreen.StillJob`) into one in a thread for the window's
+and (:class:`gcmh_studio.offscreen.StillJob`) into one in a worker process for the window's
 still picture. Framing the camera is :mod:`gcmh_studio.camera`'s, the words drawn
 over the picture (title, subtitle, colour bar, axis names) :mod:`gcmh_studio.labels`'s.
 """
@@ -37,7 +37,6 @@ import pyvista as pv
 
 from . import picking
 from .angles import cyclic_colour
-from .background import wait_background
 from .complex_mesh import SHEET_GAP as SHEET_GAP  # (the views' tests read it here)
 from .complex_mesh import ComplexMesh
 from .geometry import Geometry, display_complex
@@ -219,10 +218,6 @@ class Scene:
         plotter.set_background(BACKGROUND, top=BACKGROUND_TOP)
         self.anti_aliasing: str | None = None
         self.set_anti_aliasing(anti_aliasing)
-        try:   # a render here waits for a still picture drawing in the background (offscreen.StillJob)
-            plotter.ren_win.AddObserver("StartEvent", lambda *a: wait_background())
-        except AttributeError:  # (a plotter without a render window)
-            pass
 
     def set_anti_aliasing(self, kind: str | None) -> None:
         """"fxaa" (cheap: the window), "ssaa" (four times the pixels: screenshots) or None.
