@@ -1,10 +1,10 @@
 """H2 classes of a 3-manifold drawn as translucent surfaces on a scene (VTK, no Qt).
 
-A surface is triangles in R^n (from :func:`gcmh_studio.cycles.generator_surface`), kept
-among the scene's overlays (``scene.overlay_meshes.items``, the entry a line overlay has:
-[Geometry, mesh, actor, colour, (width, opacity)]), so the scene projects its points with
-every change of view, drops it with the result, and copies it with a detached scene as it
-does the lines.  It is not clipped by a slice: the whole class stays in view.
+A surface is triangles in R^n (from :func:`gcmh_studio.cycles.generator_surface`), one of
+the scene's overlays (:class:`gcmh_studio.overlays.SceneOverlays`, beside the lines), so the
+scene projects its points with every change of view, clips it by the slice as it clips the
+result (a triangle cut at the slab's planes), drops it with the result, and copies it with
+a detached scene.
 
     draw_homology_surfaces(scene, {"homology-surface-2-0": (X, T, "#ffb000", 0.35)})
 """
@@ -13,34 +13,26 @@ from __future__ import annotations
 
 import numpy as np
 
-from .overlays import projected_cells
+from .overlays import SURFACE_PREFIX
 
-SURFACE_PREFIX = "homology-surface-"
+__all__ = ["SURFACE_OPACITY", "SURFACE_PREFIX", "draw_homology_surfaces"]
+
 SURFACE_OPACITY = 0.6
 
 
 def draw_homology_surfaces(scene, specs: dict, render: bool = True) -> None:
     """Show exactly the surfaces ``specs`` (name -> (vertices (m, n), triangles (T, 3), colour,
     opacity); names start with ``homology-surface-``): those drawn before and not named go."""
-    items = scene.overlay_meshes.items
-    gone = [n for n in list(items) if n.startswith(SURFACE_PREFIX) and n not in specs]
+    gone = [n for n in scene.overlay_meshes.names() if n.startswith(SURFACE_PREFIX) and n not in specs]
     for name in gone:
         scene.remove_overlay(name, render=False)
     for name, (X, T, color, opacity) in specs.items():
-        _set_surface(scene, name, np.asarray(X, dtype=np.float64), np.asarray(T, dtype=np.int64), color,
-                     float(opacity))
+        T = np.asarray(T, dtype=np.int64).reshape(-1, 3)
+        if len(T):
+            scene.overlay_meshes.set(name, np.asarray(X, dtype=np.float64), T, color, 1.0, float(opacity))
+        else:
+            scene.remove_overlay(name, render=False)
     if specs:
         scene.angles.fit_overlays()   # through the circles of "angles as circles" when they are on
     if render and (gone or specs):
         scene.plotter.render()
-
-
-def _set_surface(scene, name, X, T, color, opacity):
-    scene.remove_overlay(name, render=False)
-    if scene.geometry is None or len(T) == 0:
-        return
-    geo, mesh = projected_cells(scene, X, T)
-    actor = scene.plotter.add_mesh(mesh, color=color, opacity=opacity, render=False, reset_camera=False,
-                                   name=f"gcmh-overlay-{name}", pickable=False, lighting=True,
-                                   show_edges=False)
-    scene.overlay_meshes.items[name] = [geo, mesh, actor, color, (1.0, opacity)]

@@ -9,7 +9,7 @@ import pyvista as pv
 
 from .geometry import Geometry, boundary_lines, grid_cube_lines
 from .projection import Projector
-from .slicing import clip_segments
+from .slicing import clip_polygons, clip_segments
 
 BOUNDARY_COLOR = "#ff4d6d"
 GRID_COLOR = "#9fb3d9"
@@ -17,31 +17,38 @@ PICK_COLOR = "#40ff90"
 GHOST_COLOR = "#c8d2e6"
 
 
-def projected_cells(scene, X, cells):
+def projected_cells(scene, X, cells, offsets=None):
     """(Geometry, mesh) of cells on points ``X`` (m, n) in ``scene``'s view and frame: ``cells`` (c, 2) are
-    segments, (c, 3) triangles; the scene projects the points again with every change of view."""
+    segments, (c, 3) triangles, or with ``offsets`` (c + 1,) the corners of polygons (CSR, as a slice clips
+    triangles); the scene projects the points again with every change of view."""
     cells = np.asarray(cells, dtype=np.int64)
     pr = Projector(X, center=scene.geometry.projector.center)
     pr.set_radii(scene.geometry.projector.radii())
-    packed = np.empty((len(cells), cells.shape[1] + 1), dtype=np.int64)
-    packed[:, 0] = cells.shape[1]
-    packed[:, 1:] = cells
+    if offsets is not None:
+        offsets = np.asarray(offsets, dtype=np.int64)
+        sizes = np.diff(offsets)
+        packed = np.insert(cells, offsets[:-1], sizes)   # [size, corners..] per polygon
+    else:
+        packed = np.empty((len(cells), cells.shape[1] + 1), dtype=np.int64)
+        packed[:, 0] = cells.shape[1]
+        packed[:, 1:] = cells
+        packed = packed.ravel()
     pts = pr.project_view(scene.view)
-    if cells.shape[1] == 2:
-        return Geometry(1, X.shape[1], "lines", packed.ravel(), pr), pv.PolyData(pts, lines=packed.ravel())
-    return Geometry(2, X.shape[1], "polygons", packed.ravel(), pr), pv.PolyData(pts, faces=packed.ravel())
+    if offsets is None and cells.shape[1] == 2:
+        return Geometry(1, X.shape[1], "lines", packed, pr), pv.PolyData(pts, lines=packed)
+    return Geometry(2, X.shape[1], "polygons", packed, pr), pv.PolyData(pts, faces=packed)
 
 
 class SceneOverlays:
     """The overlays and the slice's ghost of ``scene`` (a Scene: this module is below scene.py).
 
-    ``items``: name -> [Geometry of the lines, mesh, actor, color, (width, opacity)] as drawn (sliced);
-    ``ghost``: (mesh, actor) of the whole result while slicing, else None."""
+    ``items``: name -> [Geometry of the lines or triangles, mesh, actor, color, (width, opacity)] as drawn
+    (sliced); ``ghost``: (mesh, actor) of the whole result while slicing, else None."""
 
     def __init__(self, scene):
         self.scene = scene
         self.items: dict = {}
-        self._src: dict = {}          # name -> (vertices (m, n), edges (E, 2), color, width, opacity) before slicing
+        self._src: dict = {}   # name -> (vertices (m, n), cells (c, 2 or 3), color, width, opacity) before slicing
         self.ghost: tuple | None = None
 
     def clear(self) -> None:
@@ -51,10 +58,15 @@ class SceneOverlays:
         self._src.clear()
 
     def set(self, name: str, vertices, edges, color: str, width: float = 2.0, opacity: float = 1.0) -> None:
-        """Line segments in R^n (vertices (m, n), edges (E, 2)) drawn with the view and clipped by the slice."""
+        """Line segments in R^n (vertices (m, n), edges (E, 2)) drawn with the view and clipped by the slice;
+        edges (T, 3) are triangles, drawn lit (a surface: the H2 classes of a 3-manifold) and clipped alike."""
         self._src[name] = (np.asarray(vertices, dtype=np.float64), np.asarray(edges, dtype=np.int64),
                            color, float(width), float(opacity))
         self._build(name)
+
+    def names(self) -> list:
+        """The overlays asked for (drawn, or clipped away whole by the slice)."""
+        return list(self._src)
 
     def remove(self, name: str) -> None:
         self._src.pop(name, None)
@@ -88,18 +100,27 @@ class SceneOverlays:
             sc.plotter.remove_actor(old[2], render=False)
         if sc.geometry is None or len(E) == 0:
             return
-        if sc.slice is not None:
+        offsets = None
+        if sc.slice is not None:   # as the result is: cut at the slab's two planes
             u, c, w = sc.slice
-            sl = clip_segments(X, E, u, c, w)
-            X, E = sl.vertices, sl.edges
-            if E is None or len(E) == 0:
+            if E.shape[1] == 3:
+                sl = clip_polygons(X, np.arange(0, E.size + 1, 3), E.ravel(), u, c, w)
+                X, E, offsets = sl.vertices, sl.vids, sl.offsets
+            else:
+                sl = clip_segments(X, E, u, c, w)
+                X, E = sl.vertices, sl.edges
+            if sl.empty:
                 return
-        geo, mesh = projected_cells(sc, X, E)
+        geo, mesh = projected_cells(sc, X, E, offsets)
         self.items[name] = [geo, mesh, None, color, (width, opacity)]
-        self.items[name][2] = self._add_actor(name, mesh, color, (width, opacity))
+        self.items[name][2] = self._add_actor(name, geo, mesh, color, (width, opacity))
 
-    def _add_actor(self, name, mesh, color, look):
+    def _add_actor(self, name, geo, mesh, color, look):
         width, opacity = look
+        if geo.kind == "polygons":   # a see-through surface, lit
+            return self.scene.plotter.add_mesh(mesh, color=color, opacity=opacity, render=False, reset_camera=False,
+                                               name=f"gcmh-overlay-{name}", pickable=False, lighting=True,
+                                               show_edges=False)
         return self.scene.plotter.add_mesh(mesh, color=color, line_width=width, opacity=opacity, render=False,
                                            reset_camera=False, name=f"gcmh-overlay-{name}", pickable=False,
                                            render_lines_as_tubes=opacity >= 1.0, lighting=False)
@@ -136,7 +157,7 @@ class SceneOverlays:
         if other.ghost is not None:
             self.ghost = (other.ghost[0], self._add_ghost_actor(other.ghost[0]))
         for name, (geo, mesh, _actor, color, look) in other.items.items():
-            self.items[name] = [geo, mesh, self._add_actor(name, mesh, color, look), color, look]
+            self.items[name] = [geo, mesh, self._add_actor(name, geo, mesh, color, look), color, look]
 
 
 def draw_overlays(scene, cx, boundary: bool = False, grid: bool = False, picked: dict | None = None) -> str | None:
@@ -167,12 +188,15 @@ def draw_overlays(scene, cx, boundary: bool = False, grid: bool = False, picked:
 
 
 HOMOLOGY_PREFIX = "homology-"
+SURFACE_PREFIX = "homology-surface-"   # the H2 classes' surfaces (gcmh_studio.homology_surfaces)
 
 
 def draw_homology(scene, specs: dict, render: bool = True) -> None:
     """Show exactly the homology overlays ``specs`` (name -> (vertices (m, n), edges (E, 2), colour, width),
-    from :class:`gcmh_studio.qt_homology_box.QtHomologyBox`): others named ``homology-*`` go."""
-    gone = [n for n in list(scene.overlay_meshes._src) if n.startswith(HOMOLOGY_PREFIX) and n not in specs]
+    from :class:`gcmh_studio.qt_homology_box.QtHomologyBox`): other lines named ``homology-*`` go (the H2
+    surfaces are :func:`gcmh_studio.homology_surfaces.draw_homology_surfaces`' own)."""
+    gone = [n for n in scene.overlay_meshes.names()
+            if n.startswith(HOMOLOGY_PREFIX) and not n.startswith(SURFACE_PREFIX) and n not in specs]
     for name in gone:
         scene.remove_overlay(name, render=False)
     for name, (X, E, color, width) in specs.items():

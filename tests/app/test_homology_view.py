@@ -221,3 +221,70 @@ def test_h2_classes_of_a_three_manifold_as_surfaces(qtbot, small_window):
     with qtbot.waitSignal(box.surfaces) as sent:
         box.betti[2].click()
     assert sent.args[0] == {} and not [n for n in w.scene.overlays if n.startswith("homology-surface-")]
+
+
+def _slab_heights(scene, name):
+    """The heights direction . x of the points of overlay ``name`` as drawn (in R^n), and the slab."""
+    geo = scene.overlays[name][0]
+    pr = geo.projector
+    X = np.asarray(pr.XT.T, dtype=np.float64) + pr.center
+    u, c, w = scene.slice
+    return X @ u, c, w
+
+
+def test_generators_follow_the_slice(qtbot, small_window, klein):
+    """A slice clips the H1 generators and the w1 loop as it clips the result: every point drawn lies in
+    the slab, fewer segments than the whole loop; the slice off, the whole loops again."""
+    w = small_window
+    box = w.topology_panel.homology_box
+    with qtbot.waitSignal(box.computed, timeout=120_000):
+        w.show_result(klein, klein.point_names(), title="Klein bottle")
+    box.betti[1].click()
+    box.w1_check.click()
+    names = ["homology-1-0", "homology-1-1", "homology-w1"]
+    whole = {n: w.scene.overlays[n][1].n_cells for n in names}
+    u = np.zeros(5)
+    u[0] = 1.0
+    x = np.asarray(klein.vertices)[:, 0]
+    w.scene.set_slice(u, x.min() + 0.5 * np.ptp(x), 0.15 * np.ptp(x))
+    shown = [n for n in names if n in w.scene.overlays]   # (a loop may miss the slab altogether)
+    assert shown
+    for n in shown:
+        h, c, width = _slab_heights(w.scene, n)
+        assert (h >= c - width - 1e-9).all() and (h <= c + width + 1e-9).all()
+    assert sum(w.scene.overlays[n][1].n_cells for n in shown) < sum(whole.values())
+    w.scene.set_slice(None)
+    assert {n: w.scene.overlays[n][1].n_cells for n in names} == whole
+
+
+def test_h2_surfaces_follow_the_slice(qtbot, small_window):
+    """The three-torus' H2 surfaces are cut by the slab as the result is (triangles clipped at its planes),
+    stay see-through, and come back whole with the slice off."""
+    from gcmh_studio.homology_surfaces import SURFACE_OPACITY
+
+    w = small_window
+    cx = _example("three-torus", 5)
+    box = w.topology_panel.homology_box
+    with qtbot.waitSignal(box.computed, timeout=120_000):
+        w.show_result(cx, cx.point_names(), title="three-torus")
+    box.betti[2].click()
+    names = [f"homology-surface-2-{i}" for i in range(3)]
+    whole = {n: w.scene.overlays[n][1].n_cells for n in names}
+    V = np.asarray(cx.vertices)
+    u = np.zeros(V.shape[1])
+    u[0] = 1.0
+    c, width = V[:, 0].min() + 0.5 * np.ptp(V[:, 0]), 0.1 * np.ptp(V[:, 0])
+    w.scene.set_slice(u, c, width)
+    shown = [n for n in names if n in w.scene.overlays]
+    assert shown
+    for n in shown:
+        geo, mesh, actor, _colour, _look = w.scene.overlays[n]
+        assert geo.kind == "polygons" and actor.prop.opacity == pytest.approx(SURFACE_OPACITY)
+        h, c0, w0 = _slab_heights(w.scene, n)
+        assert (h >= c0 - w0 - 1e-9).all() and (h <= c0 + w0 + 1e-9).all()
+    assert sum(w.scene.overlays[n][1].n_cells for n in shown) < sum(whole.values())
+    w.scene.set_slice(None)
+    assert {n: w.scene.overlays[n][1].n_cells for n in names} == whole
+    with qtbot.waitSignal(box.surfaces):
+        box.betti[2].click()
+    assert not [n for n in w.scene.overlay_meshes.names() if n.startswith("homology-surface-")]
