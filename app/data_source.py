@@ -34,10 +34,9 @@ def is_result_file(path: str) -> bool:
 
 
 def is_data_file(path: str) -> bool:
-    from gcmh_core.data_files import DATA_SUFFIXES, split_spec
+    from gcmh_core.data_files import DATA_SUFFIXES
 
-    file, _ = split_spec(str(path))
-    low = file.lower()
+    low = _file_of(path).lower()
     return any(low.endswith(s) for s in DATA_SUFFIXES)
 
 
@@ -84,6 +83,7 @@ class DataSource:
         self.specs = [os.path.abspath(s) if os.path.exists(s) else s for s in map(str, specs)]
         self.bounds_override = bounds
         self.components = components
+        self.changed: list[str] = []   # (what `from_session` found changed since the session was saved)
         # the headers and the fields (memory maps where the format allows), then one pass for the ranges
         self.plan = _plan(self.specs, 0.0, bounds, components)
         self.ranges = self._ranges()
@@ -197,26 +197,71 @@ class DataSource:
 
     # ------------------------------------------------------------------ sessions
     def session_entry(self) -> dict:
-        """What a session keeps: the files by path, the levels, the box override and the component flag."""
+        """What a session keeps: the files by path (with each file's size and modification time, to tell a
+        changed file when opened again), the levels, the box override and the component flag."""
         return {"files": list(self.specs), "levels": [float(v) for v in self.levels],
                 "bounds": None if self.bounds_override is None else np.asarray(self.bounds_override).tolist(),
-                "components": self.components}
+                "components": self.components, "seen": [file_stamp(s) for s in self.specs]}
 
     @classmethod
     def from_session(cls, entry: dict) -> DataSource:
-        """A source from :meth:`session_entry`; a file no longer where the session says is one
-        InputError that says so (moved or deleted) and how to open it again."""
+        """A source from :meth:`session_entry`.  A file no longer where the session says is one InputError
+        that says so (moved or deleted) and how to open it again (:func:`moved_file`); a file changed since
+        (another size or modification time) opens, with a note in ``changed`` for the window to show."""
         from gcmh_core import InputError
-        from gcmh_core.data_files import split_spec
 
         if not isinstance(entry, dict) or not isinstance(entry.get("files"), list) or not entry["files"]:
             raise InputError("the session's data entry has no files")
-        for spec in entry["files"]:
-            path, _ = split_spec(str(spec))
-            if not os.path.exists(path):
-                raise InputError(f"the session's data file {path} is not there any more (moved or deleted): "
-                                 "open it again with File \u2192 Open data\u2026")
-        return cls(entry["files"], entry.get("levels"), entry.get("bounds"), entry.get("components"))
+        problem = moved_file(entry)
+        if problem:
+            raise InputError(problem)
+        source = cls(entry["files"], entry.get("levels"), entry.get("bounds"), entry.get("components"))
+        source.changed = changed_files(entry)
+        return source
+
+
+def _file_of(spec) -> str:
+    from gcmh_core.data_files import split_spec
+
+    return split_spec(str(spec))[0]
+
+
+def file_stamp(spec) -> list[int] | None:
+    """[size in bytes, modification time in ns] of a spec's file (None if it cannot be read)."""
+    try:
+        st = os.stat(_file_of(spec))
+    except OSError:
+        return None
+    return [int(st.st_size), int(st.st_mtime_ns)]
+
+
+def moved_file(entry: dict) -> str | None:
+    """The message for the first data file of a session (or a remembered source) that is no longer where
+    it says, else None."""
+    for spec in entry.get("files") or []:
+        path = _file_of(spec)
+        if not os.path.exists(path):
+            return (f"the session's data file {path} is not there any more (moved or deleted): "
+                    "open it again with File \u2192 Open data\u2026")
+    return None
+
+
+def changed_files(entry: dict) -> list[str]:
+    """One line per data file whose size or modification time is not what the entry saw (files it saw
+    nothing of, e.g. sessions saved before it kept them, are taken as they are)."""
+    import time
+
+    out = []
+    seen = entry.get("seen") or []
+    for spec, then in zip(entry.get("files") or [], seen):
+        now = file_stamp(spec)
+        if then is None or now is None or list(then) == now:
+            continue
+        when = time.strftime("%Y-%m-%d %H:%M", time.localtime(now[1] / 1e9))
+        size = f", {then[0]:,} -> {now[0]:,} bytes" if then[0] != now[0] else ""
+        out.append(f"{_file_of(spec)} has changed since it was saved (modified {when}{size}): "
+                   "its data are read as they are now")
+    return out
 
 
 def session_data(path) -> dict | None:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from qtpy.QtWidgets import QMessageBox
 
-from . import data_source
+from . import data_source, recent_data
 from .qt_widgets import scrolled
 
 
@@ -15,6 +15,8 @@ class QtFileOpener:
     def __init__(self, window):
         self.window = window
         self._data_scroll = None
+        self._remembering = False
+        self.problem_box = None   # the last message box about a data source (not modal: the window runs on)
 
     def open_data(self, specs, levels=None) -> bool:
         """Open data files as F's components (one per file or field) and extract at their levels (default:
@@ -31,8 +33,37 @@ class QtFileOpener:
             w.tabs.addTab(tab, "Data")
         w.tabs.setCurrentWidget(tab)
         w.show_description(source.title, "")
+        if not self._remembering:   # (the gallery's "your data": each source as last shown in full)
+            w.data_panel.shown.connect(self._remember)
+            self._remembering = True
         w.data_panel.set_source(source)
         return True
+
+    def _remember(self, step: str) -> None:
+        w = self.window
+        if step == "full" and w.data_source is not None and w.showing_data():
+            picture = w.guard("Remembering the data source", w.screenshot_array)
+            recent_data.remember(w.data_source.session_entry(), w.data_source.title, picture)
+
+    def open_entry(self, entry: dict) -> bool:
+        """Open a data source a session or the gallery remembers (:meth:`DataSource.from_session`): a file
+        moved or deleted is said in a message box and on the status line (False); a file changed since
+        opens, and the box says so."""
+        w = self.window
+        source = w.guard("Opening the data", data_source.DataSource.from_session, entry)
+        if source is None:
+            self.tell("Cannot open the data", w.last_status)
+            return False
+        opened = self.open_data(source.specs, source.levels)
+        if opened and source.changed:   # (the status line is the run's: the box stays)
+            self.tell("The data have changed", "\n".join(source.changed))
+        return opened
+
+    def tell(self, title: str, text: str) -> None:
+        """A warning box in the window that does not block it."""
+        box = QMessageBox(QMessageBox.Warning, title, text, QMessageBox.Ok, self.window)
+        box.open()
+        self.problem_box = box
 
     def _data_tab(self):
         if self._data_scroll is None:
@@ -65,8 +96,7 @@ class QtFileOpener:
                 # (checked whole first: nothing on screen was changed)
                 QMessageBox.warning(w, "Cannot open the session", w.last_status)
                 return False
-            source = w.guard("Opening the session", data_source.DataSource.from_session, entry)
-            return source is not None and self.open_data(source.specs, source.levels)
+            return self.open_entry(entry)
         if data_source.is_result_file(path):
             return self.open_result(path)
         return self.open_data([path])

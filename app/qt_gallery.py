@@ -5,8 +5,14 @@ package data read with importlib.resources, drawn by ``python -m gcmh_studio.mak
 its title under it, and the selected example's description beside the grid.  Double-clicking a thumbnail, pressing
 Enter or "Open" emits ``exampleChosen(name)`` and accepts the dialog.
 
+After the examples, the data files the window opened lately (:mod:`gcmh_studio.recent_data`: their
+isosurface's picture, files and levels); choosing one emits ``dataChosen(entry)``, the source's entry as
+a session keeps it (a file that has moved since is marked in the details, and the window says so when
+it is opened).
+
     gallery = QtGallery(parent)
     gallery.exampleChosen.connect(window.load_example)
+    gallery.dataChosen.connect(window.files.open_entry)
     gallery.exec_()
 """
 
@@ -34,6 +40,7 @@ from qtpy.QtWidgets import (
 THUMB = QSize(320, 240)
 ICON = QSize(224, 168)
 NAME_ROLE = Qt.UserRole
+DATA_ROLE = Qt.UserRole + 1   # (a remembered data source: its index in QtGallery.recent)
 
 
 def _missing_picture(text: str) -> QPixmap:
@@ -62,15 +69,21 @@ class QtGallery(QDialog):
     -------
     exampleChosen(str)
         The name of the example the user opened.
+    dataChosen(dict)
+        The entry of the remembered data source the user opened (``recent_data.recent()[i]["entry"]``).
     """
 
     exampleChosen = Signal(str)
+    dataChosen = Signal(dict)
 
-    def __init__(self, parent=None, examples=None, gallery_dir=None):
+    def __init__(self, parent=None, examples=None, gallery_dir=None, recent=None):
         super().__init__(parent)
         from gcmh_core.examples import list_examples
 
+        from . import recent_data
         from .make_gallery import gallery_files
+
+        self.recent = recent_data.recent() if recent is None else list(recent)
 
         self.setWindowTitle("Example gallery")
         self.resize(1100, 720)
@@ -91,6 +104,11 @@ class QtGallery(QDialog):
             item = QListWidgetItem(QIcon(self._picture(name)), ex.title)
             item.setData(NAME_ROLE, name)
             item.setToolTip(f"{ex.title}\n{name}: n = {ex.n}, k = {ex.k}")
+            self.grid.addItem(item)
+        for i, r in enumerate(self.recent):
+            item = QListWidgetItem(QIcon(self._data_picture(r)), f"{r['title']} (your data)")
+            item.setData(DATA_ROLE, i)
+            item.setToolTip("\n".join(r["entry"]["files"]))
             self.grid.addItem(item)
 
         self.details = QLabel()
@@ -127,8 +145,8 @@ class QtGallery(QDialog):
         layout.addLayout(bottom)
 
         self.grid.currentItemChanged.connect(self._show_details)
-        self.grid.itemActivated.connect(lambda item: self._choose(item.data(NAME_ROLE)))
-        self.grid.itemDoubleClicked.connect(lambda item: self._choose(item.data(NAME_ROLE)))
+        self.grid.itemActivated.connect(self._choose)
+        self.grid.itemDoubleClicked.connect(self._choose)
         if self.grid.count():
             self.grid.setCurrentRow(0)
         else:
@@ -139,7 +157,19 @@ class QtGallery(QDialog):
 
     def names(self) -> list[str]:
         """Example names in the order shown."""
-        return [self.grid.item(i).data(NAME_ROLE) for i in range(self.grid.count())]
+        items = (self.grid.item(i) for i in range(self.grid.count()))
+        return [item.data(NAME_ROLE) for item in items if item.data(NAME_ROLE) is not None]
+
+    def select_data(self, index: int) -> bool:
+        """Make the remembered data source ``recent[index]`` current; False if there is none."""
+        return self._select(DATA_ROLE, index)
+
+    def _select(self, role, value) -> bool:
+        for i in range(self.grid.count()):
+            if self.grid.item(i).data(role) == value:
+                self.grid.setCurrentRow(i)
+                return True
+        return False
 
     def current_name(self) -> str | None:
         item = self.grid.currentItem()
@@ -147,11 +177,7 @@ class QtGallery(QDialog):
 
     def select(self, name: str) -> bool:
         """Make `name` the current example; False if there is no such example."""
-        for i in range(self.grid.count()):
-            if self.grid.item(i).data(NAME_ROLE) == name:
-                self.grid.setCurrentRow(i)
-                return True
-        return False
+        return self._select(NAME_ROLE, name)
 
     def has_thumbnail(self, name: str) -> bool:
         return (self._dir / f"{name}.png").is_file()
@@ -167,9 +193,30 @@ class QtGallery(QDialog):
             return _missing_picture(f"{name}\n(no picture yet: python -m gcmh_studio.make_gallery)")
         return pm
 
+    def _data_picture(self, r: dict) -> QPixmap:
+        pm = QPixmap()
+        if r["picture"] is not None:
+            pm.loadFromData(Path(r["picture"]).read_bytes())
+        return _missing_picture(r["title"]) if pm.isNull() else pm
+
+    def _show_data_details(self, r: dict) -> None:
+        from .data_source import moved_file
+
+        e = r["entry"]
+        moved = moved_file(e)
+        files = "".join(f"<li>{html.escape(f)}</li>" for f in e["files"])
+        levels = ", ".join(f"{v:g}" for v in e.get("levels") or [])
+        self.details.setText(
+            f"<h3>{html.escape(r['title'])}</h3><p style='color:#666'>your data, opened lately</p>"
+            f"<ul>{files}</ul><p>level {html.escape(levels)}</p>"
+            + (f"<p style='color:#b00020'>{html.escape(moved)}</p>" if moved else ""))
+
     def _show_details(self, item, _previous=None) -> None:
         self.open_button.setEnabled(item is not None)
         if item is None:
+            return
+        if item.data(DATA_ROLE) is not None:
+            self._show_data_details(self.recent[item.data(DATA_ROLE)])
             return
         ex = self._examples[item.data(NAME_ROLE)]
         dim = ex.n - ex.k
@@ -181,16 +228,18 @@ class QtGallery(QDialog):
             f"<p style='color:#666'>F = ({html.escape(', '.join(ex.formulas))})</p>")
 
     def _open_current(self) -> None:
-        name = self.current_name()
-        if name is not None:
-            self._choose(name)
+        if self.grid.currentItem() is not None:
+            self._choose(self.grid.currentItem())
 
-    def _choose(self, name: str) -> None:
+    def _choose(self, item) -> None:
         # a double-click is also an activation in most styles: open once
         if self._chosen:
             return
         self._chosen = True
-        self.exampleChosen.emit(name)
+        if item.data(DATA_ROLE) is not None:
+            self.dataChosen.emit(self.recent[item.data(DATA_ROLE)]["entry"])
+        else:
+            self.exampleChosen.emit(item.data(NAME_ROLE))
         self.accept()
 
     def showEvent(self, event) -> None:

@@ -114,8 +114,9 @@ def _show(value) -> str:
 
 
 # ---------------------------------------------------------------- the parts
-def _system(s) -> tuple[int, int]:
-    """Check the Manifold tab's part; returns (n, k) of the system it describes."""
+def _system(s, blank: bool = False) -> tuple[int, int]:
+    """Check the Manifold tab's part; returns (n, k) of the system it describes.  ``blank``: its formulas
+    may all be empty (a session of data files: the tab's system is not what is shown)."""
     _mapping(s, "system")
     cplx = s.get("complex")
     if cplx:   # equations over C^m: the panel splits them (n = 2m, k = 2 per equation + the real formulas)
@@ -137,7 +138,7 @@ def _system(s) -> tuple[int, int]:
         formulas = _list(s["formulas"], "system.formulas", 1, N_MAX)
         for i, f in enumerate(formulas):   # (a row left blank is the panel's to point out, as when typed)
             _text(f, f"system.formulas[{i}]", MAX_FORMULA)
-        if not any(f.strip() for f in formulas):
+        if not blank and not any(f.strip() for f in formulas):
             raise _fail("system.formulas", "are all empty")
         n = _int(s["n"], "system.n", 1, N_MAX) if "n" in s else len(s.get("variables") or [])
         if not n:
@@ -263,20 +264,52 @@ def _view(v) -> None:
                 raise _fail("view.slice.w", f"must be > 0, got {w:g}")
 
 
+MAX_PATH = 4096               # characters of a data file's path (PATH_MAX)
+
+
+def data_entry(e) -> dict:
+    """Check a data source's entry (:meth:`gcmh_studio.data_source.DataSource.session_entry`, a session's
+    ``"data"`` and the gallery's remembered sources): its files by path, levels, box, component flag and
+    what was seen of each file (size, modification time)."""
+    _mapping(e, "data")
+    files = _list(e.get("files"), "data.files", 1, N_MAX)
+    for i, f in enumerate(files):
+        _text(f, f"data.files[{i}]", MAX_PATH, empty=False)
+    if e.get("levels") is not None:
+        for i, v in enumerate(_list(e["levels"], "data.levels", 1, N_MAX)):
+            _number(v, f"data.levels[{i}]", text=False)
+    if e.get("bounds") is not None:
+        box = _list(e["bounds"], "data.bounds", 2, N_MAX)
+        pairs = box if isinstance(box[0], list) else [box]
+        for i, pair in enumerate(pairs):
+            for j, v in enumerate(_list(pair, f"data.bounds[{i}]", 2, 2)):
+                _number(v, f"data.bounds[{i}][{j}]", text=False)
+    if e.get("components") is not None and not isinstance(e["components"], bool):
+        raise _fail("data.components", f"must be true, false or null, got {_show(e['components'])}")
+    for i, stamp in enumerate(_list(e.get("seen") or [], "data.seen", 0, len(files))):
+        if stamp is not None:
+            for j, v in enumerate(_list(stamp, f"data.seen[{i}]", 2, 2)):
+                _int(v, f"data.seen[{i}][{j}]", 0, 2**63 - 1)
+    return e
+
+
 def validate_session(d) -> dict:
     """``d`` (a parsed session file) if every field the app reads is usable, else :class:`SessionError`.
 
     The format, the title (at most MAX_TITLE characters), the system (n and k in 1..N_MAX with k <= n,
     its formulas or complex equations, variables, bounds, div, method, seed, start, parameters and glued
     axes, each bounded and finite), the view (projection kind, axes, n(n-1)/2 finite angles, mapping,
-    distance, colour, opacity in [0, 1], toggles (the angle switches too), a slice that is a mapping)."""
+    distance, colour, opacity in [0, 1], toggles (the angle switches too), a slice that is a mapping), and
+    a data source's entry (:func:`data_entry`)."""
     if not isinstance(d, dict) or d.get("format") != SESSION_FORMAT:
         raise SessionError(f"not a GCMH session file (format {SESSION_FORMAT!r} expected)")
     if d.get("title") is not None:
         _text(d["title"], "title", MAX_TITLE)
     if "system" not in d:
         raise SessionError("the session has no system")
-    _system(d["system"])
+    if d.get("data") is not None:
+        data_entry(d["data"])
+    _system(d["system"], blank=d.get("data") is not None)
     if d.get("view") is not None:
         _view(d["view"])
     return d   # (the camera and "keep camera": a hand-edited one that cannot be used is dropped, not refused)

@@ -117,6 +117,12 @@ def read_session(path) -> dict:
     except ValueError as e:   # (an integer of more than 4300 digits)
         raise SessionError(str(e)) from None
     validate_session(d)
+    if d.get("data") is not None:   # (a data source: its files where the session says, or one line saying not)
+        from .data_source import moved_file
+
+        problem = moved_file(d["data"])
+        if problem:
+            raise SessionError(problem)
     d["camera"], d["keep_camera"] = session_camera(d)
     return d
 

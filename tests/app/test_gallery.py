@@ -10,6 +10,13 @@ from gcmh_core.examples import example_names, load_example
 from gcmh_studio.qt_gallery import QtGallery
 
 
+@pytest.fixture(autouse=True)
+def state(monkeypatch, tmp_path):
+    """The user's state folder (remembered data sources) kept out of the tests."""
+    monkeypatch.setenv("GCMH_STATE_DIR", str(tmp_path / "state"))
+    return tmp_path / "state"
+
+
 @pytest.fixture
 def gallery(qtbot):
     g = QtGallery()
@@ -94,3 +101,42 @@ def test_missing_thumbnail_gets_a_card(qtbot, tmp_path):
     with qtbot.waitSignal(g.exampleChosen, timeout=1000) as blocker:
         g.grid.itemActivated.emit(g.grid.item(0))
     assert blocker.args == ["sphere"]
+
+
+def test_remembered_data_sources_follow_the_examples(qtbot, tmp_path):
+    import numpy as np
+
+    from gcmh_studio import recent_data
+
+    for name in ("a", "b"):
+        np.save(tmp_path / f"{name}.npy", np.zeros((3, 3, 3), np.float32))
+    picture = np.zeros((300, 500, 3), np.uint8)
+    picture[100:200, 200:300] = (200, 80, 40)   # (an object in the middle: kept by the crop)
+    a = {"files": [str(tmp_path / "a.npy")], "levels": [0.5], "bounds": None, "components": None}
+    assert recent_data.remember(a, "a.npy", picture)
+    assert recent_data.remember({**a, "files": [str(tmp_path / "b.npy")]}, "b.npy")
+    assert recent_data.remember({**a, "levels": [0.25]}, "a.npy")   # (again: first, with its newest level)
+    recent = recent_data.recent()
+    assert [r["title"] for r in recent] == ["a.npy", "b.npy"] and recent[0]["entry"]["levels"] == [0.25]
+    assert recent[0]["picture"] is not None and recent[1]["picture"] is None
+    (tmp_path / "b.npy").rename(tmp_path / "moved.npy")
+
+    g = QtGallery(examples=[load_example("sphere")])
+    qtbot.addWidget(g)
+    assert g.names() == ["sphere"] and g.grid.count() == 3   # (the examples' names only)
+    assert g.grid.item(1).text() == "a.npy (your data)" and not g.grid.item(1).icon().isNull()
+    assert g.select_data(1) and "not there any more (moved or deleted)" in g.details.text()
+    assert g.select_data(0) and str(tmp_path / "a.npy") in g.details.text() and "0.25" in g.details.text()
+    with qtbot.waitSignal(g.dataChosen, timeout=1000) as blocker:
+        qtbot.mouseClick(g.open_button, Qt.LeftButton)
+    assert blocker.args[0]["files"] == [str(tmp_path / "a.npy")] and blocker.args[0]["levels"] == [0.25]
+
+
+def test_a_broken_list_of_remembered_sources_is_no_sources(state):
+    from gcmh_studio import recent_data
+
+    state.mkdir()
+    for text in ("{not json", '[{"entry": {"files": []}, "title": "x"}]', '[{"entry": {"files": ["/a.npy"]}}]',
+                 '{"entry": 1}'):
+        recent_data.recent_path().write_text(text)
+        assert recent_data.recent() == []

@@ -17,6 +17,12 @@ def ellipsoid(side=41):
     return sum((X[a] / SEMI[a]) ** 2 for a in range(3)).astype(np.float32)
 
 
+@pytest.fixture(autouse=True)
+def state(monkeypatch, tmp_path):
+    """The user's state folder (the data sources the window remembers) kept out of the tests."""
+    monkeypatch.setenv("GCMH_STATE_DIR", str(tmp_path / "state"))
+
+
 @pytest.fixture
 def volume(tmp_path):
     path = tmp_path / "e.npy"
@@ -156,6 +162,44 @@ def test_a_session_remembers_the_data_and_says_when_a_file_moved(qtbot, window, 
     (tmp_path / "e.npy").rename(tmp_path / "elsewhere.npy")
     assert not window.open_file(str(tmp_path / "s.json"))
     assert "is not there any more (moved or deleted)" in window.last_status
+    box = window.files.problem_box   # (said in the window too, in a box that does not block it)
+    assert box.isVisible() and str(tmp_path / "e.npy") in box.text() and "moved or deleted" in box.text()
+    # the command line: one line, exit 2, no picture
+    import subprocess
+    import sys
+
+    proc = subprocess.run([sys.executable, "-m", "gcmh_studio", "--session", str(tmp_path / "s.json"),
+                           "--screenshot", str(tmp_path / "s.png")], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 2 and not (tmp_path / "s.png").exists()
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("gcmh-app: error: cannot open ") and "moved or deleted" in lines[0]
+
+
+def test_a_file_changed_since_the_session_opens_and_says_so(qtbot, window, tmp_path, volume):
+    open_and_wait(qtbot, window, [volume], levels=0.8)
+    window.save_session(tmp_path / "s.json")
+    np.save(volume, ellipsoid(33))   # (the simulation run again: another grid)
+    with qtbot.waitSignal(window.data_panel.shown, timeout=120_000):
+        assert window.open_file(str(tmp_path / "s.json"))
+    assert window.data_source.shape == (33, 33, 33) and window.data_source.levels == [0.8]
+    box = window.files.problem_box
+    assert box.isVisible() and "has changed since it was saved" in box.text() and volume in box.text()
+
+
+def test_the_gallery_remembers_the_data_opened(qtbot, window, tmp_path, volume):
+    from gcmh_studio import recent_data
+
+    open_and_wait(qtbot, window, [volume], levels=0.8)
+    first = recent_data.recent()[0]
+    assert first["entry"]["files"] == [volume] and first["entry"]["levels"] == [0.8]
+    assert first["title"] == "e.npy" and first["picture"] is not None   # (the isosurface as shown)
+    with qtbot.waitSignal(window.data_panel.shown, timeout=120_000):
+        window.data_panel.set_level(0, 0.6)
+    assert [r["entry"]["levels"] for r in recent_data.recent()] == [[0.6]]   # (one entry: its latest level)
+    window.load_example("sphere", run=False)
+    with qtbot.waitSignal(window.data_panel.shown, timeout=120_000):
+        assert window.files.open_entry(first["entry"])   # (what the gallery's dataChosen opens)
+    assert window.data_source.levels == [0.8] and window.showing_data()
 
 
 def test_a_4d_series_is_a_3_manifold_sliced_in_time(qtbot, window, tmp_path):
@@ -176,3 +220,23 @@ def test_a_4d_series_is_a_3_manifold_sliced_in_time(qtbot, window, tmp_path):
     assert window.data_source.plan.bounds[3].tolist() == [0.0, 6.0]
     window.model.set_slice(on=True, index=3, c=0.5, w=0.05)   # (a section in time: a surface)
     assert window.model.slice_readout.startswith("t [sec] in [2.7, 3.3] of [0, 6]")
+
+
+@pytest.mark.parametrize("data, words", [
+    ({"files": []}, "data.files: must have 1 to"), ({"files": [3]}, "data.files[0]: must be a text"),
+    ({"files": ["a.npy"], "levels": [float("nan")]}, "data.levels[0]: must be a finite number"),
+    ({"files": ["a.npy"], "bounds": [[0, "x"]] * 3}, "data.bounds[0][1]: must be a number"),
+    ({"files": ["a.npy"], "components": "yes"}, "data.components: must be true, false or null"),
+    ({"files": ["a.npy"], "seen": [[1, 2], None]}, "data.seen: must have 0 to 1 entries"),
+])
+def test_a_sessions_data_entry_is_checked_whole(data, words):
+    from gcmh_studio.session_schema import SessionError, validate_session
+
+    session = {"format": "gcmh-session/1", "system": {"formulas": [""], "n": 3}, "data": data}
+    with pytest.raises(SessionError, match=words.replace("[", r"\[").replace("]", r"\]")):
+        validate_session(session)
+    # (a data session's Manifold tab may be blank; a formula session's may not)
+    ok = {"format": "gcmh-session/1", "system": {"formulas": [""], "n": 3}}
+    assert validate_session({**ok, "data": {"files": ["a.npy"], "levels": [1.0], "seen": [[5, 7]]}})
+    with pytest.raises(SessionError, match="are all empty"):
+        validate_session(ok)
