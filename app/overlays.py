@@ -50,8 +50,12 @@ class SceneOverlays:
         self.items: dict = {}
         self._src: dict = {}   # name -> (vertices (m, n), cells (c, 2 or 3), color, width, opacity) before slicing
         self.ghost: tuple | None = None
+        # (cx, values (V,), cmap, name): the result coloured by per-vertex values (curvature) until told
+        # otherwise, again whenever its mesh is made anew (a slice, a style)
+        self.colouring: tuple | None = None
 
     def clear(self) -> None:
+        self.colouring = None
         self.set_ghost(False)
         for name in list(self.items):
             self.remove(name)
@@ -75,9 +79,17 @@ class SceneOverlays:
             self.scene.plotter.remove_actor(ov[2], render=False)
 
     def rebuild(self) -> None:
-        """Clip every overlay again (the slice changed)."""
+        """Clip every overlay again and colour the result's new mesh as asked (the slice changed)."""
         for name in list(self._src):
             self._build(name)
+        self.recolour()
+
+    def recolour(self) -> bool:
+        """Colour the result's mesh on show by :attr:`colouring` again (its actor was made anew); False when
+        there is none to apply."""
+        if self.colouring is None or self.scene.mesh is None or self.scene.actor is None:
+            return False
+        return _apply_colours(self.scene, *self.colouring)
 
     def project(self) -> None:
         """Write the ghost's and the overlays' points for the scene's view, in place."""
@@ -150,6 +162,7 @@ class SceneOverlays:
         other.items = {name: [geo, None if mesh is None else mesh.copy(deep=True), None, color, look]
                        for name, (geo, mesh, _actor, color, look) in self.items.items()}
         other._src = dict(self._src)
+        other.colouring = self.colouring
         return other
 
     def adopt(self, other: SceneOverlays) -> None:
@@ -209,49 +222,44 @@ CURVATURE_CMAP = "coolwarm"
 
 
 def _drawn_values(scene, cx, values):
-    """``values`` (V,) at the vertices of ``cx``, for the points of the mesh on show (a surface on
-    identified axes is drawn with its seam cells' low vertices moved a period up: those take their
-    vertex's value); None when the mesh is not the whole result (a slice)."""
+    """``values`` (V,) at the vertices of ``cx``, for the points of the mesh on show: the whole result's take
+    their vertex's value; a surface on identified axes is drawn with its seam cells' low vertices moved a
+    period up (those take their vertex's value), and a slice's new points on the slab's planes take the
+    value of the nearest vertex (they lie on an edge, beside its ends)."""
     mesh = scene.mesh
-    V = np.asarray(cx.vertices)
-    m = mesh.n_points
-    if m < len(V):
-        return None
+    V = np.asarray(cx.vertices, dtype=np.float64)
     names = scene.names
-    drawn = np.column_stack([np.asarray(mesh.point_data[name]) for name in names])
-    if not np.array_equal(drawn[:len(V)], V):
-        return None
-    out = np.empty(m, dtype=np.float64)
-    out[:len(V)] = values
-    if m > len(V):
+    drawn = np.column_stack([np.asarray(mesh.point_data[name], dtype=np.float64) for name in names])
+    if len(drawn) >= len(V) and np.array_equal(drawn[:len(V)], V):
+        out = np.empty(len(drawn), dtype=np.float64)
+        out[:len(V)] = values
+        rest = np.arange(len(V), len(drawn))
+    else:
+        out = np.empty(len(drawn), dtype=np.float64)
+        rest = np.arange(len(drawn))
+    if rest.size:
+        from scipy.spatial import cKDTree
+
         from .geometry import seam_spec
 
-        extra = drawn[len(V):].copy()
+        pts = drawn[rest].copy()
         for p, period, lo, flips, mirror in seam_spec(cx):   # undo each move up a period
-            up = extra[:, p] >= lo + period
-            extra[up, p] -= period
+            up = pts[:, p] >= lo + period
+            pts[up, p] -= period
             for b, mm in zip(flips, mirror):
-                extra[up, b] = mm - extra[up, b]
-        key = {tuple(np.round(v, 9)): i for i, v in enumerate(V)}
-        out[len(V):] = [values[key.get(tuple(np.round(v, 9)), 0)] for v in extra]
+                pts[up, b] = mm - pts[up, b]
+        ok = np.isfinite(V).all(axis=1)
+        index = np.flatnonzero(ok)
+        _, nearest = cKDTree(V[ok]).query(np.nan_to_num(pts))
+        out[rest] = values[index[nearest]]
     return out
 
 
-def colour_by_values(scene, cx, values, cmap: str = CURVATURE_CMAP, name: str = "curvature") -> bool:
-    """Colour the result on ``scene`` by per-vertex ``values`` (V,) of ``cx`` (a symmetric range: the sign of
-    the curvature is the colour), or back to the style's colours when ``values`` is None.  False when the
-    mesh on show is not the whole result (a slice), which is then left as it is."""
-    if scene.mesh is None or scene.actor is None:
-        return False
-    if values is None:
-        scene._add_actor()   # the style's colours again
-        scene.plotter.render()
-        return True
-    drawn = _drawn_values(scene, cx, np.asarray(values, dtype=np.float64))
-    if drawn is None:
-        return False
+def _apply_colours(scene, cx, values, cmap, name) -> bool:
+    drawn = _drawn_values(scene, cx, values)
     scene.mesh.point_data[name] = drawn
-    top = float(np.abs(drawn).max()) or 1.0
+    top = float(np.abs(drawn).max()) if drawn.size else 1.0
+    top = top or 1.0
     mapper = scene.actor.mapper
     mapper.lookup_table = pv.LookupTable(cmap=cmap)
     mapper.array_name = name
@@ -266,6 +274,22 @@ def colour_by_values(scene, cx, values, cmap: str = CURVATURE_CMAP, name: str = 
     args.pop("title", None)
     scene.plotter.add_scalar_bar(title, mapper=mapper, **args)
     scene.texts.bar_added(title)
+    return True
+
+
+def colour_by_values(scene, cx, values, cmap: str = CURVATURE_CMAP, name: str = "curvature") -> bool:
+    """Colour the result on ``scene`` by per-vertex ``values`` (V,) of ``cx`` (a symmetric range: the sign of
+    the curvature is the colour), or back to the style's colours when ``values`` is None.  The colouring
+    stays asked for: a slice colours its cells (and the points it adds on its planes) the same way, and
+    :meth:`SceneOverlays.recolour` applies it again to an actor made anew.  False when nothing is drawn."""
+    scene.overlay_meshes.colouring = None if values is None else \
+        (cx, np.asarray(values, dtype=np.float64), cmap, name)
+    if scene.mesh is None or scene.actor is None:
+        return False
+    if values is None:
+        scene._add_actor()   # the style's colours again
+    else:
+        _apply_colours(scene, *scene.overlay_meshes.colouring)
     scene.plotter.render()
     return True
 

@@ -17,7 +17,7 @@ scene: it emits what should be drawn, and the window hands it to
 
 from __future__ import annotations
 
-from qtpy.QtCore import Qt, Signal
+from qtpy.QtCore import Qt, QTimer, Signal
 from qtpy.QtWidgets import QCheckBox, QGridLayout, QGroupBox, QLabel, QPushButton, QVBoxLayout
 
 from .cycles import curvature_values, cycle_color, generator_lines, generator_surface, unwrap_segments, w1_lines
@@ -73,7 +73,8 @@ class QtHomologyBox(QGroupBox):
         3-manifold asked for, as see-through surfaces (names start with ``homology-surface-``;
         for :func:`gcmh_studio.homology_surfaces.draw_homology_surfaces`).
     curvature(object)
-        (V,) float64 curvature densities to colour the result by, or None for its usual colours.
+        (V,) float64 curvature densities to colour the result by, or None for its usual colours (again
+        after a change of style, which draws the result anew).
     computed()
         A result's homology is on show (or failed: see :attr:`status`).
     """
@@ -131,6 +132,8 @@ class QtHomologyBox(QGroupBox):
         self.worker = QtLatestCall(self, name="gcmh-homology")
         self.worker.answered.connect(self._answered)
         self.studio.events.result.connect(self.set_result)
+        self.studio.events.style.connect(self._style_changed)
+        self._style_seen = self._colouring_style()
         self._enable()
 
     # ------------------------------------------------------------------ results
@@ -237,6 +240,23 @@ class QtHomologyBox(QGroupBox):
     def _emit_overlays(self, *_args) -> None:
         self.overlays.emit(self.overlay_specs())
         self.surfaces.emit(self.surface_specs())
+
+    def _colouring_style(self) -> tuple:
+        st = self.studio.style
+        return st.color_by, st.two_sided
+
+    def _style_changed(self) -> None:
+        """A new style draws the result anew in its colours: the curvature's are asked for again (once the
+        window has drawn it: queued), unless the style now colours it otherwise (colour by a variable, two
+        sides), which wins: the switch goes off."""
+        seen, self._style_seen = self._style_seen, self._colouring_style()
+        if not self.curvature_check.isChecked():
+            return
+        color_by, two_sided = self._style_seen
+        if color_by != seen[0] or (two_sided and not seen[1]):
+            self.curvature_check.setChecked(False)
+        else:
+            QTimer.singleShot(0, lambda: self._emit_curvature(self.curvature_check.isChecked()))
 
     def _emit_curvature(self, on: bool) -> None:
         self.curvature.emit(self.data["curvature"] if on and self.data is not None else None)

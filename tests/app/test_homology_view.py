@@ -288,3 +288,40 @@ def test_h2_surfaces_follow_the_slice(qtbot, small_window):
     with qtbot.waitSignal(box.surfaces):
         box.betti[2].click()
     assert not [n for n in w.scene.overlay_meshes.names() if n.startswith("homology-surface-")]
+
+
+def test_curvature_survives_style_and_slice(qtbot, small_window):
+    """Curvature colours stay through a change of style that draws the result anew (the boundary
+    highlighted), through a slice (its cells, and the points it adds, coloured by the curvature) and back;
+    colouring by a variable instead turns the switch off."""
+    from gcmh_studio.cycles import curvature_values
+
+    w = small_window
+    cx = _example("genus-two", [26, 16, 10])
+    box = w.topology_panel.homology_box
+    with qtbot.waitSignal(box.computed, timeout=120_000):
+        w.show_result(cx, cx.point_names(), title="genus two")
+    box.curvature_check.click()
+    assert w.scene.actor.mapper.array_name == "curvature"
+    with qtbot.waitSignal(box.curvature):
+        w.model.set_style(boundary=True)
+    assert w.scene.actor.mapper.array_name == "curvature" and w.scene.actor.mapper.scalar_visibility
+    k, _ = curvature_values(cx)
+    u = np.array([1.0, 0.0, 0.0])
+    x = np.asarray(cx.vertices)[:, 0]
+    w.scene.set_slice(u, x.min() + 0.5 * np.ptp(x), 0.1 * np.ptp(x))
+    mesh = w.scene.mesh
+    assert w.scene.actor.mapper.array_name == "curvature" and mesh.n_points < cx.count(0)
+    drawn = np.asarray(mesh.point_data["curvature"])
+    pts = np.column_stack([np.asarray(mesh.point_data[n]) for n in w.scene.names])
+    V = np.asarray(cx.vertices)
+    same = {tuple(v): i for i, v in enumerate(V)}
+    kept = [(j, same[tuple(p)]) for j, p in enumerate(pts) if tuple(p) in same]
+    assert kept and np.allclose(drawn[[j for j, _ in kept]], k[[i for _, i in kept]])
+    assert set(np.unique(drawn)) <= set(np.unique(k))   # a new point: its nearest vertex's value
+    w.scene.set_slice(None)
+    assert w.scene.actor.mapper.array_name == "curvature"
+    assert np.allclose(np.asarray(w.scene.mesh.point_data["curvature"])[:len(V)], k)
+    w.model.set_style(color_by=w.scene.names[0])   # another colouring wins
+    assert not box.curvature_check.isChecked()
+    assert w.scene.actor.mapper.array_name != "curvature"
