@@ -244,3 +244,67 @@ def curvature_values(cx, clip: float = 2.0) -> tuple[np.ndarray, str]:
         cap = clip * float(np.percentile(np.abs(k), 95)) or 1.0
         k = np.clip(k, -cap, cap)
     return k, gauss_bonnet(cx).describe()
+
+
+def write_cycles(mesh, path) -> str:
+    """Write the homology overlays as one projected mesh (:func:`gcmh_studio.overlays.homology_lines_mesh`:
+    lines and H2 polygons with cell data ``cycle`` and point data ``RGB``) keeping which cycle each cell
+    belongs to: .ply (ASCII) as ``vertex`` x y z red green blue, ``edge`` vertex1 vertex2 cycle and
+    ``face`` vertex_indices cycle; .obj as one group ``g cycle-N`` (``g w1`` for 0) per cycle, vertices
+    with their colours; .vtp as it is.  Returns the path written."""
+    import os
+
+    path = str(path)
+    ext = os.path.splitext(path)[1].lower()
+    if ext == ".vtp":
+        mesh.save(path)
+        return path
+    if ext not in (".ply", ".obj"):
+        raise ValueError(f"unknown cycles format {ext!r}: use .ply, .obj or .vtp")
+    P = np.asarray(mesh.points, dtype=np.float64)
+    rgb = np.asarray(mesh.point_data["RGB"], dtype=np.int64) if "RGB" in mesh.point_data.keys() \
+        else np.full((len(P), 3), 255, dtype=np.int64)
+    cycle = np.asarray(mesh.cell_data["cycle"], dtype=np.int64)
+    lines = _cell_lists(mesh.lines)
+    faces = _cell_lists(mesh.faces)
+    # VTK numbers a mesh's cells vertices first, then lines, then polygons
+    n_verts = mesh.n_cells - len(lines) - len(faces)
+    line_cycle, face_cycle = cycle[n_verts:n_verts + len(lines)], cycle[n_verts + len(lines):]
+    with open(path, "w") as f:
+        if ext == ".ply":
+            f.write(f"ply\nformat ascii 1.0\ncomment GCMH Studio homology cycles (0: the w1 loop)\n"
+                    f"element vertex {len(P)}\nproperty double x\nproperty double y\nproperty double z\n"
+                    f"property uchar red\nproperty uchar green\nproperty uchar blue\n"
+                    f"element edge {len(lines)}\nproperty int vertex1\nproperty int vertex2\nproperty int cycle\n"
+                    f"element face {len(faces)}\nproperty list uchar int vertex_indices\nproperty int cycle\n"
+                    f"end_header\n")
+            for p, c in zip(P.tolist(), rgb.tolist()):
+                f.write(f"{p[0]!r} {p[1]!r} {p[2]!r} {c[0]} {c[1]} {c[2]}\n")
+            for cells, cyc in ((lines, line_cycle), (faces, face_cycle)):
+                for cell, k in zip(cells, cyc.tolist()):
+                    if cells is lines:
+                        f.write(f"{cell[0]} {cell[1]} {k}\n")
+                    else:
+                        f.write(f"{len(cell)} {' '.join(str(v) for v in cell)} {k}\n")
+            return path
+        f.write("# GCMH Studio homology cycles: one group per cycle (w1: the w1 loop), vertex colours\n")
+        for p, c in zip(P.tolist(), (rgb / 255.0).tolist()):
+            f.write(f"v {p[0]!r} {p[1]!r} {p[2]!r} {c[0]:.4f} {c[1]:.4f} {c[2]:.4f}\n")
+        for k in sorted(set(line_cycle.tolist()) | set(face_cycle.tolist())):
+            f.write(f"g {'w1' if k == 0 else f'cycle-{k}'}\n")
+            for cells, cyc, tag in ((lines, line_cycle, "l"), (faces, face_cycle, "f")):
+                for cell, kk in zip(cells, cyc.tolist()):
+                    if kk == k:
+                        f.write(f"{tag} {' '.join(str(v + 1) for v in cell)}\n")
+    return path
+
+
+def _cell_lists(arr) -> list:
+    """A VTK legacy cell array ``[m, v.., m, v..]`` as a list of vertex lists."""
+    arr = np.asarray(arr, dtype=np.int64)
+    out, i = [], 0
+    while i < len(arr):
+        m = int(arr[i])
+        out.append(arr[i + 1:i + 1 + m].tolist())
+        i += m + 1
+    return out

@@ -295,10 +295,10 @@ def colour_by_values(scene, cx, values, cmap: str = CURVATURE_CMAP, name: str = 
 
 
 def homology_lines_mesh(scene):
-    """The homology overlays on show as one projected line mesh, for an export beside the result's mesh:
-    cell data ``cycle`` (1, 2, ... in the order of their names; the w1 loop and its marks 0) and point data
-    ``RGB`` (V, 3) uint8 (their colours on screen, which ``studio_io.export_mesh`` writes to PLY and OBJ).
-    None when no homology overlay is drawn."""
+    """The homology overlays on show (lines, and the H2 surfaces as polygons, as sliced) as one projected
+    mesh, for an export beside the result's mesh: cell data ``cycle`` (1, 2, ... in the order of their names;
+    the w1 loop and its marks 0) and point data ``RGB`` (V, 3) uint8 (their colours on screen).  None when
+    no homology overlay is drawn.  :func:`export_cycles` writes it with the cycle of each cell."""
     names = sorted(n for n, item in scene.overlays.items() if n.startswith(HOMOLOGY_PREFIX) and item[1] is not None)
     if not names:
         return None
@@ -314,3 +314,18 @@ def homology_lines_mesh(scene):
         meshes.append(m)
     out = meshes[0].merge(meshes[1:], merge_points=False) if len(meshes) > 1 else meshes[0]
     return out.extract_surface() if not isinstance(out, pv.PolyData) else out
+
+
+def export_cycles(scene, mesh_path) -> str | None:
+    """Write the homology overlays on show beside an exported mesh ``mesh_path`` (``name.ply`` ->
+    ``name-cycles.ply``; .obj alike; .stl, which has no lines, -> .vtp), each cell with its cycle
+    (:func:`gcmh_studio.cycles.write_cycles`).  Returns the path written, or None when none is drawn."""
+    import os
+
+    from .cycles import write_cycles
+
+    mesh = homology_lines_mesh(scene)
+    if mesh is None:
+        return None
+    stem, ext = os.path.splitext(str(mesh_path))
+    return write_cycles(mesh, f"{stem}-cycles{ext if ext.lower() in ('.ply', '.obj', '.vtp') else '.vtp'}")

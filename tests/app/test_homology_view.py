@@ -172,6 +172,28 @@ def test_generators_export_as_lines(qtbot, small_window, tmp_path):
     # the window's Export mesh writes the generators beside the result's mesh
     w.export_mesh(str(tmp_path / "torus.ply"))
     assert (tmp_path / "torus.ply").exists() and (tmp_path / "torus-cycles.ply").exists()
+    # PLY and OBJ keep each edge's cycle (a PLY edge element with a cycle property; OBJ groups)
+    from gcmh_studio.overlays import export_cycles
+
+    path = export_cycles(w.scene, tmp_path / "mine.ply")
+    assert path.endswith("mine-cycles.ply")
+    lines = open(path).read().splitlines()
+    n_v = int(next(t for t in lines if t.startswith("element vertex")).split()[-1])
+    n_e = int(next(t for t in lines if t.startswith("element edge")).split()[-1])
+    assert "property int cycle" in lines and n_e == mesh.n_lines
+    body = lines[lines.index("end_header") + 1:]
+    verts = [t.split() for t in body[:n_v]]
+    edges = [[int(v) for v in t.split()] for t in body[n_v:n_v + n_e]]
+    colours = {k: box.generator_colours(1)[k - 1] for k in (1, 2)}
+    import pyvista as pv
+
+    for a, b, k in edges:   # both ends in the colour of the cycle named
+        assert k in (1, 2)
+        for end in (a, b):
+            assert tuple(int(c) for c in verts[end][3:]) == tuple(pv.Color(colours[k]).int_rgb)
+    assert sorted({k for *_, k in edges}) == [1, 2]
+    text = open(export_cycles(w.scene, tmp_path / "mine.obj")).read()
+    assert "\ng cycle-1\n" in text and "\ng cycle-2\n" in text and text.count("\nl ") == mesh.n_lines
 
 
 def test_curvature_values_of_a_sphere():
@@ -184,7 +206,7 @@ def test_curvature_values_of_a_sphere():
     assert text == "Gauss-Bonnet: K / 2pi = 2.000, chi = 2"
 
 
-def test_h2_classes_of_a_three_manifold_as_surfaces(qtbot, small_window):
+def test_h2_classes_of_a_three_manifold_as_surfaces(qtbot, small_window, tmp_path):
     """b2 of the three-torus: three see-through surfaces (the 2-cells of each generator, fanned into
     triangles), which turn with the view and go with a second click."""
     from gcmh_studio.homology_surfaces import SURFACE_OPACITY
@@ -218,6 +240,16 @@ def test_h2_classes_of_a_three_manifold_as_surfaces(qtbot, small_window):
     before = np.array(mesh.points)
     w.scene.set_projection(np.roll(np.array(w.scene.P), 1, axis=1))
     assert not np.allclose(before, np.array(w.scene.overlays["homology-surface-2-0"][1].points))
+    # exported with a cycle per face
+    from gcmh_studio.overlays import export_cycles
+
+    lines = open(export_cycles(w.scene, tmp_path / "t3.ply")).read().splitlines()
+    n_v = int(next(t for t in lines if t.startswith("element vertex")).split()[-1])
+    n_f = int(next(t for t in lines if t.startswith("element face")).split()[-1])
+    body = lines[lines.index("end_header") + 1:]
+    faces = [[int(v) for v in t.split()] for t in body[n_v:n_v + n_f]]
+    assert n_f == sum(w.scene.overlays[n][1].n_cells for n in specs)
+    assert sorted({f[-1] for f in faces}) == [1, 2, 3] and all(f[0] == len(f) - 2 for f in faces)
     with qtbot.waitSignal(box.surfaces) as sent:
         box.betti[2].click()
     assert sent.args[0] == {} and not [n for n in w.scene.overlays if n.startswith("homology-surface-")]
