@@ -19,17 +19,20 @@ for the simplicial baselines CMS and CCS (Section 4).
 A chunk of cubes returns its records in cube order, and chunks are joined in
 order: the output does not depend on the number of threads.
 
-The three steps stay in one function (`gcmh.cubes_chunk`, and `lazy.cubes_chunk_lazy` for
-n >= 8).  Tried as three functions called per cube, each taking some 20 arrays, they cost
-0.5 to 1.6 us more per cube, where a sphere's whole cube takes 0.6 us; as two phases over
-the whole chunk (the cells step shared by both kernels) 10-20% more on surfaces in R^4 and
-R^5.  Even names move this function's speed (numba orders its reference counts by variable
-name): a renaming is timed like any other change to it.
+The steps run in phases over a whole chunk of cubes, each one compiled function: vertices
+and edges (`gcmh._vertices_edges`, or `lazy._vertices_edges_lazy` for n >= 8), then the cells
+(`cells.cells_phase`, one function for both kernels), with the chunk's vertices and edges
+between them in the arrays of `records.new_chunk`.  numba counts a function's arrays in and out
+where it binds them: per call here, where a helper inlined into a loop over cubes counted them
+per cube.  No array is rebound inside a phase's loop over cubes (an array rebound in a loop is
+counted at every pass): a phase stops before a cube that might not fit, and its driver grows the
+arrays and runs it again from there.  Even names move a kernel's speed (numba orders its
+reference counts by variable name): a renaming is timed like any other change.
 
 Modules, by step of the paper: candidates (3.1, step 1; continuation's next wave), tables,
 solve (the barycentric solve on a Kuhn simplex, 3.1.1), cells (3.1.2: faces, keys, pieces),
-gcmh (the chunk kernel), lazy (n >= 8), cms (Section 4), cell_check, marching3 (n = 3),
-records.  The glossary (the paper's terms -> the names here), the modules and the
+gcmh (the tables' phase 1 and the chunk kernel), lazy (n >= 8), cms (Section 4), cell_check,
+marching3 (n = 3), records.  The glossary (the paper's terms -> the names here), the modules and the
 measurements behind this layout: docs/architecture.md.
 """
 

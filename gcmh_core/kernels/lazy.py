@@ -5,7 +5,7 @@ import numpy as np
 
 from .._config import JIT
 from .cells import _face_in_face, _face_key, cells_of_chunk
-from .records import _grown_keys, chunk_records, grown_chunk, new_cells_out, new_chunk
+from .records import EDGE_COLS, _grown_keys, _grown_rows, chunk_records, new_cells_out, new_chunk
 from .solve import _simplex_crosses_call, _zero_side, crossable_face
 from .walk import _link, _walk_edges
 
@@ -308,25 +308,26 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
     template): the same records, bit for bit, by the same phases: vertices and edges
     (`_vertices_edges_lazy`), then the cells (`cells.cells_phase`).
     (No check of joined pieces: `cubes_chunk` has none for n > 7 either.)"""
-    rows = 8 * (hi - lo) + 16
-    chunk = new_chunk(hi - lo, rows, rows, tables.n)
     chunk, used_v, used_e, degenerate = _vertices_edges_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex,
-                                                             grid_lines, corner_row, corner_vertex, tables, chunk)
+                                                             grid_lines, corner_row, corner_vertex, tables)
     out, used, events = cells_of_chunk(lo, hi, lo, values, cube_row, corner_row, cube_vertex, corner_vertex, tables,
-                                       chunk, new_cells_out(rows, 64, 16), (np.int64(0), np.int64(0), np.int64(0)))
+                                       chunk, new_cells_out(8 * (hi - lo) + 16, 64, 16),
+                                       (np.int64(0), np.int64(0), np.int64(0)))
     records, crossed_facets, non_ball = chunk_records(chunk, out, used_v, used_e, used)
     return records, crossed_facets, degenerate + events, non_ball
 
 
 @nb.njit(**JIT)
 def _vertices_edges_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex,
-                         tables, chunk):
-    """Steps 1 and 2 of GCMH (paper 3.1.1) on the cubes lo..hi-1, each cube's vertices and edges into
-    `chunk` (`records.new_chunk`), grown as needed.  A k-face's Kuhn simplices and, where a walk
-    runs, a (k+1)-face's come from `_kuhn_chains`; a vertex carries its permutation's rank itself.
-    Returns (chunk, vertex rows, edge rows, degenerate events)."""
-    (cube_v0, cube_e0, _, vertex_key, vertex_point, vertex_face, vertex_perm, _, edge_a, edge_b, edge_face,
-     _) = chunk
+                         tables):
+    """Steps 1 and 2 of GCMH (paper 3.1.1) on the cubes lo..hi-1: each cube's vertices and edges, as
+    the chunk `records.new_chunk` describes, its rows grown here as needed (only the arrays that
+    grow are rebound in the loop: each costs a reference count per pass).  A k-face's Kuhn
+    simplices and, where a walk runs, a (k+1)-face's come from `_kuhn_chains`; a vertex carries
+    its permutation's rank itself.  Returns (chunk, vertex rows, edge rows, degenerate events)."""
+    rows = 8 * (hi - lo) + 16
+    (cube_v0, cube_e0, crossed_facets, vertex_key, vertex_point, vertex_face, vertex_perm, no_ksimplex, edge_a,
+     edge_b, edge_face, _) = new_chunk(hi - lo, rows, rows, tables.n)
     n = tables.n
     k = tables.k
     face_start = tables.face_start
@@ -435,9 +436,10 @@ def _vertices_edges_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, gri
                     continue
                 row = used_v + nv
                 if row >= vertex_key.shape[0]:
-                    chunk = grown_chunk(chunk, row, used_e)
-                    (cube_v0, cube_e0, _, vertex_key, vertex_point, vertex_face, vertex_perm, _, edge_a, edge_b,
-                     edge_face, _) = chunk
+                    vertex_key = _grown_keys(vertex_key, row)
+                    vertex_point = _grown_rows(vertex_point, row)
+                    vertex_face = _grown_keys(vertex_face, row)
+                    vertex_perm = _grown_keys(vertex_perm, row)
                 vertex_face[row] = f
                 vertex_perm[row] = leaf_rank[leaf]
                 vertex_key[row] = (
@@ -490,9 +492,9 @@ def _vertices_edges_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, gri
             if n_found == 0:
                 continue
             while ne + n_found >= edge_a.shape[0]:
-                chunk = grown_chunk(chunk, used_v + nv, ne)
-                (cube_v0, cube_e0, _, vertex_key, vertex_point, vertex_face, vertex_perm, _, edge_a, edge_b,
-                 edge_face, _) = chunk
+                edge_a = _grown_keys(edge_a, ne)
+                edge_b = _grown_keys(edge_b, ne)
+                edge_face = _grown_keys(edge_face, ne)
             if n_found == 2:
                 edge_a[ne] = found_vertex[0]
                 edge_b[ne] = found_vertex[1]
@@ -594,6 +596,8 @@ def _vertices_edges_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, gri
         used_e = ne
     cube_v0[hi - lo] = used_v
     cube_e0[hi - lo] = used_e
+    chunk = (cube_v0, cube_e0, crossed_facets, vertex_key, vertex_point, vertex_face, vertex_perm, no_ksimplex, edge_a,
+             edge_b, edge_face, np.empty((edge_a.shape[0], EDGE_COLS), np.int64))
     return chunk, used_v, used_e, degenerate
 
 
