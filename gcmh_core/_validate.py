@@ -16,7 +16,7 @@ import numpy as np
 from .errors import InputError
 
 __all__ = ["per_axis_ints", "as_div", "as_bounds", "as_periodic", "describe_periodic", "glued_axes", "parse_params",
-           "check_n", "infer_n", "prepare"]
+           "check_n", "infer_n", "prepare", "Float64Slices"]
 
 
 def per_axis_ints(value, n: int, what: str) -> np.ndarray:
@@ -256,9 +256,34 @@ def infer_n(F, variables, bounds, div, n):
     raise InputError("cannot tell n: give variables, one bounds pair per axis, or n")
 
 
-def prepare(F, variables, n, k, bounds, div, params=None):
+class Float64Slices:
+    """Sampled values of another type than float64 (a float32 volume, int16 scan data) or not C-contiguous,
+    read as float64 one slice at a time: F's values as the kernels take them, the same bytes as the
+    array converted whole, without the whole float64 copy (twice a float32 volume's size) beside the
+    caller's array.  For the runs that only read slices (the full sweep in this process, the budget's
+    probe), like `data_files.MappedValues`; continuation and clusters take the array converted."""
+
+    dtype = np.dtype(np.float64)
+    reads_slices = True
+
+    def __init__(self, values: np.ndarray):
+        self.values = values
+        self.shape = values.shape
+        self.ndim = values.ndim
+
+    def __getitem__(self, index) -> np.ndarray:
+        return np.array(self.values[index], np.float64)
+
+    def __array__(self, dtype=None, copy=None):
+        whole = np.ascontiguousarray(self.values, np.float64)
+        return whole if dtype is None else whole.astype(dtype)
+
+
+def prepare(F, variables, n, k, bounds, div, params=None, slices: bool = False):
     """Returns (n, k, bounds, div, system or None, sampled array or None); `params`
-    ({name: value}) are the formulas' parameter values (see `formula.parse_system`)."""
+    ({name: value}) are the formulas' parameter values (see `formula.parse_system`).  ``slices``: the
+    caller reads the sampled values slice by slice only (the full sweep, the estimate): an array that
+    is not float64 and C-contiguous is not converted whole but wrapped (`Float64Slices`)."""
     if isinstance(variables, str):
         variables = [v.strip() for v in variables.split(",")]
     if isinstance(F, np.ndarray) or (hasattr(F, "__array__") and not isinstance(F, (str, list, tuple))):
@@ -286,7 +311,12 @@ def prepare(F, variables, n, k, bounds, div, params=None):
             raise InputError(f"div {div} does not match the sampled array's shape {values.shape}")
         if not 1 <= k_ < n_:
             raise InputError(f"need 1 <= k < n, got n = {n_}, k = {k_}")
-        sampled = values if sliced else np.ascontiguousarray(values, np.float64)
+        if sliced:
+            sampled = values
+        elif slices and not (values.dtype == np.float64 and values.flags.c_contiguous):
+            sampled = Float64Slices(values)
+        else:
+            sampled = np.ascontiguousarray(values, np.float64)
         return n_, k_, as_bounds(bounds, n_), shape_div, None, sampled
     from .formula import System, parse_system  # (sympy: not for sampled values)
 

@@ -648,7 +648,7 @@ def estimate(
         raise InputError(f"unknown method {method!r}; choose from {', '.join(METHODS)}")
     if isinstance(div, (list, tuple)) and len(div) == 1:
         div = div[0]
-    n_, k_, bounds_, div_, system, sampled = prepare(F, variables, n, k, bounds, div)
+    n_, k_, bounds_, div_, system, sampled = prepare(F, variables, n, k, bounds, div, slices=True)
     if system is not None:
         names = list(system.variables)
     elif variables is not None and not isinstance(variables, str):

@@ -400,3 +400,38 @@ def test_a_data_run_does_not_import_sympy(tmp_path):
             "import math; assert parse_levels('pi/2') == [math.pi / 2] and 'sympy' in sys.modules")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stderr[-2000:]
+
+
+def test_sampled_values_of_another_type_are_read_slice_by_slice(monkeypatch):
+    # a float32 volume (or int16 scan data) passed to extract in process: the sweep reads float64 slices
+    # of it (`_validate.Float64Slices`) instead of a whole float64 copy, with the same bytes
+    import functools
+
+    import importlib
+
+    from gcmh_core import _validate, extract
+
+    extract_module = importlib.import_module("gcmh_core.extract")
+
+    t = np.linspace(-1.0, 1.0, 41)
+    x, y, z = np.meshgrid(t, t, t, indexing="ij")
+    smooth = (x * x + 1.5 * y * y + 2 * z * z).astype(np.float32) - np.float32(0.5)
+    smooth[:4, :4, :6] = np.nan
+    smooth = smooth[..., None]
+    scan = np.round(1000 * (x * x + y * y - z)).astype(np.int16)
+    cases = [(smooth, {}), (smooth, {"method": "cms"}), (scan[..., None].transpose(1, 0, 2, 3), {})]
+    wanted = [extract(v, (-1, 1), **kw) for v, kw in cases]
+    monkeypatch.setattr(extract_module, "prepare", functools.partial(_validate.prepare, slices=True))
+    monkeypatch.setattr(_validate.Float64Slices, "__array__", lambda *a, **k: pytest.fail("converted whole"))
+    for (v, kw), want in zip(cases, wanted):
+        got = extract(v, (-1, 1), **kw)
+        assert got.vertices.tobytes() == want.vertices.tobytes() and got.edges.tobytes() == want.edges.tobytes()
+        assert all(a.tobytes() == b.tobytes() for r in want.cells for a, b in zip(got.cells[r], want.cells[r]))
+        assert got.meta["nonfinite_vertices"] == want.meta["nonfinite_vertices"]
+    _, _, _, _, _, sampled = _validate.prepare(smooth, None, None, None, (-1, 1), None, slices=True)
+    assert isinstance(sampled, _validate.Float64Slices)
+    assert sampled[3:5, ::2, 7].dtype == np.float64 and sampled[3:5, ::2, 7].tobytes() == \
+        smooth.astype(np.float64)[3:5, ::2, 7].tobytes()
+    # float64 in C order is taken as it is, wrapped or not
+    plain = smooth.astype(np.float64)
+    assert _validate.prepare(plain, None, None, None, (-1, 1), None, slices=True)[5] is plain
