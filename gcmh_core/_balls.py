@@ -36,7 +36,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .kernels.cell_check import cube_euler_chunk, records_cube_euler
+from .kernels.cell_check import cube_euler_chunk, records_cube_euler, same_faces_candidates
 from .kernels.cells import _face_key as _face_key_jit
 from .kernels.cms import simplices_chunk
 from .kernels.gcmh import cubes_chunk
@@ -566,32 +566,35 @@ def _merged(rep: dict, y: int) -> int:
 
 
 def collapse_lens_cells(e, c, inc):
-    """Collapse every lens r-cell, r >= 3: the assembly's records (e, c, inc) without them.
+    """Collapse every lens r-cell, r >= 2 when there are 3-cells: the assembly's records (e, c, inc)
+    without them.
 
     A lens is an r-cell X with two faces A and B that have the same boundary: M_A's piece in a
     cube's (r+k)-face meets only two of its (r+k-1)-faces, near the face they share (a random
     system in R^6, k = 3, div 4: a 3-cell of two 2-cells with the same edges, and those two as
     "duplicate" cells).  It is collapsed onto A: X goes, B becomes A in every r-cell that had it,
     and the (r+1)-cells that had X lose it.  One r-cell and one (r-1)-cell fewer: chi is
-    unchanged, and every boundary that was a sphere stays one.  Dimensions go up, since an
-    (r+1)-cell that loses X may become a lens.  Lens 2-cells are collapsed after the assembly
-    (`_regular.collapse_lenses`), but a 3-cell with a lens 2-cell among three faces becomes a
-    lens there: so the same decisions are made here first on the records (smaller key kept,
-    lenses in key order, as ids follow keys) and the 3-cells are counted and compared as
-    they will be, again after each round (a merge can free a lens 2-cell that held another).
-    Left alone: a lens whose A and B are both faces of another r-cell (the merge would fold
-    it), or of no other (X is a whole ball on the box's boundary: `cone_lens_balls`).
-    Keys of what is kept are unchanged, so the result is as deterministic as the records.
+    unchanged, and every boundary that was a sphere stays one.  Dimensions go up, each in rounds
+    until none is left (a merge can free a lens that held another), since an (r+1)-cell that loses X
+    may become a lens, and nothing at r changes below it.  So the 2-cells go first, here, when there
+    are 3-cells: `_regular.collapse_lenses` after the assembly then finds only the lenses left here
+    (guessing its decisions instead, and collapsing the 3-cells by the guess, broke 3-cells' boundaries
+    where four edges had the same ends at (8, 3): its decisions change once a merge removes a face).
+    Left alone: a lens whose A and B are both faces of another r-cell (the merge would fold it), or
+    of no other (X is a whole ball on the box's boundary: `cone_lens_balls`, or a whole disc:
+    `_regular.subdivide_double_edges`).  Smaller keys are kept and lenses go in key order, as ids
+    follow keys; keys of what is kept are unchanged, so the result is as deterministic as the records.
     """
     top = int(c[:, 0].max()) if len(c) else 0
-    for r in range(3, top + 1):
+    for r in range(2, top + 1) if top >= 3 else ():
         while True:  # until no r-cell is a lens: each round removes some
-            edge_rep, lenses_2 = _lenses(e, inc, 2, {}, None) if r == 3 else ({}, None)
-            rep, removed = _lenses(e, inc, r, edge_rep, lenses_2)
+            rep, removed = _lenses(e, inc, r)
             if not removed:
                 break
             gone = np.array(sorted(removed), np.int64)
             dropped = np.array(sorted(rep), np.int64)
+            if r == 2:
+                e = e[~np.isin(e[:, 0], dropped)]
             c = c[~(((c[:, 0] == r) & np.isin(c[:, 1], gone)) | ((c[:, 0] == r - 1) & np.isin(c[:, 1], dropped)))]
             inc = inc[~(((inc[:, 0] == r) & np.isin(inc[:, 1], gone))
                         | ((inc[:, 0] == r + 1) & np.isin(inc[:, 2], gone))
@@ -604,81 +607,197 @@ def collapse_lens_cells(e, c, inc):
 
 
 def cone_lens_balls(vertices: np.ndarray, edges: np.ndarray, cells: dict):
-    """Give every 3-cell at least four faces: a whole-ball lens (a 3-cell X bounded by two 2-cells A
-    and B with the same edges and no other 3-cell: M_A's small piece cut off by the box near one of
-    its ridges, which `collapse_lens_cells` leaves), or a 3-cell of three faces (n >= 8, where no
-    Kuhn tables refine a cube).  One face B of X is replaced, in every 3-cell it bounds, by the cone
-    over its edges from a new vertex at the mean of B's vertices: one triangle per edge, so X has at
-    least four faces and no two cells the same boundary.  +1 vertex, +m edges, +m - 1 2-cells: chi
-    is unchanged.
+    """Make every cell regular by coning (stellar subdivision), dimension by dimension from 2 up:
+    every r-cell gets at least r + 1 faces and no two r-cells the same faces.
 
-    vertices (V, n), edges (E, 2), cells {r: (offsets, faces)} as in CellComplex (after
-    `_regular`).  Returns (vertices, edges, cells, coned); new ids follow the old ones."""
-    if 3 not in cells:
+    What `collapse_lens_cells` and `_regular` leave: a whole-ball lens (an r-cell X bounded by two
+    (r-1)-cells A and B with the same boundary and no other coface: M_A's small piece cut off by the
+    box near one of its ridges), an r-cell of fewer than r + 1 faces (n >= 8, where no Kuhn tables
+    refine a cube: 3-cells of three faces, 4-cells of three at (8, 4)), and two r-cells with the same
+    faces that no lens lets collapse ((8, 4): two 3-cells that are the faces of a 4-cell of two).
+
+    Coning a j-cell Z from a new vertex p (at the mean of Z's vertices) replaces Z, in every cell it
+    bounds, by the cones over its faces; each cell G of Z's boundary gets its cone, a (dim G + 1)-cell
+    with faces G and the cones over G's faces.  Z's boundary is a sphere S, so chi changes by
+    1 - chi(S) - (-1)^j = 0, and every boundary that was a sphere is still one (a subdivision).  A cone
+    over a regular (j-1)-cell of at least j faces has at least j + 1 faces, and cones over different
+    cells differ.  So at dimension r: an r-cell of fewer than r + 1 faces has one of its faces B coned
+    (it gets |faces(B)| - 1 >= r - 1 more), then of r-cells with the same faces all but the first are
+    coned themselves.  Coning a face keeps different cells different; higher cells only gain faces.
+
+    vertices (V, n), edges (E, 2), cells {r: (offsets, faces)} as in CellComplex (after `_regular`).
+    Returns (vertices, edges, cells, coned): the arrays (the inputs where nothing is coned), and the
+    number of cells coned.  Kept cells keep their order; new ids follow the old ones, in a fixed order.
+    """
+    top = max(cells, default=1)
+    grid = {1: (2 * np.arange(len(edges) + 1, dtype=np.int64), np.ascontiguousarray(edges, np.int64).ravel())}
+    grid.update(cells)
+    coned = 0
+    for r in range(2, top + 1):
+        for _ in range(r):  # (a coned face has at least r faces once the lower dimensions are regular)
+            few = _few_faces(grid[r], r + 1)
+            if len(few) == 0:
+                break
+            work = _Coning(vertices, grid)
+            for x in few.tolist():
+                own = work.row(r, x)
+                if len(own) >= r + 1 or len(own) < 2:  # (grown by an earlier cone here; or not a sphere)
+                    continue
+                # the face to cone: one of no other r-cell first, then the one of most faces, then the last
+                # (a whole-ball lens: its second face)
+                b = max(enumerate(own), key=lambda iy: (-len(work.cofaces(r - 1, iy[1])),
+                                                         len(work.row(r - 1, iy[1])), iy[0]))[1]
+                work.cone(r - 1, b)
+            if not work.count:
+                break
+            vertices, grid = work.result()
+            coned += work.count
+        twins = _same_faces(grid[r])
+        if len(twins):
+            work = _Coning(vertices, grid)
+            for x in twins.tolist():
+                work.cone(r, x)
+            vertices, grid = work.result()
+            coned += work.count
+    if not coned:
         return vertices, edges, cells, 0
-    off3, f3 = cells[3]
-    off2, f2 = cells[2]
-    sizes = np.diff(off3)
-    cofaces = np.bincount(f3, minlength=len(off2) - 1)
-    new_vertices: list = []
-    new_edges: list = []
-    new_cells: list = []
-    replaced: dict[int, list[int]] = {}  # B -> its triangles' ids
-    n_edges, n_cells = len(edges), len(off2) - 1
-    for x in np.flatnonzero(sizes < 4).tolist():
-        own = f3[off3[x] : off3[x + 1]].tolist()
-        if any(y in replaced for y in own):   # (a face already coned: x has more faces now)
-            continue
-        # the face to cone: one of no other 3-cell first, then the one of most edges, then the last (a
-        # whole-ball lens: its second face, as always); coned in every 3-cell it bounds
-        b = max(enumerate(own), key=lambda iy: (-cofaces[iy[1]], off2[iy[1] + 1] - off2[iy[1]], iy[0]))[1]
-        eb = f2[off2[b] : off2[b + 1]]
-        ring = np.unique(edges[eb])
-        p = len(vertices) + len(new_vertices)
-        new_vertices.append(vertices[ring].mean(axis=0))
-        spoke = {}
-        for v in ring.tolist():
-            spoke[v] = n_edges + len(new_edges)
-            new_edges.append((p, v))
-        replaced[b] = []
-        for edge in eb.tolist():
-            u, v = edges[edge].tolist()
-            replaced[b].append(n_cells + len(new_cells))
-            new_cells.append((edge, spoke[u], spoke[v]))
-    if not replaced:
-        return vertices, edges, cells, 0
-    vertices = np.concatenate([vertices, np.array(new_vertices)])
-    edges = np.concatenate([edges, np.array(new_edges, np.int64)])
-    keep = np.ones(n_cells + len(new_cells), bool)
-    keep[list(replaced)] = False
-    rows2 = [f2[off2[i] : off2[i + 1]] for i in range(n_cells)] + [np.array(t, np.int64) for t in new_cells]
-    new_id = np.cumsum(keep) - 1
-    out = dict(cells)
-    out[2] = _csr([r for r, kept in zip(rows2, keep) if kept])
-    rows3 = []
-    for x in range(len(sizes)):
-        faces = []
-        for y in f3[off3[x] : off3[x + 1]].tolist():
-            faces.extend(replaced.get(y, [y]))
-        rows3.append(new_id[np.array(faces, np.int64)])
-    out[3] = _csr(rows3)
-    return vertices, edges, out, len(replaced)
+    off1, f1 = grid.pop(1)
+    return vertices, f1.reshape(-1, 2), grid, coned
 
 
-def _csr(rows: list) -> tuple[np.ndarray, np.ndarray]:
-    offsets = np.zeros(len(rows) + 1, np.int64)
-    np.cumsum([len(r) for r in rows], out=offsets[1:])
-    faces = np.concatenate(rows).astype(np.int64) if rows else np.zeros(0, np.int64)
-    return offsets, faces
+def _few_faces(csr, least):
+    """The cells of a CSR with fewer than `least` distinct faces."""
+    offsets, faces = csr
+    sizes = np.diff(offsets)
+    few = np.flatnonzero(sizes < least)
+    if len(few):  # (a face listed twice counts once)
+        few = np.array([x for x in few.tolist() if len(np.unique(faces[offsets[x] : offsets[x + 1]])) < least],
+                       np.int64)
+    return few
 
 
-def _lenses(e, inc, r, edge_rep, lenses_2):
+def _same_faces(csr):
+    """The cells of a CSR whose set of faces an earlier cell has (ascending)."""
+    offsets, faces = csr
+    if len(offsets) < 3:
+        return np.zeros(0, np.int64)
+    first: dict = {}
+    twins = []
+    for x in np.flatnonzero(same_faces_candidates(offsets, faces)).tolist():
+        key = frozenset(faces[offsets[x] : offsets[x + 1]].tolist())
+        if key in first:
+            twins.append(x)
+        else:
+            first[key] = x
+    return np.array(twins, np.int64)
+
+
+class _Coning:
+    """Cells being coned: the CSR of each dimension (1: edges as rows of two vertices) with rows
+    rewritten, added and removed on the side, written out by `result`."""
+
+    def __init__(self, vertices, grid):
+        self.vertices, self.grid = vertices, grid
+        self.points: list = []
+        self.rows = {r: {} for r in grid}  # r -> {id: faces}, rewritten or added
+        self.added = {r: 0 for r in grid}
+        self.removed = {r: set() for r in grid}
+        self.extra = {r: {} for r in range(0, max(grid) + 1)}  # r -> {r-cell: (r+1)-cells added that have it}
+        self.index: dict = {}
+        self.count = 0
+
+    def size(self, r):
+        return (len(self.vertices) + len(self.points)) if r == 0 else len(self.grid[r][0]) - 1 + self.added[r]
+
+    def row(self, r, x):
+        if x in self.rows[r]:
+            return self.rows[r][x]
+        offsets, faces = self.grid[r]
+        return faces[offsets[x] : offsets[x + 1]].tolist()
+
+    def cofaces(self, r, x):
+        """The (r+1)-cells that have the r-cell x now."""
+        out = list(self.extra[r].get(x, []))
+        if r + 1 in self.grid:
+            if r + 1 not in self.index:  # (the original rows' cofaces, sorted once)
+                offsets, faces = self.grid[r + 1]
+                order = np.argsort(faces, kind="stable")
+                owner = np.repeat(np.arange(len(offsets) - 1, dtype=np.int64), np.diff(offsets))[order]
+                self.index[r + 1] = (faces[order], owner)
+            below, owner = self.index[r + 1]
+            lo, hi = np.searchsorted(below, [x, x + 1])
+            out += [y for y in owner[lo:hi].tolist() if y not in self.removed[r + 1] and x in self.row(r + 1, y)]
+        return sorted(set(out))
+
+    def add(self, r, faces):
+        x = self.size(r)
+        self.rows[r][x] = faces
+        self.added[r] += 1
+        for y in faces:
+            self.extra[r - 1].setdefault(y, []).append(x)
+        return x
+
+    def cone(self, j, z):
+        """Replace the j-cell z by the cones over its faces from a new vertex (see `cone_lens_balls`)."""
+        closure = {j - 1: sorted(set(self.row(j, z)))}
+        for r in range(j - 1, 0, -1):
+            closure[r - 1] = sorted({y for x in closure[r] for y in self.row(r, x)})
+        at = np.concatenate([self.vertices, np.array(self.points).reshape(-1, self.vertices.shape[1])])
+        p = self.size(0)
+        self.points.append(at[closure[0]].mean(axis=0))
+        apex = {(0, v): self.add(1, [p, v]) for v in closure[0]}
+        for r in range(1, j):
+            for g in closure[r]:
+                apex[(r, g)] = self.add(r + 1, [g] + [apex[(r - 1, y)] for y in self.row(r, g)])
+        pieces = [apex[(j - 1, y)] for y in closure[j - 1]]
+        for y in self.cofaces(j, z):
+            self.rows[j + 1][y] = [w for w in self.row(j + 1, y) if w != z] + pieces
+            for w in pieces:
+                self.extra[j].setdefault(w, []).append(y)
+        self.removed[j].add(z)
+        self.count += 1
+
+    def result(self):
+        """(vertices, grid) with every change written in; kept ids in order, then the added ones."""
+        vertices = np.concatenate([self.vertices, np.array(self.points).reshape(-1, self.vertices.shape[1])]) \
+            if self.points else self.vertices
+        grid = {}
+        new_id = None  # of the dimension below (vertices: none removed)
+        for r in sorted(self.grid):
+            offsets, faces = self.grid[r]
+            m = len(offsets) - 1
+            total = m + self.added[r]
+            keep = np.ones(total, bool)
+            keep[list(self.removed[r])] = False
+            sizes = np.zeros(total, np.int64)
+            sizes[:m] = np.diff(offsets)
+            changed = sorted(self.rows[r])
+            sizes[changed] = [len(self.rows[r][x]) for x in changed]
+            sizes = sizes[keep]
+            out_off = np.zeros(len(sizes) + 1, np.int64)
+            np.cumsum(sizes, out=out_off[1:])
+            out = np.empty(out_off[-1], np.int64)
+            plain = keep[:m].copy()
+            plain[[x for x in changed if x < m]] = False
+            new_row = np.cumsum(keep) - 1
+            # unchanged rows in one gather, the others one by one (few)
+            src = np.repeat(plain, np.diff(offsets))
+            dst = np.repeat(plain[keep[:m]], sizes[: int(keep[:m].sum())])
+            out[np.flatnonzero(np.concatenate([dst, np.zeros(len(out) - len(dst), bool)]))] = faces[src]
+            for x in changed:
+                if keep[x]:
+                    out[out_off[new_row[x]] : out_off[new_row[x] + 1]] = self.rows[r][x]
+            if new_id is not None:
+                out = new_id[out]
+            grid[r] = (out_off, out)
+            new_id = new_row
+        return vertices, grid
+
+
+def _lenses(e, inc, r):
     """`collapse_lens_cells`' decisions on the r-cells of the records: (rep, removed), rep maps each
-    merged (r-1)-cell key to the one it becomes (`_merged`), removed the lens keys.  edge_rep and
-    lenses_2: the r = 2 decisions, for r = 3 (the 3-cells as they will be after `_regular`)."""
+    merged (r-1)-cell key to the one it becomes (`_merged`), removed the lens keys."""
     pairs = np.unique(inc[inc[:, 0] == r][:, 1:], axis=0)  # (X, Y): r-cell X has face Y
-    if lenses_2 is not None and len(lenses_2):
-        pairs = pairs[~np.isin(pairs[:, 1], np.array(sorted(lenses_2), np.int64))]
     cells, counts = np.unique(pairs[:, 0], return_counts=True)
     lenses = cells[counts == 2]
     rep: dict[int, int] = {}  # a merged face -> the face it became
@@ -693,7 +812,7 @@ def _lenses(e, inc, r, edge_rep, lenses_2):
     boundary: dict[int, set[int]] = {}
     below = e if r == 2 else inc[inc[:, 0] == r - 1][:, 1:]  # (face, one of its faces or ends)
     for row in np.unique(below[np.isin(below[:, 0], wanted)], axis=0).tolist():
-        boundary.setdefault(row[0], set()).update(_merged(edge_rep, z) for z in row[1:])
+        boundary.setdefault(row[0], set()).update(row[1:])
     for x, (a, b) in zip(lenses.tolist(), two.tolist()):
         a, b = _merged(rep, a), _merged(rep, b)
         if a != b and boundary.get(a, set()) != boundary.get(b, set()):

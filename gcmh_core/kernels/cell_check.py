@@ -274,3 +274,47 @@ def graph_certified_chunk(values, cube_row, corner_row, k, subsets):
                 last = q
                 break
     return out
+
+
+@nb.njit(**JIT)
+def _mix64(x):
+    """splitmix64's finaliser: a uint64 to a well-spread uint64."""
+    x = (x ^ (x >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    x = (x ^ (x >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return x ^ (x >> np.uint64(31))
+
+
+@nb.njit(**JIT)
+def same_faces_candidates(offsets, faces):
+    """The cells of a CSR (offsets, faces) that may have the same set of faces as another cell: a hash
+    per cell that no order of its faces changes (a wrapping sum of the faces' mixed ids), and a table
+    of the hashes seen (open addressing).  Cells with the same faces are always marked, others only
+    on a 64-bit collision: `_balls._same_faces` compares the marked ones exactly.  One pass, no sort
+    (every run pays it on every cell of every dimension: a sort of a sphere's 190,000 hashes took as
+    long as a tenth of its run)."""
+    m = len(offsets) - 1
+    h = np.empty(m, np.uint64)
+    for i in range(m):
+        s = _mix64(np.uint64(offsets[i + 1] - offsets[i]))
+        for j in range(offsets[i], offsets[i + 1]):
+            s += _mix64(np.uint64(faces[j]) + np.uint64(0x9E3779B97F4A7C15))
+        h[i] = s
+    size = 2
+    while size < 2 * m:
+        size *= 2
+    mask = np.uint64(size - 1)
+    table = np.full(size, -1, np.int64)
+    out = np.zeros(m, np.bool_)
+    for i in range(m):
+        slot = np.int64(h[i] & mask)
+        while True:
+            j = table[slot]
+            if j < 0:
+                table[slot] = i
+                break
+            if h[j] == h[i]:
+                out[i] = True
+                out[j] = True
+                break
+            slot = (slot + 1) & (size - 1)
+    return out

@@ -76,8 +76,9 @@ def random_system(n, k, seed):
 def check_regular(cx, n, div):
     bounds = [(-1.0, 1.0)] * n
     # a cell GCMH reports as still not a ball (meta["non_ball_left"], solids with the check off) is
-    # told to the user; its boundary is not checked here, its faces are
-    spheres = cx.meta["non_ball_left"] == 0
+    # told to the user; its boundary is not checked here, its faces are (so for n >= 8, where no check
+    # finds such cells: meta["topology_unchecked"])
+    spheres = cx.meta["non_ball_left"] == 0 and "topology_unchecked" not in cx.meta
     assert not spheres or structure_problems(cx, bounds, div) == []
     # the extraction cones the whole-ball lenses itself: nothing is left to do
     assert regularity_problems(cx) == [] and whole_ball_lenses(cx) == 0
@@ -124,20 +125,33 @@ def test_cone_makes_a_pillow_a_tetrahedron_like_ball():
     assert np.allclose(after.vertices[3], V.mean(axis=0))
 
 
-@settings(max_examples=40 if LONG else 8, deadline=None, derandomize=not LONG,
+@settings(max_examples=40 if LONG else 10, deadline=None, derandomize=not LONG,
           suppress_health_check=[HealthCheck.too_slow])
-@given(shape=st.sampled_from([(6, 4, 3), (6, 3, 3), (7, 5, 2), (7, 4, 2)]), seed=st.integers(0, 2**31 - 1),
-       check_cells=st.booleans(), grid_seed=st.integers(0, 5))
-def test_random_systems_n6_n7_give_regular_cells(shape, seed, check_cells, grid_seed):
+@given(shape=st.sampled_from([(6, 4, 3), (6, 3, 3), (7, 5, 2), (7, 4, 2), (8, 4, 2), (8, 6, 2)]),
+       seed=st.integers(0, 2**31 - 1), check_cells=st.booleans(), grid_seed=st.integers(0, 5))
+def test_random_systems_n6_to_n8_give_regular_cells(shape, seed, check_cells, grid_seed):
     n, k, div = shape
     texts = random_system(n, k, seed)
-    check_regular(extract(texts, [(-1, 1)] * n, div, check_cells=check_cells, seed=grid_seed), n, div)
+    check_regular(extract(texts, [(-1, 1)] * n, div, check_cells=check_cells, seed=grid_seed, force=True), n, div)
 
 
-@pytest.mark.parametrize("seed", [0, 1, 2, 3])
-@pytest.mark.parametrize("n,k", [(8, 5), (8, 6)])
-def test_random_systems_in_R8_give_regular_cells(n, k, seed):
+@pytest.mark.parametrize("n,k,seeds", [(8, 5, [0, 1, 2, 3]), (8, 6, [0, 1, 2, 3]), (8, 4, [0, 1, 3, 5])])
+def test_random_systems_in_R8_give_regular_cells(n, k, seeds):
     """n = 8 has no Kuhn tables to refine a cube: a piece of M_A may come out a 3-cell of three faces
-    ((8, 5), seed 2 did); the assembly cones one of its faces.  Surfaces and solids in R^8, regular."""
-    cx = extract(random_system(n, k, seed), [(-1, 1)] * n, 2, seed=seed, force=True)
-    assert regularity_problems(cx) == []
+    ((8, 5), seed 2 did), a 4-cell of two or three, or two 3-cells with the same faces ((8, 4), seeds
+    0, 3, 5); the assembly cones them, at every dimension.  Surfaces and solids in R^8, regular."""
+    for seed in seeds:
+        cx = extract(random_system(n, k, seed), [(-1, 1)] * n, 2, seed=seed, force=True)
+        assert regularity_problems(cx) == [], seed
+        if k == 4:  # (these draws' cells are balls: their boundaries are spheres)
+            assert structure_problems(cx, [(-1, 1)] * n, 2) == [], seed
+
+
+def test_lenses_of_lenses_keep_every_boundary_a_sphere():
+    """(8, 3), seed 0: four edges with the same two ends, lens 2-cells between pairs of them, a 3-cell
+    of three lenses and 3-cell lenses over two of them.  Collapsing the 3-cells by a guess of how the
+    lens 2-cells would be collapsed later left 30 cells whose boundary was not a sphere; the 2-cells
+    are collapsed first now.  chi is 2, as with no collapse at all."""
+    cx = extract(random_system(8, 3, 0), [(-1, 1)] * 8, 2, seed=0, force=True)
+    assert regularity_problems(cx) == [] and structure_problems(cx, [(-1, 1)] * 8, 2) == []
+    assert cx.euler_characteristic() == 2
