@@ -29,7 +29,7 @@ from .geometry import Geometry, display_complex, seam_spec
 from .labels import font_size
 from .projection import Projector, axis_label
 from .scene import Scene
-from .slicing import Slice
+from .slicing import Slice, clip_polygons_at
 
 SECTION_COLOR = "#ff7b5c"     # coral: apart from the surface's gold, the ghost's grey and viridis
 TEXT_COLOR = "#ffd2c4"
@@ -314,7 +314,12 @@ class SectionScene(Scene):
             return super().set_slice(direction, c, w, render)
         if geo.dim == 2:
             drawn = super().set_slice(direction, c, w, render=False)
-            self.sections.show(np.asarray(direction, dtype=float), float(c))
+            u = np.asarray(direction, dtype=float)
+            h = np.asarray(self.complex.vertices) @ u
+            levels = self.sections.cutter(u).levels(float(c), float(h.min()) - w, float(h.max()) + w)
+            if len(levels) > 1:   # a glued space's section lies on several levels: the band round each
+                drawn = self._band(u, levels, float(w))
+            self.sections.show(u, float(c))
             if render:
                 self.plotter.render()
             return drawn
@@ -332,6 +337,16 @@ class SectionScene(Scene):
         if render:
             self.plotter.render()
         return drawn
+
+    def _band(self, u, levels, w: float) -> int:
+        """Draw the surface's cells within ``w`` of each of ``levels`` (in place of the one band)."""
+        geo = self.geometry
+        sl = clip_polygons_at(np.asarray(self.complex.vertices), geo.offsets, geo.vids, u, levels, w)
+        self._show_geometry(Geometry.from_slice(sl, geo.dim, geo.n, geo.projector.center, geo.projector.radii(),
+                                                cell_ids=geo.cell_ids), sl.vertices)
+        self.overlay_meshes.rebuild()
+        self.angles.fit_overlays()
+        return 0 if self.mesh is None else int(self.mesh.n_cells)
 
     def set_projection(self, P, render: bool = True, moving: bool = False) -> None:
         super().set_projection(P, render=False, moving=moving)

@@ -220,6 +220,21 @@ def clip_polygons(vertices, offsets, vids, direction, c: float, w: float) -> Sli
     return Slice(verts, source, offs, ids, faces_kept.astype(np.int64))
 
 
+def clip_polygons_at(vertices, offsets, vids, direction, levels, w: float) -> Slice:
+    """:func:`clip_polygons` around each of ``levels`` (a glued space's section has several: ``s = c`` and
+    ``s = c + 2pi`` where a seam's cells are drawn past the box, ``t = c`` and ``t = 2pi - c`` across a
+    reversed seam), the bands in one :class:`Slice` (a polygon in two bands comes twice)."""
+    parts = [clip_polygons(vertices, offsets, vids, direction, float(c), w) for c in levels]
+    if len(parts) == 1:
+        return parts[0]
+    shift = np.cumsum([0] + [len(p.vertices) for p in parts[:-1]])
+    starts = np.cumsum([0] + [int(p.offsets[-1]) for p in parts[:-1]])
+    return Slice(np.concatenate([p.vertices for p in parts]), np.concatenate([p.source for p in parts]),
+                 np.concatenate([[0]] + [p.offsets[1:] + s0 for p, s0 in zip(parts, starts)]).astype(np.int64),
+                 np.concatenate([p.vids + v0 for p, v0 in zip(parts, shift)]).astype(np.int64),
+                 np.concatenate([p.cell_source for p in parts]).astype(np.int64))
+
+
 def clip_segments(vertices, edges, direction, c: float, w: float) -> Slice:
     """Clip segments (E, 2) int64 to the slab ``c - w <= direction . x <= c + w`` (a curve's slice)."""
     X, u = _check(vertices, direction, c, w)

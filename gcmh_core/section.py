@@ -364,6 +364,24 @@ class Sectioner:
         h = self.h[np.isfinite(self.h)]
         return (float(h.min()), float(h.max())) if h.size else (0.0, 0.0)
 
+    def levels(self, value, lo: float, hi: float) -> list:
+        """The values of ``h`` in ``[lo, hi]`` that the section at ``value`` lies on, in each vertex's own chart:
+        ``[value]`` on an unglued direction; round a glued circle every ``value + kQ``, and across a reversed
+        seam every ``mirror - value + kQ`` too (where the app draws the band of cells beside the section)."""
+        c = self._resolved(_check_value(value))
+        circle = self.circle
+        if circle.mode == "plain":
+            return [c]
+        bases = [c] if circle.mode == "shift" else [c, circle.mirror - c]
+        out = set()
+        for b in bases:
+            if circle.period:
+                k = np.arange(np.ceil((lo - b) / circle.period), np.floor((hi - b) / circle.period) + 1)
+                out.update((b + k * circle.period).tolist())
+            elif lo <= b <= hi:
+                out.add(b)
+        return sorted(out) or [c]
+
     def section(self, value) -> CellComplex:
         """The section ``h = value``: a CellComplex of dimension d - 1 (see the module's docstring)."""
         return self.cells(value).complex

@@ -109,6 +109,13 @@ def test_curves_and_mixed_reversed_directions_keep_the_window(qtbot):
         assert sc.set_slice(mixed, 0.3, 0.2) > 0 and not sc.sections.shown
         assert sc.set_slice(np.eye(5)[4], 0.2, 0.05) > 0 and sc.sections.shown   # t alone: {t = +-0.2}
         assert sc.sections.text() == "t = 0.2   section: chi = 0, 1 piece"
+        # the band of cells round both levels the section lies on, t = 0.2 and t = -0.2
+        from gcmh_studio.slicing import clip_polygons
+
+        geo = sc.geometry
+        bands = [clip_polygons(sc.complex.vertices, geo.offsets, geo.vids, np.eye(5)[4], c, 0.05).n_cells
+                 for c in (0.2, -0.2)]
+        assert min(bands) > 0 and sc.mesh.n_cells == sum(bands)
     finally:
         pl.close()
 

@@ -141,3 +141,23 @@ def test_any_n_along_a_hidden_direction():
     assert np.all(np.isclose(h[s.source < 0], c - w) | np.isclose(h[s.source < 0], c + w))
     with pytest.raises(ValueError, match="hidden direction 8"):
         SliceWindow(7, hidden=True).direction(m.frame())
+
+
+def test_bands_round_several_levels_are_one_slice():
+    """clip_polygons_at: the bands round each level in one Slice, each band as clip_polygons makes it."""
+    from gcmh_studio.slicing import clip_polygons, clip_polygons_at
+
+    g = np.linspace(0.0, 4.0, 9)
+    X = np.array([[x, y] for y in g for x in g])
+    quads = [[j * 9 + i, j * 9 + i + 1, (j + 1) * 9 + i + 1, (j + 1) * 9 + i] for j in range(8) for i in range(8)]
+    offsets = np.arange(0, 4 * len(quads) + 1, 4)
+    vids = np.asarray(quads).ravel()
+    u = np.array([1.0, 0.0])
+    one, two = (clip_polygons(X, offsets, vids, u, c, 0.2) for c in (1.1, 3.1))
+    both = clip_polygons_at(X, offsets, vids, u, [1.1, 3.1], 0.2)
+    assert both.n_cells == one.n_cells + two.n_cells > 0
+    assert len(both.vertices) == len(one.vertices) + len(two.vertices)
+    loops = [both.vertices[both.vids[both.offsets[i]:both.offsets[i + 1]], 0] for i in range(both.n_cells)]
+    assert sum(np.all(np.abs(x - 1.1) <= 0.2 + 1e-12) for x in loops) == one.n_cells
+    assert sum(np.all(np.abs(x - 3.1) <= 0.2 + 1e-12) for x in loops) == two.n_cells
+    assert clip_polygons_at(X, offsets, vids, u, [1.1], 0.2).n_cells == one.n_cells

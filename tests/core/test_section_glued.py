@@ -209,3 +209,13 @@ def test_the_command_line_cuts_a_glued_example(tmp_path, capsys):
 
     cut = CellComplex.load(str(out))
     assert cut.dim == 1 and np.allclose(cut.vertices[:, ex.variables.index("s")], np.pi / 3)
+
+
+def test_levels_name_every_value_the_section_lies_on(torus_angles, klein, three_torus):
+    """Where the app draws its bands: round a circle every c + 2pi k in range; across a reversed seam,
+    2pi - c too; an unglued direction, c alone."""
+    assert Sectioner(torus_angles, "s").levels(1.0, -0.5, 7.5) == pytest.approx([1.0, 1.0 + TAU])
+    assert Sectioner(torus_angles, "x").levels(1.0, -5, 5) == [1.0]
+    assert Sectioner(klein, "t").levels(1.0, -0.2, 6.5) == pytest.approx([1.0, TAU - 1.0])
+    assert Sectioner(three_torus, np.array([1.0, 1, 0, 0])).levels(0.5, 0, 2 * TAU) == \
+        pytest.approx([0.5, 0.5 + TAU])
