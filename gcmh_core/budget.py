@@ -377,8 +377,10 @@ def _probe(n, k, div, bounds, system, sampled) -> tuple[float, np.ndarray, bool,
         fine, fine_cand, covered = _fine_blocks(sampled, cand, div, pdiv)
         per_probe_cube = float(fine_cand.sum()) / fine.shape[0]
         expected = min(cubes, count * per_probe_cube * cubes / covered)
+        # (a value that is not finite anywhere stops the marching pass: a NaN region of the probe's)
+        nonfinite = (n, k) == (3, 1) and not np.isfinite(values).all()
         if not fine_cand.any():
-            return expected, plane, False, bool(not np.isfinite(fine).all())
+            return expected, plane, False, bool(nonfinite or not np.isfinite(fine).all())
         if n > 10:
             faces = plane
         else:  # the blocks end to end along axis 0; the cubes across two blocks are no candidates
@@ -386,7 +388,7 @@ def _probe(n, k, div, bounds, system, sampled) -> tuple[float, np.ndarray, bool,
             for b, c in enumerate(fine_cand):
                 joined[b * fine.shape[1]: b * fine.shape[1] + c.shape[0]] = c
             faces = _crossed_faces(fine.reshape(-1, *fine.shape[2:]), joined, n, k)
-        return expected, faces, False, _hands_over(fine, fine_cand, expected, n, k, batch=True)
+        return expected, faces, False, nonfinite or _hands_over(fine, fine_cand, expected, n, k, batch=True)
     # M meets s^e times as many cubes on a grid s times finer, e -> n - k once the
     # probe resolves M; e halfway between that and what the probe shows against its
     # every-other-line subgrid (which still grows towards n - k)

@@ -302,3 +302,22 @@ def test_the_estimate_prices_the_cell_check_as_the_run_does():
     for n, k in [(4, 1), (5, 3)]:
         sec = {c: budget.estimate_run(n, k, 8, probe=False, check_cells=c).seconds for c in (False, None, True)}
         assert sec[False] < sec[None] < sec[True], (n, k, sec)
+
+
+def test_sampled_data_that_stop_the_marching_pass_are_counted_with_the_general_kernel():
+    # A NaN region or cubes whose piece of M is not a ball (noise at the scale of a cube) send the n = 3
+    # marching pass to the general kernel (`sweep._march`), about 1 / _MARCHING_RECORDS times the records;
+    # the probe of sampled data sees both on a grid finer than it reads whole (blocks at full resolution)
+    t = np.linspace(-1.0, 1.0, 201, dtype=np.float32)
+    x, y, z = np.meshgrid(t, t, t, indexing="ij", sparse=True)
+    smooth = (np.sqrt(x * x + y * y + z * z) - np.float32(0.7))[..., None]
+    masked = smooth.copy()
+    masked[:8, :8, :8] = np.nan
+    rough = smooth + np.random.default_rng(0).normal(0, 0.012, smooth.shape).astype(np.float32)
+    est = {name: budget.estimate(v, (-1, 1)) for name, v in (("smooth", smooth), ("masked", masked),
+                                                              ("rough", rough))}
+    assert est["masked"].candidate_cubes == est["smooth"].candidate_cubes
+    assert est["masked"].record_bytes == pytest.approx(est["smooth"].record_bytes / budget._MARCHING_RECORDS)
+    # rough: more candidate cubes than the strided probe sees, and the general kernel's records
+    assert est["rough"].candidate_cubes > 1.3 * est["smooth"].candidate_cubes
+    assert est["rough"].record_bytes > 1.3 * est["smooth"].record_bytes / budget._MARCHING_RECORDS
