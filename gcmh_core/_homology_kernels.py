@@ -690,3 +690,33 @@ def _grow_ring(queue, head, count):
     for i in range(count):
         grown[i] = queue[(head + i) % queue.size]
     return grown
+
+
+@njit(**JIT)
+def _tree_residues(pred, pred_edge, eu, value, modulus):
+    """Sums of an integer edge cochain down a shortest-path tree, modulo `modulus`: res[x] is the sum of
+    +-value[e] along the tree path root -> x (+ where the edge e = (eu[e], ev[e]) runs from the parent
+    to the child, - against), in [0, modulus); 0 at the root and at the vertices hanging from nothing
+    (pred < 0).  Each vertex walks up to the first vertex known, then the path is filled in going down."""
+    n = pred.size
+    res = np.zeros(n, dtype=np.int64)
+    known = np.zeros(n, dtype=np.bool_)
+    stack = np.empty(n, dtype=np.int64)
+    for x in range(n):
+        if pred[x] < 0:
+            known[x] = True
+    for x in range(n):
+        top = 0
+        y = x
+        while not known[y]:
+            stack[top] = y
+            top += 1
+            y = pred[y]
+        while top > 0:
+            top -= 1
+            y = stack[top]
+            e = pred_edge[y]
+            step = value[e] if eu[e] == pred[y] else -value[e]
+            res[y] = (res[pred[y]] + step) % modulus
+            known[y] = True
+    return res

@@ -243,17 +243,19 @@ def _smith(A, m, n, transforms):
     """Diagonalise the m x n integer matrix A (list of rows, changed in place):
     L A R = diag(s_1 | s_2 | ...), s_i > 0.
 
-    Returns (s, R, Rinv, Linv); the matrices are empty unless `transforms`.
+    Returns (s, R, Rinv, Linv, L); the matrices are empty unless `transforms`.
     """
     R = _identity(n) if transforms else []
     Rinv = _identity(n) if transforms else []
     Linv = _identity(m) if transforms else []
+    L = _identity(m) if transforms else []
     s: list[int] = []
     t = 0
 
     def swap_rows(i, j):
         A[i], A[j] = A[j], A[i]
         if transforms:
+            L[i], L[j] = L[j], L[i]
             for row in Linv:
                 row[i], row[j] = row[j], row[i]
 
@@ -271,6 +273,10 @@ def _smith(A, m, n, transforms):
             if rs[j]:
                 ri[j] += c * rs[j]
         if transforms:
+            li, ls = L[i], L[src]
+            for k in range(m):
+                if ls[k]:
+                    li[k] += c * ls[k]
             for row in Linv:
                 if row[i]:
                     row[src] -= c * row[i]
@@ -328,11 +334,12 @@ def _smith(A, m, n, transforms):
         if A[t][t] < 0:
             A[t] = [-v for v in A[t]]
             if transforms:
+                L[t] = [-v for v in L[t]]
                 for row in Linv:
                     row[t] = -row[t]
         s.append(A[t][t])
         t += 1
-    return s, R, Rinv, Linv
+    return s, R, Rinv, Linv, L
 
 
 def _matmul(A, B, m, k, n):
@@ -445,7 +452,7 @@ def _homology(cx, want_generators):
     Rs: list = [_identity(size[0]) if want_generators else None]
     Rinvs: list = [None]
     for q in range(1, top + 1):
-        s, R, Rinv, _ = _smith([row[:] for row in D[q]], size[q - 1], size[q], want_generators)
+        s, R, Rinv, *_ = _smith([row[:] for row in D[q]], size[q - 1], size[q], want_generators)
         factors.append(s)
         Rs.append(R)
         Rinvs.append(Rinv)
@@ -489,9 +496,9 @@ def _generators(cx, q, top, size, r_q, D, Rs, Rinvs, crit, chain, partner, time)
             [row[:] for row in D[q + 1]]
         A = coords[r_q:]
         image = [row[:] for row in A]   # (the Smith form works in place)
-        s, _, _, Linv = _smith(A, n_ker, size[q + 1], True)
+        s, _, _, Linv, L = _smith(A, n_ker, size[q + 1], True)
     else:
-        s, Linv, image = [], _identity(n_ker), [[] for _ in range(n_ker)]
+        s, Linv, L, image = [], _identity(n_ker), _identity(n_ker), [[] for _ in range(n_ker)]
     basis = _matmul(K, Linv, size[q], n_ker, n_ker)  # columns: the new basis of ker
     wanted = [(i, 0) for i in range(len(s), n_ker)] + [(i, f) for i, f in enumerate(s) if f > 1]
     chains_off, chains_cells, chains_coefs = [0], [], []
@@ -515,10 +522,15 @@ def _generators(cx, q, top, size, r_q, D, Rs, Rinvs, crit, chain, partner, time)
     if q == 1 and top >= 2:
         n_free = n_ker - len(s)
         loops = None
-        if n_free:
+        if n_ker:
             tors = [i for i, _ in wanted[n_free:]]
-            classes = _Classes(crit[q], Rinvs[q][r_q:], image, [[row[i] for row in Linv] for i in tors],
-                               [[row[i] for row in basis] for i in tors], [f for _, f in wanted[n_free:]], D[2])
+            ker_rows = Rinvs[q][r_q:]
+            # a torsion class's coordinate as a function of Morse cycles: row i of L (L A R = diag) after
+            # the kernel's coordinates, read modulo its order
+            reads = [[sum(L[i][k] * ker_rows[k][c] for k in range(n_ker)) for c in range(size[q])] for i in tors]
+            classes = _Classes(crit[q], ker_rows, image, [[row[i] for row in Linv] for i in tors],
+                               [[row[i] for row in basis] for i in tors], [f for _, f in wanted[n_free:]], D[2],
+                               reads)
             loops = _short_loops(cx, chain, partner, time, classes, n_free,
                                  [c for c, _ in chains[:n_free]])
         weight = _cell_weights(cx, 1)
@@ -544,7 +556,10 @@ class _Classes:
     (global ids), ``ker_rows`` the rows of R^-1 that give a Morse cycle's coordinates in
     the kernel's basis, ``image`` the boundaries in those coordinates (n_ker x c2),
     ``torsion`` the torsion generators' coordinates and ``torsion_cycles`` the same as
-    Morse cycles (Z^c1 each), ``D2`` the Morse boundary of the critical 2-cells (c1 x c2)."""
+    Morse cycles (Z^c1 each), ``D2`` the Morse boundary of the critical 2-cells (c1 x c2),
+    ``reads`` per torsion generator j a row over the critical edges whose product with a
+    Morse cycle, modulo ``orders[j]``, is the cycle's coordinate along generator j (0 on
+    boundaries)."""
 
     crit: np.ndarray
     ker_rows: list
@@ -553,6 +568,7 @@ class _Classes:
     torsion_cycles: list
     orders: list
     D2: list
+    reads: list
 
     def coords(self, m) -> list:
         """A Morse cycle's coordinates in the kernel's basis."""
@@ -668,13 +684,13 @@ def _short_loops(cx, chain, partner, time, classes, n_free, old):
     def grow(r, nearest):
         """The loops closed by the shortest-path tree from r."""
         radius = 0.5 * bound[0] * (1 + 1e-9)
-        keep, length, m, _, pred_edge, pred = _root_loops(adj_off, adj_to, adj_edge, weight, u, v,
-                                                          edge_bits, r, radius, nearest)
+        keep, length, m, dist, pred_edge, pred = _root_loops(adj_off, adj_to, adj_edge, weight, u, v,
+                                                             edge_bits, r, radius, nearest)
         short = length <= 2 * radius
         lengths.append(length[short])
         masks.append(m[short])
         which.append(np.stack([np.full(int(short.sum()), len(trees)), keep[short]], axis=1))
-        trees.append((pred_edge, pred))
+        trees.append((pred_edge, pred, dist))
         used.append(r)
 
     def greedy():
@@ -693,11 +709,13 @@ def _short_loops(cx, chain, partner, time, classes, n_free, old):
             basis.append(int(mask[i]))
             mask = _xor_reduce(mask, basis[-1:])
             chosen.append(tuple(int(x) for x in order[i]))
-        longest = float(length[o[i]])
+        longest = float(length[o[i]]) if chosen else 0.0
         every = np.concatenate(masks)
         for w in filter(None, wants):   # (a torsion class with no loop seen yet bounds nothing)
             seen = length[every == np.uint64(w)]
             longest = max(longest, float(seen.min()) if seen.size else np.inf)
+        if any(order % 2 for order in classes.orders):   # (the masks do not see odd torsion: whole walks)
+            longest = np.inf
         bound[0] = min(bound[0], longest)
         return chosen
 
@@ -733,19 +751,46 @@ def _short_loops(cx, chain, partner, time, classes, n_free, old):
         morse.append((coefs[:, None] * phi[cells]).sum(axis=0).tolist())
     if not classes.generate(morse):
         return None
-    # a torsion class of even order: the shortest loop with its class mod 2 that can stand for it
+    def stand_in(j, tries):
+        """The first loop of `tries` ((tree, edge) pairs, shortest first) that can stand for torsion j."""
+        for k, e in tries[:_TORSION_TRIES]:
+            cells, coefs = _tree_loop(E, trees[k], e)
+            if classes.replaces(j, (coefs[:, None] * phi[cells]).sum(axis=0).tolist(), morse):
+                return cells + b1, coefs
+        return None
+
+    # a torsion class of even order: the shortest loop with its class mod 2 that can stand for it; of odd
+    # order s (invisible mod 2): the shortest whose coordinate along it, read mod s, is not 0
     o = np.argsort(np.concatenate(lengths), kind="stable")
     every, where = np.concatenate(masks)[o], np.concatenate(which)[o]
-    for j, want in enumerate(wants):
+    for j, (want, order) in enumerate(zip(wants, classes.orders)):
         found = None
         if want:
-            for i in np.flatnonzero(every == np.uint64(want))[:_TORSION_TRIES].tolist():
-                cells, coefs = _tree_loop(E, trees[int(where[i, 0])], int(where[i, 1]))
-                if classes.replaces(j, (coefs[:, None] * phi[cells]).sum(axis=0).tolist(), morse):
-                    found = (cells + b1, coefs)
-                    break
+            found = stand_in(j, [tuple(where[i]) for i in np.flatnonzero(every == np.uint64(want)).tolist()])
+        elif order % 2:
+            found = stand_in(j, _loops_read(classes.reads[j], order, phi, trees, u, v, weight))
         loops.append(found)
     return loops
+
+
+def _loops_read(read, order, phi, trees, u, v, weight):
+    """The loops of the trees (pred_edge, pred, dist) whose coordinate along a torsion class of odd
+    `order` is not 0: the class's reading ``read`` (over the critical edges) becomes a cochain mod order
+    on the edges (through their Morse classes phi), summed down each tree.  Returns (tree, edge) pairs,
+    shortest loop first."""
+    from ._homology_kernels import _tree_residues
+
+    value = (phi % order) @ np.array([int(x) % order for x in read], dtype=np.int64) % order
+    found, size = [], []
+    for k, (pred_edge, pred, dist) in enumerate(trees):
+        res = _tree_residues(pred, pred_edge, u, value, order)
+        off_tree = np.isfinite(dist[u]) & np.isfinite(dist[v])
+        off_tree[pred_edge[pred_edge >= 0]] = False
+        e = np.flatnonzero(off_tree & ((res[u] + value - res[v]) % order != 0))
+        found += [(k, int(x)) for x in e.tolist()]
+        size.append(dist[u[e]] + weight[e] + dist[v[e]])
+    o = np.argsort(np.concatenate(size), kind="stable") if size else []
+    return [found[i] for i in o]
 
 
 def _adjacency(E, n_vert):
@@ -763,8 +808,8 @@ def _adjacency(E, n_vert):
 
 def _tree_loop(E, tree, e):
     """The loop root -> u -> v -> root through edge e = (u, v) off a shortest-path tree
-    (pred_edge, pred): (edge ids, coefficients), the two tree paths' common part cancelled."""
-    pred_edge, pred = tree
+    (pred_edge, pred, ...): (edge ids, coefficients), the two tree paths' common part cancelled."""
+    pred_edge, pred = tree[:2]
     z: dict = {e: 1}
     for x, sign in ((int(E[e, 0]), 1), (int(E[e, 1]), -1)):   # + path to u, - path to v
         while pred[x] >= 0:

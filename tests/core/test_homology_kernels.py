@@ -3,10 +3,17 @@
 
 import numpy as np
 import pytest
-from homology_naive import edge_classes, orient_top, root_loops, shorten_chain, shortest_distances
+from homology_naive import edge_classes, orient_top, root_loops, shorten_chain, shortest_distances, tree_residues
 from test_homology import simplicial
 
-from gcmh_core._homology_kernels import _coreduce, _edge_classes, _orient_top, _root_loops, _shorten_chain
+from gcmh_core._homology_kernels import (
+    _coreduce,
+    _edge_classes,
+    _orient_top,
+    _root_loops,
+    _shorten_chain,
+    _tree_residues,
+)
 from gcmh_core.homology import _adjacency, _chain_complex, _incidences
 
 hypothesis = pytest.importorskip("hypothesis")
@@ -72,6 +79,11 @@ def test_root_loops_against_naive(n, seed, bounded, others):
     assert loop_edges.tolist() == [e for e, _, _ in twin]
     assert np.allclose(lengths, [d for _, d, _ in twin])
     assert masks.tolist() == [k for _, _, k in twin]
+    # sums of an integer cochain down the same tree, modulo 3 or 5
+    modulus = int(rng.choice([3, 5]))
+    value = rng.integers(-7, 8, m)
+    res = _tree_residues(pred, pred_edge, edges[:, 0].copy(), value, modulus)
+    assert res.tolist() == tree_residues(pred.tolist(), pred_edge.tolist(), edges.tolist(), value.tolist(), modulus)
 
 
 @settings(max_examples=60, deadline=None, derandomize=True)
