@@ -720,3 +720,30 @@ def _tree_residues(pred, pred_edge, eu, value, modulus):
             res[y] = (res[pred[y]] + step) % modulus
             known[y] = True
     return res
+
+
+@njit(**JIT)
+def _polygon_areas(offs, verts, X):
+    """Area of each polygon (CSR loops offs, verts over points X (V, n)) in R^n: its triangles fanned
+    from its first vertex, each |a| |b| sin from the Gram determinant (a, b the edges from that vertex)."""
+    n_poly = offs.size - 1
+    dim = X.shape[1]
+    out = np.zeros(n_poly, dtype=np.float64)
+    for p in range(n_poly):
+        o = verts[offs[p]]
+        total = 0.0
+        for j in range(offs[p], offs[p + 1]):
+            k = j + 1 if j + 1 < offs[p + 1] else offs[p]   # cyclically within the loop
+            aa = 0.0
+            bb = 0.0
+            ab = 0.0
+            for d in range(dim):
+                a = X[verts[j], d] - X[o, d]
+                b = X[verts[k], d] - X[o, d]
+                aa += a * a
+                bb += b * b
+                ab += a * b
+            gram = aa * bb - ab * ab
+            total += 0.5 * np.sqrt(gram) if gram > 0.0 else 0.0
+        out[p] = total
+    return out

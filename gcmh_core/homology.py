@@ -860,16 +860,10 @@ def _cell_weights(cx, q):
         e = np.asarray(cx.edges)
         size = np.linalg.norm(X[e[:, 0]] - X[e[:, 1]], axis=1) if e.size else np.ones(0)
     else:
+        from ._homology_kernels import _polygon_areas
+
         offs, verts = (np.asarray(a, dtype=np.int64) for a in cx.polygons())
-        n = offs.size - 1
-        owner = np.repeat(np.arange(n), np.diff(offs))
-        nxt = np.arange(1, verts.size + 1)
-        nxt[offs[1:] - 1] = offs[:-1]      # cyclically within each loop
-        a = X[verts] - X[verts[offs[:-1]]][owner]
-        b = X[verts[nxt]] - X[verts[offs[:-1]]][owner]
-        # the area of the triangle (first, i, i + 1) in R^n: |a| |b| sin, from the Gram determinant
-        gram = np.einsum("ij,ij->i", a, a) * np.einsum("ij,ij->i", b, b) - np.einsum("ij,ij->i", a, b) ** 2
-        size = np.bincount(owner, 0.5 * np.sqrt(np.maximum(gram, 0.0)), minlength=n)
+        size = _polygon_areas(offs, verts, np.ascontiguousarray(X))
     size[~np.isfinite(size)] = 0.0
     if size.size == 0:
         return size

@@ -7,6 +7,8 @@ from __future__ import annotations
 import math
 from collections import deque
 
+import numpy as np
+
 
 def rank_mod_p(M, p):
     """Rank of the integer matrix M over Z/p (p prime), by elimination row by row."""
@@ -58,6 +60,21 @@ def moore_space(m, rings, p=3):
                 tris.append((vid(r, i), vid(r, i + 1), vid(r + 1, 0)))
     cx = simplicial_complex(tris, n=3)   # (its vertices 0 .. V-1 are ours, at random points: placed here)
     return CellComplex(3, 1, pts, cx.edges, {2: cx.cells[2]})
+
+
+def polygon_areas(offs, verts, X):
+    """Twin of ``_polygon_areas``: each polygon's triangles (first, i, i + 1) in R^n, their areas
+    |a| |b| sin from the Gram determinant, summed; numpy, a polygon at a time."""
+    out = []
+    for p in range(len(offs) - 1):
+        loop = list(verts[offs[p]:offs[p + 1]])
+        o = np.asarray(X[loop[0]], dtype=float)
+        total = 0.0
+        for i in range(len(loop)):
+            a, b = X[loop[i]] - o, X[loop[(i + 1) % len(loop)]] - o
+            total += 0.5 * math.sqrt(max(float(a @ a) * float(b @ b) - float(a @ b) ** 2, 0.0))
+        out.append(total)
+    return out
 
 
 def orient_top(off, fac, sign, n_faces):

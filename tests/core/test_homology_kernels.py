@@ -3,13 +3,22 @@
 
 import numpy as np
 import pytest
-from homology_naive import edge_classes, orient_top, root_loops, shorten_chain, shortest_distances, tree_residues
+from homology_naive import (
+    edge_classes,
+    orient_top,
+    polygon_areas,
+    root_loops,
+    shorten_chain,
+    shortest_distances,
+    tree_residues,
+)
 from test_homology import simplicial
 
 from gcmh_core._homology_kernels import (
     _coreduce,
     _edge_classes,
     _orient_top,
+    _polygon_areas,
     _root_loops,
     _shorten_chain,
     _tree_residues,
@@ -126,3 +135,15 @@ def test_edge_classes_against_naive(cx):
     phi, overflow = _edge_classes(order, b1, dims, partner, bd_off, bd, bdv, pos, crit1.size)
     assert not overflow
     assert phi.tolist() == edge_classes(order, b1, dims, partner, bd_off, bd, bdv, pos, crit1.size)
+
+
+@settings(max_examples=40, deadline=None, derandomize=True)
+@given(st.integers(1, 8), st.integers(2, 6), st.integers(0, 2**31 - 1))
+def test_polygon_areas_against_naive(n_poly, n, seed):
+    """Random polygons of 1 to 6 corners in R^n (repeated corners too)."""
+    rng = np.random.default_rng(seed)
+    sizes = rng.integers(1, 7, n_poly)
+    offs = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+    X = rng.normal(size=(10, n))
+    verts = rng.integers(0, 10, int(offs[-1])).astype(np.int64)
+    assert np.allclose(_polygon_areas(offs, verts, X), polygon_areas(offs, verts, X))
