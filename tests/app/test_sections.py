@@ -273,6 +273,26 @@ def test_the_strip_sees_the_torus_change(qtbot):
     assert len(jumps) == 2 and np.allclose(jumps, [-0.6, 0.6], atol=0.1)
 
 
+def test_the_strip_plots_a_glued_band_cut_along_its_reversed_axis(qtbot):
+    """The glued Moebius band along t (reversed across the seam of s): every section one circle but at the
+    band's edges t = +-0.5 (the range's own ends), where the strip's values do not reach."""
+    from gcmh_core.examples import load_example
+    from gcmh_studio.model import StudioModel
+    from gcmh_studio.qt_section_strip import QtSectionStrip
+
+    ex = load_example("moebius-band")
+    band = extract(ex.formulas, ex.bounds, [24, 24, 8, 24, 8], variables=ex.variables, periodic=ex.periodic)
+    m = StudioModel()
+    m.set_view_variables(ex.variables, False)
+    m.set_result(band, ex.variables, "band")
+    strip = QtSectionStrip(m)
+    qtbot.addWidget(strip)
+    m.set_slice(on=True, index=ex.variables.index("t"), hidden=False, c=0.1)
+    qtbot.waitUntil(lambda: strip.profile is not None, timeout=60_000)
+    prof = strip.profile
+    assert np.all(prof.chi == 0) and np.all(prof.pieces == 1) and prof.values.size > 10
+
+
 def test_the_strip_hides_for_curves_and_the_box_shows_the_width_for_them(qtbot, studio):
     from gcmh_studio.qt_slice_box import QtSliceBox
 
@@ -313,3 +333,29 @@ def test_a_moving_slice_hides_the_ghost_and_rest_brings_it_back(qtbot, small_win
     qtbot.waitUntil(lambda: not sc.moving_shown(), timeout=30_000)
     assert sc.overlay_meshes.ghost[1].GetVisibility()
     assert bool(w.plotter.renderer.GetUseFXAA()) == (sc.anti_aliasing == "fxaa")
+
+
+def test_the_window_slices_the_closed_klein_bottle_along_its_glued_angles(qtbot, small_window):
+    """In the window, the slice box's slider on the closed Klein bottle: along s (periodic) and along t
+    (reversed across the seam of s), the glued space's section, a circle, with its words."""
+    from gcmh_core.examples import load_example
+
+    w = small_window
+    ex = load_example("klein-bottle-closed")
+    with qtbot.waitSignal(w.runFinished, timeout=180_000):
+        assert w.load_example("klein-bottle-closed", div=[20, 20, 10, 20, 20])
+    sc = w.viewer.scene
+    sb = w.projection_panel.slice_box
+    for var in ("s", "t"):
+        sb.slice_combo.setCurrentIndex(ex.variables.index(var))
+        sb.setChecked(True)
+        for step in (300, 700):
+            before = sc.sections.text()
+            sb.slice_c.setValue(step)
+            qtbot.waitUntil(lambda v=var, b=before: sc.sections.shown and sc.sections.text() != b
+                            and sc.sections.text().startswith(v + " = "), timeout=30_000)
+            assert sc.sections.text().endswith("section: chi = 0, 1 piece")
+            assert sc.sections.cells.complex.boundary_facets().size == 0
+        qtbot.waitUntil(lambda v=var: sb.strip.profile is not None and sb.strip.profile.along.endswith(v),
+                        timeout=120_000)
+        assert np.all(sb.strip.profile.pieces == 1)
