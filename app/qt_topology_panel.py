@@ -79,7 +79,7 @@ def _describe_orientation(rep, w1_edges=None) -> tuple[str, bool | None]:
     bad = o["n_components"] - o["orientable_components"]
     text = "not orientable"
     if w1_edges is not None:
-        text += f"\nnormals flip across {w1_edges:,} edges (w1)"
+        text += f"\nw1 loop: {w1_edges:,} edges"   # (short: the column is narrow)
     if o["n_components"] > 1:
         text += f" ({bad} of {o['n_components']} pieces)"
     if o["nonmanifold_edges"]:
@@ -238,6 +238,8 @@ class QtTopologyPanel(QWidget):
         text, ok = _describe_orientation(self._report, self._w1_edges())
         label = self.values["orientation"]
         label.setText(text)
+        label.setToolTip("The w1 loop: the edges across which the surface's normals flip, as the switch "
+                         "'Where the orientation reverses (w1)' draws it" if ok is False else "")
         label.setStyleSheet("" if ok is None else (GOOD_STYLE if ok else BAD_STYLE))
 
     def clear(self) -> None:

@@ -130,7 +130,7 @@ def test_w1_count_is_the_loop_drawn(panel, qtbot):
     h = box.data["homology"]
     text = panel.values["orientation"].text()
     assert text.startswith("not orientable")
-    assert f"normals flip across {h.orientation_cycle.size:,} edges (w1)" in text
+    assert f"w1 loop: {h.orientation_cycle.size:,} edges" in text
     assert "conflict" not in text
     box.w1_check.setChecked(True)
     from gcmh_studio.cycles import w1_lines
@@ -140,4 +140,4 @@ def test_w1_count_is_the_loop_drawn(panel, qtbot):
     # another result: the row no longer counts the old loop
     sphere, _ = _example("sphere")
     panel.set_result(sphere)
-    assert "flip" not in panel.values["orientation"].text()
+    assert "w1" not in panel.values["orientation"].text()
