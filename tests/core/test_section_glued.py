@@ -219,3 +219,24 @@ def test_levels_name_every_value_the_section_lies_on(torus_angles, klein, three_
     assert Sectioner(klein, "t").levels(1.0, -0.2, 6.5) == pytest.approx([1.0, TAU - 1.0])
     assert Sectioner(three_torus, np.array([1.0, 1, 0, 0])).levels(0.5, 0, 2 * TAU) == \
         pytest.approx([0.5, 0.5 + TAU])
+
+
+@pytest.mark.parametrize("which, var, c, level", [
+    ("klein", "t", 1.0, "cos(t) - cos(1.0)"),
+    ("klein", "t", 2.2, "cos(t) - cos(2.2)"),
+    ("band", "t", 0.2, "t**2 - 0.04"),
+    ("klein_circle", "b", 1.0, "cos(b) - cos(1.0)"),
+])
+def test_a_reversed_cut_agrees_with_extracting_its_level_set(request, which, var, c, level):
+    """An independent oracle: the same glued domain with one more equation, a function of the glued space
+    whose zeros are {var = c} U {var = m - c} (cos(t) - cos(c) round a circle reversed by the seam, t^2 - c^2
+    on the band), extracted by GCMH itself: the same chi, pieces and boundary."""
+    cx = request.getfixturevalue(which)
+    meta = cx.meta
+    oracle = extract(list(meta["formulas"]) + [level], meta["bounds"], meta["div"], variables=meta["variables"],
+                     periodic=meta["periodic"])
+    sec = section(cx, var, c)
+    assert oracle.dim == sec.dim
+    assert topology(sec) == topology(oracle)
+    if sec.dim == 2:
+        assert homology(sec, generators=False).betti == homology(oracle, generators=False).betti
