@@ -175,38 +175,32 @@ class StillJob:
     """The still picture of ``scene`` at ``size`` (w, h) under ``camera`` (:func:`camera_values`), drawn by the
     worker process on an off-screen plotter set up as the window's (``anti_aliasing``, no multi-sampling).
 
-    Made on the GUI thread. ``decorate(plotter)`` draws what the window draws over its view: when that adds
-    anything the job is ``declined`` (the window draws its own picture). Then ``done()``, and ``image``
-    ((h, w, 3) uint8) or ``error``; or neither, when a newer picture was asked for first.
-    ``stale`` is the caller's: set it when the picture is no longer wanted."""
+    Asked on the GUI thread (the caller has made sure the window draws nothing of its own over the view:
+    :func:`draws_over`). Then ``done()``, and ``image`` ((h, w, 3) uint8) or ``error``; or neither, when a
+    newer picture was asked for first. ``stale`` is the caller's: set it when the picture is no longer wanted."""
 
-    def __init__(self, scene: Scene, size, camera: dict, anti_aliasing: str | None = "fxaa", decorate=None):
+    def __init__(self, scene: Scene, size, camera: dict, anti_aliasing: str | None = "fxaa"):
         from .still_process import still_process
 
         self.size = (int(size[0]), int(size[1]))
         self.stale = False
-        self.declined = decorate is not None and draws_over(decorate)
-        self.request = None
-        if not self.declined:
-            self.request = still_process().ask(still_payload(scene, self.size, camera, anti_aliasing))
+        self.request = still_process().ask(still_payload(scene, self.size, camera, anti_aliasing))
 
     def done(self) -> bool:
-        """Drawn, failed, declined, or dropped for a newer picture (then ``image`` is None); a worker that
-        hangs is ended here (the GUI's poll asks)."""
+        """Drawn, failed, or dropped for a newer picture (then ``image`` is None); a worker that hangs is ended
+        here (the GUI's poll asks)."""
         from .still_process import still_process
 
-        if self.request is None:
-            return True
         still_process().check()
         return self.request.done()
 
     @property
     def image(self) -> np.ndarray | None:
-        return None if self.request is None else self.request.image
+        return self.request.image
 
     @property
     def error(self) -> str | None:
-        return None if self.request is None else self.request.error
+        return self.request.error
 
 
 def still_payload(scene: Scene, size, camera: dict, anti_aliasing: str | None) -> bytes:
@@ -220,15 +214,12 @@ def still_payload(scene: Scene, size, camera: dict, anti_aliasing: str | None) -
     return pickle.dumps(job, protocol=pickle.HIGHEST_PROTOCOL)
 
 
-def draws_over(decorate) -> bool:
-    """``decorate(plotter)`` adds something to a plotter's view (made and closed here: no GL context)."""
-    pl = pv.Plotter(off_screen=True, window_size=[64, 48])
-    try:
-        before = len(pl.renderer.actors)
-        decorate(pl)
-        return len(pl.renderer.actors) != before
-    finally:
-        pl.close()
+def draws_over(decorate, plotter) -> bool:
+    """``decorate(plotter)`` adds something to ``plotter``'s view (an off-screen plotter kept for the question,
+    never rendered; once drawn on, the caller closes it)."""
+    before = len(plotter.renderer.actors)
+    decorate(plotter)
+    return len(plotter.renderer.actors) != before
 
 
 def draw_still(scene: Scene, size, camera: dict, anti_aliasing: str | None) -> np.ndarray:

@@ -11,12 +11,12 @@ unshown render (:meth:`QtStillPicture.settle`) and then its own.
 from __future__ import annotations
 
 import numpy as np
-from qtpy.QtCore import Qt, QTimer
+from qtpy.QtCore import QEvent, QObject, Qt, QTimer
 from qtpy.QtGui import QImage, QPixmap
 from qtpy.QtWidgets import QLabel
 
 from .camera import camera_values
-from .offscreen import StillJob
+from .offscreen import StillJob, draws_over
 from .still_process import still_process
 
 STILL_POLL_MS = 15       # how often the GUI looks whether the still picture drawn by the worker is there
@@ -41,14 +41,17 @@ class QtStillPicture:
         self.poll = QTimer(viewer.widget)
         self.poll.setInterval(STILL_POLL_MS)
         self.poll.timeout.connect(self._arrived)
+        self._probe = None       # an off-screen plotter, never rendered (see _drawn_over)
         self.steps: list = []
         self.step = QTimer(viewer.widget)
         self.step.setSingleShot(True)
         self.step.setInterval(0)
         self.step.timeout.connect(self._next_step)
         viewer.plotter.ren_win.AddObserver("StartEvent", lambda *a: self._view_renders())
-        if self.off_thread:   # (its start-up, a second of imports, falls in the window's opening, not a result's)
-            still_process().start()
+        # the worker's start-up (a second of imports) falls when the view is first shown, not on a result
+        # (an unshown window, a session's screenshot, never starts it)
+        self._shown = _ShowAndHide(self, viewer.widget)
+        viewer.widget.installEventFilter(self._shown)
 
     def start(self) -> None:
         """A new result: its picture in steps of their own (one render asked)."""
@@ -60,11 +63,16 @@ class QtStillPicture:
     def in_worker(self) -> bool:
         """Draw the still picture in the worker process: a see-through result (0.3 s of software GL for the
         three-torus) in a view on screen with nothing of the window's own drawn over it (the presentation's
-        card), while the worker has not failed too often."""
+        card), once the worker is ready (one starting, or started again after a failure, would keep a result
+        off the screen for seconds: the window draws it meanwhile)."""
         v = self.viewer
         aa = v.scene.anti_aliasing   # (FXAA as asked: an EGL build falls back to super-sampling)
-        return (self.off_thread and still_process().usable() and v.scene.see_through() and v.widget.isVisible()
-                and min(v.size()) > 0 and (aa != "fxaa" or bool(v.plotter.renderer.GetUseFXAA())))
+        if not (self.off_thread and v.scene.see_through() and v.widget.isVisible() and min(v.size()) > 0
+                and (aa != "fxaa" or bool(v.plotter.renderer.GetUseFXAA()))):
+            return False
+        worker = still_process()
+        worker.start()      # (none yet, or the last one failed: a new one, unless they failed too often)
+        return worker.ready()
 
     def render(self) -> None:
         """The still look of the scene as it is, drawn by the worker, shown when it arrives (else the window
@@ -75,18 +83,42 @@ class QtStillPicture:
             self.viewer.widget.update()
             return
         v = self.viewer
-        try:
-            job = StillJob(v.scene, v.plotter.ren_win.GetSize(), camera_values(v.plotter.camera),
-                           anti_aliasing=v.scene.anti_aliasing,
-                           decorate=v._decorate if v.picture_decorators else None)
+        try:   # (the presentation draws over the view: the window's own render)
+            job = None if self._drawn_over() else StillJob(v.scene, v.plotter.ren_win.GetSize(),
+                                                            camera_values(v.plotter.camera),
+                                                            anti_aliasing=v.scene.anti_aliasing)
         except Exception:  # noqa: BLE001 - the window draws it itself
             job = None
-        if job is None or job.declined:   # (the presentation draws over the view: the window's own render)
+        if job is None:
             self._uncover()
             self.viewer.widget.update()
             return
         self.job = job
         self.poll.start()
+
+    def _drawn_over(self) -> bool:
+        """The window draws something of its own over the view (:func:`gcmh_studio.offscreen.draws_over`, on
+        an off-screen plotter kept for the question: making one costs 0.2 s; made again once drawn on, and
+        closed when the view is hidden: a plotter that outlives the X server ends the process)."""
+        v = self.viewer
+        if not v.picture_decorators:
+            return False
+        if self._probe is None:
+            import pyvista as pv
+
+            self._probe = pv.Plotter(off_screen=True, window_size=[64, 48])
+        drew = True
+        try:
+            drew = draws_over(v._decorate, self._probe)
+        finally:
+            if drew:
+                self.close_probe()
+        return drew
+
+    def close_probe(self) -> None:
+        if self._probe is not None:
+            self._probe.close()
+            self._probe = None
 
     def _next_step(self) -> None:
         if self.steps:
@@ -174,3 +206,22 @@ class QtStillPicture:
         """A new result's picture is on its way (its steps, or the worker)."""
         return bool(self.steps) or self.job is not None
 
+
+
+class _ShowAndHide(QObject):
+    """Starts the still picture's worker the first time the view is shown; closes the probe's plotter when
+    the view is hidden (a closing window)."""
+
+    def __init__(self, still: QtStillPicture, parent):
+        super().__init__(parent)
+        self.still = still
+        self.started = False
+
+    def eventFilter(self, obj, ev) -> bool:
+        t = ev.type()
+        if t == QEvent.Show and not self.started and self.still.off_thread:
+            self.started = True
+            still_process().start()
+        elif t == QEvent.Hide:
+            self.still.close_probe()
+        return False

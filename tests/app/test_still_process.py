@@ -174,7 +174,12 @@ def test_a_window_whose_worker_is_killed_keeps_running_and_its_pictures_come(qtb
     qtbot.waitUntil(lambda: not v.still_pending() and len(frames) >= 1, timeout=WAIT_MS)
     assert not v.still_shown() and w.isVisible()
 
-    # the next result's picture comes from a new worker
+    # a result while the new worker starts: the window draws it itself; once it is ready, the next result's
+    # picture comes from it
+    n = len(frames)
+    _run_three_torus(qtbot, w)
+    qtbot.waitUntil(lambda: not v.still_pending() and len(frames) > n, timeout=WAIT_MS)
+    qtbot.waitUntil(sp.ready, timeout=WAIT_MS)
     _run_three_torus(qtbot, w)
     qtbot.waitUntil(v.still_shown, timeout=WAIT_MS)
     assert sp.process is not proc and sp.process.poll() is None and sp.usable()

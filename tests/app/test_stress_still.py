@@ -48,6 +48,7 @@ def test_still_pictures_survive_steps_releases_switches_and_windows(qtbot, small
     monkeypatch.setattr(StillProcess, "ask", counted)
     w = small_window
     v = w.viewer
+    qtbot.waitUntil(still_process().ready, timeout=120_000)   # (until then the window draws it itself)
     _load(qtbot, w, SEE_THROUGH[0])
     assert v.scene.see_through()
     starts = still_process().starts

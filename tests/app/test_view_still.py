@@ -39,6 +39,9 @@ def _shown_frames(window):
 
 
 def _run_three_torus(qtbot, window):
+    from gcmh_studio.still_process import still_process
+
+    qtbot.waitUntil(still_process().ready, timeout=120_000)   # (until then the window draws it itself)
     ex = load_example("three-torus")
     with qtbot.waitSignal(window.runFinished, timeout=180_000) as b:
         assert window.load_example("three-torus", div=small_div(ex))
