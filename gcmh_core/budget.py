@@ -310,9 +310,10 @@ def _probe_grid(n, div, bounds, system, sampled, budget):
     return system.evaluate_grid(axes), pdiv, exact
 
 
-def _candidates(values: np.ndarray) -> np.ndarray:
+def _candidates(values: np.ndarray, batch: bool = False) -> np.ndarray:
     """Boolean (d0, ..., d_{n-1}) candidate cubes of F's values (d0+1, ..., k): every
-    component has both signs on the cube's corners (OR along each axis in turn)."""
+    component has both signs on the cube's corners (OR along each axis in turn).  ``batch``: the
+    first axis numbers separate grids (b, d0+1, ..., k), never ORed across."""
     k = values.shape[-1]
     # The signs of all k components packed in one integer per vertex (bit 2j: F_j >= 0, bit
     # 2j + 1: F_j < 0), so each axis takes one OR over the grid, not 2k.  The integer is the
@@ -327,7 +328,7 @@ def _candidates(values: np.ndarray) -> np.ndarray:
     for j in range(k):
         for side in range(2):
             signs |= bits[side][..., j].astype(code) << code(2 * j + side)
-    for a in range(values.ndim - 1):
+    for a in range(1 if batch else 0, values.ndim - 1):
         lo = (slice(None),) * a + (slice(None, -1),)
         hi = (slice(None),) * a + (slice(1, None),)
         signs = signs[lo] | signs[hi]
@@ -414,9 +415,7 @@ def _fine_blocks(sampled, cand: np.ndarray, div: np.ndarray, pdiv: np.ndarray):
     origins = np.stack(np.unravel_index(picked, cand.shape), axis=1) * step
     fine = np.stack([np.asarray(sampled[tuple(slice(int(o), int(o + s) + 1) for o, s in zip(origin, step))],
                                 np.float64) for origin in origins])
-    # the blocks' candidates: the probe's test on each block (a leading axis of blocks, never ORed across)
-    cands = np.stack([_candidates(block) for block in fine])
-    return fine, cands, float(np.prod(pdiv.astype(np.float64) * step))
+    return fine, _candidates(fine, batch=True), float(np.prod(pdiv.astype(np.float64) * step))
 
 
 def _hands_over(values: np.ndarray, cand: np.ndarray, expected: float, n: int, k: int, batch: bool = False) -> bool:
