@@ -282,6 +282,9 @@ def test_probe_candidates_match_the_naive_twin(shape):
     values[rng.random(shape) < 0.05] = np.nan
     values[rng.random(shape) < 0.05] = 0.0
     np.testing.assert_array_equal(budget._candidates(values), _candidates_naive(values))
+    if len(shape) > 2:   # (grids side by side along a first axis, never ORed across: the probe's fine blocks)
+        np.testing.assert_array_equal(budget._candidates(values, batch=True),
+                                      np.stack([_candidates_naive(v) for v in values]))
 
 
 def test_glued_axes_are_counted_in_the_estimate():
