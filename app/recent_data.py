@@ -71,8 +71,10 @@ def remember(entry: dict, title: str, picture=None) -> bool:
     text = json.dumps(items[:KEEP], indent=1, allow_nan=False) + "\n"
     try:
         state_dir().mkdir(parents=True, exist_ok=True, mode=0o700)
-        atomic_write(recent_path(), lambda tmp: Path(tmp).write_text(text, encoding="utf-8"), ".json",
-                     what=str(recent_path()))
+        def write(tmp: str) -> None:
+            Path(tmp).write_text(text, encoding="utf-8")
+
+        atomic_write(recent_path(), write, ".json", what=str(recent_path()))
         if picture is not None:
             _save_picture(picture, picture_path(entry["files"]))
     except (OSError, ValueError):
@@ -94,4 +96,4 @@ def _save_picture(rgb, path: Path) -> None:
         ch = w * th // tw
         im = im.crop((0, (h - ch) // 2, w, (h - ch) // 2 + ch))
     path.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
-    im.resize(PICTURE_SIZE, Image.LANCZOS).save(path)
+    im.resize(PICTURE_SIZE, Image.Resampling.LANCZOS).save(path)
