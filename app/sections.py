@@ -134,8 +134,10 @@ class SectionLayer:
         if geo is None or len(geo.cells) == 0:
             self._remove_mesh()
             return
-        projector = Projector(np.asarray(shown.vertices), center=sc.geometry.projector.center)
+        V = np.asarray(shown.vertices)
+        projector = Projector(V, center=sc.geometry.projector.center)
         projector.set_radii(sc.geometry.projector.radii())
+        projector = sc.angles.projector_for(V, projector)     # "angles as circles": the whole's circles
         geo.projector = projector
         if self.mesh is not None and self._kind != geo.kind:
             self._remove_mesh()
@@ -197,6 +199,11 @@ class SectionLayer:
         else:
             self.text_actor.SetInput(text)
             self.text_actor.GetTextProperty().SetFontSize(2 * size)   # (as add_text sets it)
+
+    def redraw(self) -> None:
+        """Draw the section on show again (the periodic axes drawn another way: as circles or as numbers)."""
+        if self.cells is not None:
+            self._draw(self.cells.complex)
 
     def text(self) -> str:
         """The words written in the picture ("" when no section is shown)."""
@@ -347,6 +354,12 @@ class SectionScene(Scene):
         self.overlay_meshes.rebuild()
         self.angles.fit_overlays()
         return 0 if self.mesh is None else int(self.mesh.n_cells)
+
+    def set_angle_look(self, circles: bool, seam: bool, render: bool = True) -> None:
+        super().set_angle_look(circles, seam, render=False)
+        self.sections.redraw()
+        if render:
+            self.plotter.render()
 
     def set_projection(self, P, render: bool = True, moving: bool = False) -> None:
         super().set_projection(P, render=False, moving=moving)

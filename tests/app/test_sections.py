@@ -152,6 +152,43 @@ def test_a_glued_surface_is_cut_across_its_seam(qtbot):
         pl.close()
 
 
+def test_with_angles_as_circles_the_section_sits_on_the_circles(qtbot):
+    """The torus of angles shown along (s, t, x) with its angles drawn as circles: the section (cut along x)
+    is drawn through the same circles as the surface, inside its picture (as numbers, s and t reach 2pi, far
+    outside it), and follows when the look is turned back."""
+    from gcmh_core.examples import load_example
+
+    ex = load_example("torus-angles")
+    cx = extract(ex.formulas, ex.bounds, 12, variables=ex.variables, periodic=ex.periodic)
+    names = ex.variables
+    pl = pv.Plotter(off_screen=True, window_size=(320, 240))
+    sc = SectionScene(pl, anti_aliasing=None)
+    try:
+        view = View(np.eye(5)[[names.index("s"), names.index("t"), names.index("x")]], "orthographic")
+        sc.set_complex(cx, names, view, Style())
+        sc.set_angle_look(True, False)
+        assert sc.circles_on
+        x = np.eye(5)[names.index("x")]
+
+        def section_inside_the_whole():
+            sc.set_slice(None)
+            whole = np.array(sc.mesh.points)
+            sc.set_slice(x, 0.5, 0.1)
+            pts = np.array(sc.sections.mesh.points)
+            lo, hi = whole.min(axis=0), whole.max(axis=0)
+            pad = 0.02 * (hi - lo).max()
+            return pts, bool(np.all((pts >= lo - pad) & (pts <= hi + pad)))
+
+        on_circles, inside = section_inside_the_whole()
+        assert inside
+        sc.set_angle_look(False, False)            # the section on show follows, then a new one is the same
+        followed = np.array(sc.sections.mesh.points)
+        as_numbers, inside = section_inside_the_whole()
+        assert inside and np.allclose(followed, as_numbers) and not np.allclose(on_circles, as_numbers)
+    finally:
+        pl.close()
+
+
 def test_the_three_torus_of_angles_cut_along_an_angle_shows_a_two_torus(qtbot):
     """T^3 (a graph over three periodic angles) cut along a = c: a 2-torus, drawn opaque, chi 0, 1 piece."""
     tau = 2 * np.pi
