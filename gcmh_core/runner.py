@@ -144,8 +144,9 @@ class Grid:
             result = chunk(lo, hi, *common)
             return result, (self._cubes_off_euler(result[0], common, lo, hi) if self.check_cells else (None, 0))
 
-        threads = numba.get_num_threads()
-        pieces = 1 if m < _SERIAL_CUBES or threads == 1 else min(m, _CHUNKS_PER_THREAD * threads)
+        # (numba.get_num_threads only for a batch worth splitting: it costs more than a wave's small batch)
+        threads = numba.get_num_threads() if m >= _SERIAL_CUBES else 1
+        pieces = 1 if threads == 1 else min(m, _CHUNKS_PER_THREAD * threads)
         cuts = [i * m // pieces for i in range(pieces + 1)]
         if pieces == 1:
             both = [run(0, m)]
@@ -155,9 +156,10 @@ class Grid:
         for lo, ((records, _, degenerate, non_ball), (off_euler, checked)) in zip(cuts, both):
             # cubes with cells that are not balls, once per such cell: pieces of G_H that M_A joins
             # (the kernel); cubes where GCMH's count differs from CMS's or M_A hides in a face (the check)
-            cubes = np.repeat(non_ball[:, 0] + lo, non_ball[:, 2])
-            if off_euler is not None:
-                cubes = np.concatenate([cubes, off_euler[~np.isin(off_euler, cubes)]])
+            # (the numpy calls only where there are cubes: a continuation wave is small, and they cost more)
+            cubes = np.repeat(non_ball[:, 0] + lo, non_ball[:, 2]) if len(non_ball) else non_ball[:0, 0]
+            if off_euler is not None and len(off_euler):
+                cubes = np.concatenate([cubes, off_euler[~np.isin(off_euler, cubes)]]) if len(cubes) else off_euler
             if len(cubes):
                 # (.get: identify's per-parity grids start from their own stats)
                 self.stats["non_ball_cells"] = self.stats.get("non_ball_cells", 0) + len(cubes)
@@ -330,7 +332,7 @@ def graph_certified(values, cube_row, corner_row, k) -> np.ndarray:
 
     values (NV, k); corner c of cube i is row cube_row[i] + corner_row[c].
     """
-    n = int(np.log2(len(corner_row)))
+    n = len(corner_row).bit_length() - 1
     return graph_certified_chunk(values, np.ascontiguousarray(cube_row, np.int64),
                                  np.ascontiguousarray(corner_row, np.int64), k, _axis_subsets(n, k))
 
