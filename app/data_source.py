@@ -210,8 +210,12 @@ class DataSource:
         (another size or modification time) opens, with a note in ``changed`` for the window to show."""
         from gcmh_core import InputError
 
-        if not isinstance(entry, dict) or not isinstance(entry.get("files"), list) or not entry["files"]:
-            raise InputError("the session's data entry has no files")
+        from .session_schema import SessionError, data_entry
+
+        try:   # (checked whole, as when the session is read: a dropped session file is read here)
+            data_entry(entry)
+        except SessionError as e:
+            raise InputError(f"the session's data entry is not usable: {e}") from None
         problem = moved_file(entry)
         if problem:
             raise InputError(problem)

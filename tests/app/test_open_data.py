@@ -139,6 +139,8 @@ def test_session_entry_and_a_moved_file(tmp_path, volume):
     (tmp_path / "e.npy").rename(tmp_path / "moved.npy")
     with pytest.raises(InputError, match="is not there any more .moved or deleted.: open it again"):
         DataSource.from_session(entry)
+    with pytest.raises(InputError, match="data entry is not usable: data.components: must be true, false or null"):
+        DataSource.from_session({**entry, "components": "yes"})
 
 
 def test_a_real_int16_scan_opens_at_its_middle_level(qtbot, window):
