@@ -320,12 +320,15 @@ class SectionScene(Scene):
             self.sections.clear()
             return super().set_slice(direction, c, w, render)
         if geo.dim == 2:
-            drawn = super().set_slice(direction, c, w, render=False)
             u = np.asarray(direction, dtype=float)
             h = np.asarray(self.complex.vertices) @ u
             levels = self.sections.cutter(u).levels(float(c), float(h.min()) - w, float(h.max()) + w)
             if len(levels) > 1:   # a glued space's section lies on several levels: the band round each
+                self.slice = (u, float(c), float(w))
                 drawn = self._band(u, levels, float(w))
+                self.overlay_meshes.set_ghost(self.style.slice_context)
+            else:
+                drawn = super().set_slice(direction, c, w, render=False)
             self.sections.show(u, float(c))
             if render:
                 self.plotter.render()
@@ -346,7 +349,8 @@ class SectionScene(Scene):
         return drawn
 
     def _band(self, u, levels, w: float) -> int:
-        """Draw the surface's cells within ``w`` of each of ``levels`` (in place of the one band)."""
+        """Draw the surface's cells within ``w`` of each of ``levels`` (as :meth:`Scene.set_slice` draws the one
+        band round ``c``)."""
         geo = self.geometry
         sl = clip_polygons_at(np.asarray(self.complex.vertices), geo.offsets, geo.vids, u, levels, w)
         self._show_geometry(Geometry.from_slice(sl, geo.dim, geo.n, geo.projector.center, geo.projector.radii(),
