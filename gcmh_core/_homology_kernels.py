@@ -747,3 +747,41 @@ def _polygon_areas(offs, verts, X):
             total += 0.5 * np.sqrt(gram) if gram > 0.0 else 0.0
         out[p] = total
     return out
+
+
+@njit(**JIT)
+def _greedy_basis(mask, basis, n_want):
+    """The greedy basis mod 2: the first `n_want` of the GF(2) vectors `mask` (uint64 bit rows, in the
+    order given) independent of `basis` (in elimination order, distinct highest bits) and of those taken
+    before them.  Each is reduced by the basis so far, in order, by each vector's highest bit, and
+    joins it when something is left.  Returns their indices (fewer when the vectors run out)."""
+    b = np.empty(basis.size + n_want, dtype=np.uint64)
+    top = np.empty(basis.size + n_want, dtype=np.uint64)
+    nb = 0
+    for j in range(basis.size):
+        b[nb] = basis[j]
+        nb += 1
+    for j in range(nb):
+        h = np.uint64(0)
+        while (b[j] >> (h + np.uint64(1))) != 0:
+            h += np.uint64(1)
+        top[j] = h
+    chosen = np.empty(n_want, dtype=np.int64)
+    k = 0
+    for i in range(mask.size):
+        if k == n_want:
+            break
+        x = mask[i]
+        for j in range(nb):
+            if (x >> top[j]) & np.uint64(1):
+                x ^= b[j]
+        if x != 0:
+            b[nb] = x
+            h = np.uint64(0)
+            while (x >> (h + np.uint64(1))) != 0:
+                h += np.uint64(1)
+            top[nb] = h
+            nb += 1
+            chosen[k] = i
+            k += 1
+    return chosen[:k]

@@ -634,7 +634,7 @@ def _short_loops(cx, chain, partner, time, classes, n_free, old):
     too many for 64-bit class masks.  After the n_free free loops, one entry per torsion
     generator: the shortest loop tried that can stand for it, or None.
     """
-    from ._homology_kernels import _edge_classes, _root_loops
+    from ._homology_kernels import _edge_classes, _greedy_basis, _root_loops
 
     base, dims, bd_off, bd, bdv, _, _ = chain
     b1, n_edges, n_vert = int(base[1]), cx.count(1), cx.count(0)
@@ -697,20 +697,13 @@ def _short_loops(cx, chain, partner, time, classes, n_free, old):
         """The shortest loops independent mod 2: [(tree, edge)] (None if too few); lowers bound."""
         length = np.concatenate(lengths)
         o = np.argsort(length, kind="stable")
-        mask, order = np.concatenate(masks)[o], np.concatenate(which)[o]
-        basis = list(taken)
-        mask = _xor_reduce(mask, basis)
-        chosen = []
-        for _ in range(n_free):
-            hit = np.flatnonzero(mask)
-            if hit.size == 0:
-                return None
-            i = int(hit[0])
-            basis.append(int(mask[i]))
-            mask = _xor_reduce(mask, basis[-1:])
-            chosen.append(tuple(int(x) for x in order[i]))
-        longest = float(length[o[i]]) if chosen else 0.0
         every = np.concatenate(masks)
+        picked = _greedy_basis(every[o], np.array(taken, dtype=np.uint64), n_free)
+        if picked.size < n_free:
+            return None
+        order = np.concatenate(which)[o[picked]]
+        chosen = [tuple(int(x) for x in row) for row in order]
+        longest = float(length[o[picked[-1]]]) if chosen else 0.0
         for w in filter(None, wants):   # (a torsion class with no loop seen yet bounds nothing)
             seen = length[every == np.uint64(w)]
             longest = max(longest, float(seen.min()) if seen.size else np.inf)

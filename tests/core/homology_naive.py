@@ -77,6 +77,23 @@ def polygon_areas(offs, verts, X):
     return out
 
 
+def greedy_basis(mask, basis, n_want):
+    """Twin of ``_greedy_basis``: Python ints; each vector, in order, reduced by the basis so far (each
+    basis vector cancels its highest bit), joins it when something is left, until n_want have joined."""
+    basis = [int(b) for b in basis]
+    chosen = []
+    for i, x in enumerate(int(m) for m in mask):
+        if len(chosen) == n_want:
+            break
+        for b in basis:
+            if (x >> (b.bit_length() - 1)) & 1:
+                x ^= b
+        if x:
+            basis.append(x)
+            chosen.append(i)
+    return chosen
+
+
 def orient_top(off, fac, sign, n_faces):
     """Twin of ``_orient_top``: (eps list of +-1, sorted list of conflicting faces).
 

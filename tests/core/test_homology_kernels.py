@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 from homology_naive import (
     edge_classes,
+    greedy_basis,
     orient_top,
     polygon_areas,
     root_loops,
@@ -17,6 +18,7 @@ from test_homology import simplicial
 from gcmh_core._homology_kernels import (
     _coreduce,
     _edge_classes,
+    _greedy_basis,
     _orient_top,
     _polygon_areas,
     _root_loops,
@@ -147,3 +149,19 @@ def test_polygon_areas_against_naive(n_poly, n, seed):
     X = rng.normal(size=(10, n))
     verts = rng.integers(0, 10, int(offs[-1])).astype(np.int64)
     assert np.allclose(_polygon_areas(offs, verts, X), polygon_areas(offs, verts, X))
+
+
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(st.integers(0, 40), st.integers(1, 12), st.integers(0, 2**31 - 1))
+def test_greedy_basis_against_naive(n_masks, bits, seed):
+    """Random masks of a few bits (many dependent, zeros too) over a random starting basis in elimination
+    order; the picks also independent by rank."""
+    from gcmh_core.homology import _echelon
+
+    rng = np.random.default_rng(seed)
+    mask = rng.integers(0, 2**bits, n_masks).astype(np.uint64)
+    basis = np.array(_echelon(int(x) for x in rng.integers(0, 2**bits, int(rng.integers(0, 4)))), dtype=np.uint64)
+    want = int(rng.integers(0, bits + 1))
+    picked = _greedy_basis(mask, basis, want)
+    assert picked.tolist() == greedy_basis(mask.tolist(), basis.tolist(), want)
+    assert len(_echelon([*basis.tolist(), *mask[picked].tolist()])) == basis.size + picked.size
