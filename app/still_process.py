@@ -103,10 +103,11 @@ class _Link:
 
     def put(self, request: StillRequest) -> None:
         with self._cond:
-            if not self.dead:
-                old, self._outbox = self._outbox, request
+            dead, old = self.dead, self._outbox
+            if not dead:
+                self._outbox = request
                 self._cond.notify_all()
-        if self.dead:
+        if dead:
             request._finish(error=self.why)
         elif old is not None:
             old._finish(dropped=True)
@@ -209,8 +210,12 @@ class StillProcess:
         self.starts = 0          # workers started (the tests count restarts)
 
     def start(self) -> None:
-        """Start the worker now if none is running (the window calls this when it opens: a cheap moment)."""
+        """Start the worker now if none is running (the window calls this when it opens: a cheap moment), or
+        again after it failed (one still starting after ``START_S`` has failed)."""
         link = self._link
+        if link is not None and not link.dead and link.ready_at is None \
+                and time.monotonic() - link.started_at > START_S:
+            link.kill("the still picture's process did not start")
         if link is not None and link.dead:   # (one that drew pictures before it failed starts a new count)
             self.failures = 1 if link.drew else self.failures + 1
             self._link = link = None

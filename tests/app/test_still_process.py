@@ -148,6 +148,18 @@ def test_a_worker_that_cannot_start_is_given_up_after_a_few_tries(qtbot, worker,
     assert sp.starts == MAX_FAILURES
 
 
+def test_a_worker_that_never_gets_ready_is_ended_and_started_again(worker, monkeypatch):
+    from gcmh_studio import still_process
+
+    sp = worker([sys.executable, "-c", "import os, sys; os.read(int(sys.argv[1]), 1)"])   # (never says ready)
+    sp.start()
+    first = sp.process
+    monkeypatch.setattr(still_process, "START_S", 0.0)
+    sp.start()                                    # (the window asks at each see-through result)
+    assert first.wait(timeout=60) == -signal.SIGKILL
+    assert sp.starts == 2 and sp.process is not first and sp.failures == 1
+
+
 def _run_three_torus(qtbot, window):
     with qtbot.waitSignal(window.runFinished, timeout=180_000) as b:
         assert window.load_example("three-torus", div=small_div(load_example("three-torus")))
