@@ -522,7 +522,7 @@ def _generators(cx, q, top, size, r_q, D, Rs, Rinvs, crit, chain, partner, time)
     if q == 1 and top >= 2:
         n_free = n_ker - len(s)
         loops = None
-        if n_ker:
+        if len(wanted):   # (H1 = 0 may still leave critical edges: boundaries, nothing to draw)
             tors = [i for i, _ in wanted[n_free:]]
             ker_rows = Rinvs[q][r_q:]
             # a torsion class's coordinate as a function of Morse cycles: row i of L (L A R = diag) after
