@@ -930,24 +930,38 @@ def extract_data(specs, levels=None, bounds=None, *, components: bool | None = N
     ``data``: values already loaded (the app's level slider reuses them); ``variables``: names for the
     axes instead of the file's ("x", "y", "z", "t")."""
     from .budget import check_budget
+    from .errors import TooLargeError
     from .extract import extract
 
-    if data is None:
-        plan = _plan(specs, levels, bounds, components)
-        # before reading the data: with M taken to cross the grid like a plane (`extract` then probes F's
-        # values itself); what refuses here is data too large to hold with the run
-        check_budget(_estimate(plan, kwargs.get("method", "gcmh"), kwargs.get("scheduler"), probe=None),
-                     bool(kwargs.get("force", False)))
-        if variables is not None:
-            _check_names(variables, len(plan.bounds))
-        data = _load(plan, None, _reads_maps(plan, kwargs.get("method", "gcmh")))
-    names = list(data.variables) if variables is None else _check_names(variables, data.n)
-    # (MappedValues reads as an array where the run asks: `_validate.prepare` passes it through)
-    cx = extract(cast(np.ndarray, data.values), data.bounds, **kwargs)
+    try:
+        if data is None:
+            plan = _plan(specs, levels, bounds, components)
+            # before reading the data: with M taken to cross the grid like a plane (`extract` then probes F's
+            # values itself); what refuses here is data too large to hold with the run
+            check_budget(_estimate(plan, kwargs.get("method", "gcmh"), kwargs.get("scheduler"), probe=None),
+                         bool(kwargs.get("force", False)))
+            if variables is not None:
+                _check_names(variables, len(plan.bounds))
+            data = _load(plan, None, _reads_maps(plan, kwargs.get("method", "gcmh")))
+        names = list(data.variables) if variables is None else _check_names(variables, data.n)
+        # (MappedValues reads as an array where the run asks: `_validate.prepare` passes it through)
+        cx = extract(cast(np.ndarray, data.values), data.bounds, **kwargs)
+    except TooLargeError as e:
+        raise TooLargeError(_data_remedies(str(e))) from None
     cx.meta["variables"] = names
     cx.meta["units"] = list(data.units)
     cx.meta["data"] = {**data.describe(), "variables": names}
     return cx
+
+
+def _data_remedies(message: str) -> str:
+    """The budget's refusal with what can change for data: the grid is the file's (no div to make smaller),
+    and continuation would write F's values whole (more memory, not less)."""
+    head, sep, _ = message.rpartition("); ")
+    if not sep:
+        return message
+    return (f"{head}); the grid is the file's samples: subsample the volume (e.g. save vol[::2, ::2, ::2] as "
+            ".npy), run it on a cluster (--scheduler), or --force (force=True) to run anyway")
 
 
 def _check_names(names, n: int) -> list[str]:

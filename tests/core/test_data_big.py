@@ -112,8 +112,9 @@ def test_the_budget_estimates_a_cluster_run_before_reading(files, monkeypatch):
     # a machine with too little memory: refused from the headers and a plane's guess, nothing read
     monkeypatch.setattr("gcmh_core.budget.available_memory", lambda: remote.peak_bytes // 4)
     monkeypatch.setattr(df, "_fill", lambda *a: pytest.fail("the data were read"))
-    with pytest.raises(TooLargeError):
+    with pytest.raises(TooLargeError, match=r"the grid is the file's samples: subsample the volume") as info:
         extract_data(files["a"], 0.5, scheduler="local")
+    assert "smaller div" not in str(info.value) and "gcch" not in str(info.value)
 
 
 # A child: write nothing, compile on a tiny volume, estimate (`gcmh extract --dry-run`'s estimate), then run
