@@ -55,6 +55,9 @@ DATA_SUFFIXES = NPY + NPZ + VTK_IMAGE + NIFTI + HDF5
 # F's values are held in memory up to this share of the available memory; above it they go to a
 # memory-mapped temporary file (the sweep reads them slab by slab; the page cache holds what fits)
 IN_MEMORY_SHARE = 0.25
+# A NIfTI series whose frames are this many seconds apart or more gets a note: fMRI repetition times are
+# 0.5-3 s, and old writers put milliseconds in a header that says seconds (nibabel's example4d.nii.gz: 2000)
+_LONG_FRAME_SECONDS = 100.0
 # values converted per step: a slab of this many samples (keeps the temporaries small)
 _SLAB_SAMPLES = 1 << 18  # (a slab's data stay in the cache between its range and its subtraction)
 
@@ -514,6 +517,9 @@ def _read_nifti(source, path) -> DataField:
         bounds.append([t0, t0 + dt * (shape[3] - 1)])
         names.append("t")
         units.append(time_unit)
+        if time_unit == "sec" and dt >= _LONG_FRAME_SECONDS:   # (a repetition time written in ms, labelled s)
+            notes.append(f"a frame every {dt:g} s: if the header's time step is in milliseconds, give the time "
+                         "axis its bounds in seconds with --bounds")
         steps = np.r_[steps, dt]
     f = DataField(source, path, None, values, np.array(bounds, float), names, units,
                   int(shape[4]) if components else 1, notes)

@@ -284,6 +284,8 @@ def test_4d_series_is_a_3_manifold_whose_time_sections_are_surfaces():
     f = read_data(path)
     assert f.axis_names == ["x", "y", "z", "t"] and f.units == ["mm", "mm", "mm", "sec"]
     assert any("not axis-aligned" in note for note in f.notes)
+    # (its header says a frame every 2000 s: milliseconds, most likely)
+    assert f.bounds[3].tolist() == [0.0, 2000.0] and any("a frame every 2000 s" in note for note in f.notes)
     cx = extract_data(path, level, check_cells=False)
     assert (cx.n, cx.k) == (4, 1) and sorted(cx.cells) == [2, 3] and len(cx.cells[3][0]) > 1
     t0, t1 = f.bounds[3]
@@ -406,7 +408,6 @@ def test_sampled_values_of_another_type_are_read_slice_by_slice(monkeypatch):
     # a float32 volume (or int16 scan data) passed to extract in process: the sweep reads float64 slices
     # of it (`_validate.Float64Slices`) instead of a whole float64 copy, with the same bytes
     import functools
-
     import importlib
 
     from gcmh_core import _validate, extract
