@@ -15,6 +15,11 @@ whose two edges are in no other 2-cell is a whole disc (M_A's small cap on the b
 boundary): collapsing it would leave an edge in no 2-cell and lose a boundary circle, so it
 stays, and `subdivide_double_edges` makes it a triangle.
 
+When the complex has 3-cells, `_balls.collapse_lens_cells` has already made these decisions on
+the assembly's records, before the lens 3-cells (a merge of two edges must come before the 3-cells
+are compared): what is left here are the lenses it left.  What neither can collapse is coned
+(`_balls.cone_lens_balls`).
+
 Two edges with the same ends and no lens between them (a small closed curve of two
 edges, or the two edges of a loop that `_balls` split between two cells) are made
 distinct by `subdivide_double_edges`: a new vertex halves one of them, and every

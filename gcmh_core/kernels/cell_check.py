@@ -143,9 +143,27 @@ def records_cube_euler(keys, offsets, cube_keys, strides, dims, n_codes, n_subse
     m = sorted_keys.shape[0]
     chi = np.zeros((m, face_row.max() + 1), np.int64)
     multi = np.empty(n, np.int64)
+    # the grid vertices that anchor a face of some checked cube (its origin plus a corner's offset):
+    # only the records whose face has such an anchor are sorted and counted (the checked cubes are
+    # few where the certificate vouches for the rest; a sort of all of a run's keys was most of the cost)
+    near = np.empty(m << n, np.int64)
+    for i in range(m):
+        for step in range(1 << n):
+            key = sorted_keys[i]
+            for a in range(n):
+                if (step >> a) & 1:
+                    key += strides[a]
+            near[(i << n) + step] = key
+    near = np.unique(near)
     for r in range(offsets.shape[0] - 1):
         dim = r + k
-        here = np.sort(keys[offsets[r] : offsets[r + 1]])
+        mine = keys[offsets[r] : offsets[r + 1]]
+        keep = np.zeros(mine.shape[0], np.bool_)
+        for i in range(mine.shape[0]):
+            anchor = mine[i] // n_codes[dim] // n_subsets[dim]
+            j = np.searchsorted(near, anchor)
+            keep[i] = j < near.shape[0] and near[j] == anchor
+        here = np.sort(mine[keep])
         sign = 1 if r % 2 == 0 else -1
         for i in range(here.shape[0]):
             if i > 0 and here[i] == here[i - 1]:

@@ -4,9 +4,11 @@ with at least r + 1 faces and a sphere as boundary.
 A random system in R^6 with k = 3 at div 4 gave 3-cells bounded by two 2-cells with the same
 edges ("duplicate" 2-cells), with the cell check on or off: M_A's piece in a cube meets only two
 of its facets, near the ridge they share (a lens, as 2-cells of two edges are at n - k = 2).  The
-assembly collapses them (`_balls.collapse_lens_cells`, before `_regular`'s lens 2-cells, and
-again after each round); the lenses that are a whole ball on the box's boundary are coned
-(`_balls.cone_lens_balls`, at the assembly: `runner.complex_of`, meta["coned_lens_balls"]).
+assembly collapses them (`_balls.collapse_lens_cells`, dimension by dimension from the lens 2-cells
+up, each in rounds); what can't be collapsed (a whole ball on the box's boundary; at n >= 8, where
+no cube is refined, r-cells of fewer than r + 1 faces and two r-cells with the same faces) is coned
+(`_balls.cone_lens_balls`, at the assembly: `runner.complex_of`, meta["coned_lens_balls"]; the
+hand-built cases for r = 2..5 are in test_regular_cones).
 """
 
 import os
