@@ -263,6 +263,25 @@ def list_examples_or_warn() -> list:
                                                          file=sys.stderr))
 
 
+# What a session file holds itself (system, grid, method, view): given beside --session, it would be ignored.
+_SESSION_HOLDS = ("example", "div", "seed", "params", "method", "color", "project", "rotate", "mapping", "distance",
+                  "slice", "slice_width", "two_sided", "boundary", "animate")
+
+
+def _session_clash(args) -> str | None:
+    """Why the options beside ``--session`` can't be honoured, or None: a session brings its own system and
+    view, and a picture that silently leaves out a --slice asked for misleads."""
+    if not args.session:
+        return None
+    defaults = build_parser()
+    given = [name for name in _SESSION_HOLDS if getattr(args, name) != defaults.get_default(name)]
+    if not given:
+        return None
+    flags = ", ".join("--" + name.replace("_", "-") for name in given)
+    return (f"{flags} cannot go with --session: the session holds its own system and view (open it in the "
+            "window, change it there and save it)")
+
+
 def _main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     if args.size is None:  # an animation's default is a slide's (headless.ANIMATION_SIZE)
@@ -277,6 +296,9 @@ def _main(argv=None) -> int:
             print(f"{ex.name:18s} {ex.title}  (n={ex.n}, k={ex.k})")
         return 0 if examples else fail("no example could be read", 1)
     problem = None
+    clash = _session_clash(args)
+    if clash:
+        return fail(clash)
     if args.session:   # checked whole before anything is built from it
         _, problem = read_session_or_fail(args.session)
         if problem and (args.screenshot or args.animate):

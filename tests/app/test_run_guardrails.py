@@ -280,6 +280,25 @@ def test_too_large_pictures_are_refused_before_anything_is_drawn(tmp_path, args,
     assert os.listdir(tmp_path) == []
 
 
+@pytest.mark.parametrize("extra, flag", [
+    (["--slice", "z=0.3"], "--slice"),
+    (["--rotate", "x-y=30", "--color", "x"], "--color, --rotate"),
+    (["--example", "sphere"], "--example"),
+    (["--animate", "tour", "--gif", "{out}.gif"], "--animate"),
+])
+def test_options_a_session_would_override_are_refused_not_ignored(tmp_path, extra, flag):
+    # (the file need not exist: the clash is found from the command line alone, before anything is read)
+    out = str(tmp_path / "x")
+    r = _app("--session", str(tmp_path / "s.json"), "--screenshot", out + ".png", *[a.format(out=out) for a in extra],
+             timeout=60)
+    assert r.returncode == 2, r.stderr
+    lines = [line for line in r.stderr.splitlines() if line.startswith("gcmh-app:")]
+    assert len(lines) == 1 and lines[0].startswith("gcmh-app: error:") and "Traceback" not in r.stderr
+    assert set(flag.split(", ")) <= {w.strip(",") for w in lines[0].split() if w.startswith("--")}
+    assert "cannot go with --session" in lines[0]
+    assert os.listdir(tmp_path) == []
+
+
 def _caught_signals(pid: int) -> int:
     """The process's caught-signal mask (/proc/<pid>/status SigCgt); 0 once it is gone."""
     try:

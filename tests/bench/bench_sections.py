@@ -29,7 +29,8 @@ sys.path.append(str(Path(__file__).resolve().parent))
 
 from bench_classroom import _app, _end_of_render, _spin, _window
 
-CASES = (("three-sphere", "w"), ("three-sphere-slices", "w"), ("three-torus", "x2"), ("three-torus", "x1"))
+CASES = (("three-sphere", "w"), ("three-sphere-slices", "w"), ("three-torus", "x2"), ("three-torus", "x1"),
+         ("klein-bottle-closed", "t"), ("torus-angles", "s"))   # the last two: sections across a glued seam
 STEPS = 15
 STRIP_FIRST = False   # --strip-first: the steps after the strip's profile is drawn (not while it is computed)
 
