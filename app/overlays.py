@@ -171,6 +171,8 @@ class SceneOverlays:
             self.ghost = (other.ghost[0], self._add_ghost_actor(other.ghost[0]))
         for name, (geo, mesh, _actor, color, look) in other.items.items():
             self.items[name] = [geo, mesh, self._add_actor(name, geo, mesh, color, look), color, look]
+        self.colouring = other.colouring   # (a screenshot or a still picture: curvature colours too)
+        self.recolour()
 
 
 def draw_overlays(scene, cx, boundary: bool = False, grid: bool = False, picked: dict | None = None) -> str | None:

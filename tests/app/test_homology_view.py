@@ -354,6 +354,19 @@ def test_curvature_survives_style_and_slice(qtbot, small_window):
     w.scene.set_slice(None)
     assert w.scene.actor.mapper.array_name == "curvature"
     assert np.allclose(np.asarray(w.scene.mesh.point_data["curvature"])[:len(V)], k)
+    # a picture drawn off the window (a screenshot, the still picture's worker) from a detached copy
+    import pyvista as pv
+
+    from gcmh_studio.sections import SectionScene
+
+    pl = pv.Plotter(off_screen=True, window_size=[200, 150])
+    try:
+        other = SectionScene(pl, anti_aliasing=None)
+        other.adopt(w.scene.detached(), w.scene.style)
+        assert other.actor.mapper.array_name == "curvature"
+        assert np.allclose(np.asarray(other.mesh.point_data["curvature"])[:len(V)], k)
+    finally:
+        pl.close()
     w.model.set_style(color_by=w.scene.names[0])   # another colouring wins
     assert not box.curvature_check.isChecked()
     assert w.scene.actor.mapper.array_name != "curvature"
