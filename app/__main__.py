@@ -126,8 +126,16 @@ def _session_screenshot(args) -> int:
         QTimer.singleShot(0, loop.quit)
 
     win.runFinished.connect(finished)
+    from . import data_source
+
+    if data_source.session_data(args.session) is not None:   # data files: the Data tab's run, at full grid
+        win.data_panel.shown.connect(lambda step: finished("done") if step == "full" else None)
+        win.data_panel.failed.connect(lambda message: finished("failed"))
+        if not win.open_file(args.session):
+            win.close()
+            return fail(f"{args.session}: {win.last_status}")
     # (a system the panel finds invalid starts no run: waiting for its end would never end)
-    if not win.controller.open_session(args.session) or not win.controller.is_running():
+    elif not win.controller.open_session(args.session) or not win.controller.is_running():
         status = win.last_status or "the session's system cannot run"
         win.close()
         return fail(f"{args.session}: {status}")
@@ -206,7 +214,7 @@ def keep_autosaving(app, win, offer: bool = True) -> None:
 
     def save(*_):
         try:
-            autosave.save(win.controller.session())
+            autosave.save(win.session())   # (with the data files, when they are what is shown)
         except Exception:  # noqa: BLE001 - an autosave never interrupts the lesson
             pass
 
@@ -232,7 +240,7 @@ def keep_autosaving(app, win, offer: bool = True) -> None:
             return
 
         def open_it(*_):
-            win.controller.open_session(found)   # (checked whole again: a bad file is said, not opened)
+            win.open_file(found)   # (checked whole again: a bad file is said, not opened; data files reopened)
             autosave.restored(found)
 
         if win.controller.is_running():   # the example the window opened on: its run is cancelled first
@@ -345,7 +353,7 @@ def _main(argv=None) -> int:
 
         win.runFinished.connect(grab)
     if args.session and problem is None:
-        win.controller.open_session(args.session)
+        win.open_file(args.session)   # (a session of formulas, or of data files: the Data tab)
     win.show()
     if not args.window_screenshot:
         keep_autosaving(app, win, offer=not (args.session or args.example))

@@ -221,6 +221,7 @@ class QtMainWindow(QMainWindow):
             return None
         g = self.gallery = QtGallery(self)
         g.exampleChosen.connect(lambda name: self.load_example(name))
+        g.dataChosen.connect(self.files.open_entry)   # (a data source opened lately)
         g.setAttribute(Qt.WA_DeleteOnClose)
         g.open()
         return g
@@ -279,11 +280,16 @@ class QtMainWindow(QMainWindow):
         return qt_exports.export_animation(self, path, frames, fps, size, show_progress)
 
     # ------------------------------------------------------------------ sessions and exports
-    def save_session(self, path) -> None:
+    def session(self) -> dict:
+        """What a session file keeps of the window (saved, and autosaved): the controller's state, and the data
+        files by path with their levels when the result on screen is theirs (opened again from them)."""
         session = self.controller.session()
-        if self.showing_data():   # (the data files by path and their levels: opened again from them)
+        if self.showing_data():
             session[data_source.SESSION_KEY] = self.data_source.session_entry()
-        path = studio_io.write_session(path, session)
+        return session
+
+    def save_session(self, path) -> None:
+        path = studio_io.write_session(path, self.session())
         self.set_status(f"Session saved to {path}")
 
     def showing_data(self) -> bool:

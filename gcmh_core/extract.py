@@ -146,7 +146,9 @@ def extract(
         raise InputError(f"seed must be an integer, got {seed!r}")
     if isinstance(div, (list, tuple)) and len(div) == 1:
         div = div[0]
-    n_, k_, bounds_, div_, system, sampled = prepare(F, variables, n, k, bounds, div, params)
+    # (a sweep in this process reads sampled values slice by slice: a float32 volume is not copied whole)
+    n_, k_, bounds_, div_, system, sampled = prepare(F, variables, n, k, bounds, div, params,
+                                                     slices=method not in CONTINUATION_METHODS and scheduler is None)
     cost = estimate_run(n_, k_, div_, method=method, bounds=bounds_, system=system, sampled=sampled,
                         scheduler=scheduler, check_cells=check_cells)
     check_budget(cost, force)

@@ -204,6 +204,32 @@ def test_the_gallery_remembers_the_data_opened(qtbot, window, tmp_path, volume):
     assert window.data_source.levels == [0.8] and window.showing_data()
 
 
+def test_the_autosave_keeps_the_data_source_and_restores_it(qtbot, window, tmp_path, volume, monkeypatch):
+    from gcmh_studio import autosave, studio_io
+
+    monkeypatch.setenv("GCMH_STATE_DIR", str(tmp_path / "state"))
+    open_and_wait(qtbot, window, [volume], levels=0.8)
+    saved = autosave.save(window.session())   # (what keep_autosaving writes after each run)
+    assert studio_io.read_session(saved)["data"]["files"] == [volume]
+    with qtbot.waitSignal(window.data_panel.shown, timeout=120_000):
+        window.data_panel.set_level(0, 0.6)   # (changed after the autosave)
+    with qtbot.waitSignal(window.data_panel.shown, timeout=120_000):
+        assert window.open_file(saved)        # (what the restore offer opens)
+    assert window.data_source.specs == [volume] and window.data_source.levels == [0.8] and window.showing_data()
+    autosave.discard()
+
+
+def test_the_gallery_opens_a_data_source_it_remembers(qtbot, window, volume):
+    from gcmh_studio import recent_data
+
+    open_and_wait(qtbot, window, [volume], levels=0.8)
+    window.load_example("sphere", run=False)
+    gallery = window.open_gallery()
+    with qtbot.waitSignal(window.data_panel.shown, timeout=120_000):
+        gallery.dataChosen.emit(recent_data.recent()[0]["entry"])
+    assert window.data_source.specs == [volume] and window.showing_data()
+
+
 def test_a_4d_series_is_a_3_manifold_sliced_in_time(qtbot, window, tmp_path):
     nib = pytest.importorskip("nibabel")
     # a sphere growing over 4 frames of 2 s: its isosurfaces in space-time are a 3-manifold in R^4
