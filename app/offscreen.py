@@ -4,7 +4,6 @@ plotters, and (:class:`StillJob`) the window's still picture drawn in a worker p
 from __future__ import annotations
 
 import copy
-from typing import Any
 
 import numpy as np
 import pyvista as pv
@@ -13,6 +12,7 @@ from .background import wait_background
 from .camera import copy_camera, default_camera, keep_framing, refit_camera
 from .scene import Scene
 from .sections import SectionScene
+from .still_process import still_process
 
 
 def animation_images(scene: Scene, model, frames, window=None, progress=None):
@@ -168,9 +168,6 @@ def checked_screenshot(scene: Scene, transparent: bool = False) -> np.ndarray:
 # by the worker process of :mod:`gcmh_studio.still_process` (a thread of the app drawing with VTK while the
 # GUI thread does too cannot be proven safe: issue 26, item 8) from a detached copy of the scene, pickled on
 # the GUI thread; the window shows the image until it renders again. The newest picture wins.
-SETTLE_RENDERS = 1          # cheap renders before the picture (see draw_still)
-
-
 class StillJob:
     """The still picture of ``scene`` at ``size`` (w, h) under ``camera`` (:func:`camera_values`), drawn by the
     worker process on an off-screen plotter set up as the window's (``anti_aliasing``, no multi-sampling).
@@ -180,8 +177,6 @@ class StillJob:
     newer picture was asked for first. ``stale`` is the caller's: set it when the picture is no longer wanted."""
 
     def __init__(self, scene: Scene, size, camera: dict, anti_aliasing: str | None = "fxaa"):
-        from .still_process import still_process
-
         self.size = (int(size[0]), int(size[1]))
         self.stale = False
         self.request = still_process().ask(still_payload(scene, self.size, camera, anti_aliasing))
@@ -189,8 +184,6 @@ class StillJob:
     def done(self) -> bool:
         """Drawn, failed, or dropped for a newer picture (then ``image`` is None); a worker that hangs is ended
         here (the GUI's poll asks)."""
-        from .still_process import still_process
-
         still_process().check()
         return self.request.done()
 
@@ -204,9 +197,10 @@ class StillJob:
 
 
 def still_payload(scene: Scene, size, camera: dict, anti_aliasing: str | None) -> bytes:
-    """What the worker process needs to draw ``scene``'s still picture (:func:`draw_still`'s arguments),
-    pickled: a :meth:`Scene.detached` copy (numpy arrays, and meshes pyvista pickles as VTK's own format;
-    no VTK object shared), the size (w, h), the camera's values and the anti-aliasing."""
+    """What the worker process needs to draw ``scene``'s still picture (the arguments of
+    :func:`gcmh_studio.still_process.draw_still`), pickled: a :meth:`Scene.detached` copy (numpy arrays, and
+    meshes pyvista pickles as VTK's own format: no VTK object shared), the size (w, h), the camera's values and
+    the anti-aliasing."""
     import pickle
 
     job = dict(scene=scene.detached(), size=(int(size[0]), int(size[1])), camera=dict(camera),
@@ -220,65 +214,3 @@ def draws_over(decorate, plotter) -> bool:
     before = len(plotter.renderer.actors)
     decorate(plotter)
     return len(plotter.renderer.actors) != before
-
-
-def draw_still(scene: Scene, size, camera: dict, anti_aliasing: str | None) -> np.ndarray:
-    """The worker process's side of a :class:`StillJob`: the (h, w, 3) uint8 still picture of ``scene``
-    (a :meth:`Scene.detached` copy) drawn as the window draws it."""
-    pl = pv.Plotter(off_screen=True, window_size=[int(size[0]), int(size[1])])
-    try:
-        window: Any = pl.ren_win           # (an open plotter has its render window)
-        window.SetMultiSamples(0)          # as the window: FXAA, no multi-sampling
-        sc = SectionScene(pl, anti_aliasing=None)
-        if anti_aliasing == "fxaa":    # (as pyvista would, without its 20 ms check for EGL: the window's)
-            pl.renderer.SetUseFXAA(True)
-            sc.anti_aliasing = "fxaa"
-        else:
-            sc.set_anti_aliasing(anti_aliasing)
-        sc.adopt(scene, scene.style)
-        for key, value in camera.items():
-            setattr(pl.camera, key, value)
-        pl.renderer.ResetCameraClippingRange()
-        # first a cheap render, the complex shrunk to a point (its colours mapped, no pixels): the colour bar
-        # lays its labels out from what the frame before drew (in a first frame they sit over the bar)
-        actor = sc.actor
-        if actor is not None:
-            actor.SetScale(1e-6, 1e-6, 1e-6)
-            for _ in range(SETTLE_RENDERS):
-                window.Render()
-            actor.SetScale(1.0, 1.0, 1.0)
-        window.Render()
-        return window_pixels(window)
-    finally:
-        pl.close()
-
-
-def window_pixels(ren_win) -> np.ndarray:
-    """The (h, w, 3) uint8 picture a render window holds now (no new render)."""
-    from vtkmodules.util.numpy_support import vtk_to_numpy
-    from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
-
-    f = vtkWindowToImageFilter()
-    f.SetInput(ren_win)
-    f.SetInputBufferTypeToRGB()
-    f.ReadFrontBufferOff()
-    f.ShouldRerenderOff()
-    f.Update()
-    out = f.GetOutput()
-    w, h, _ = out.GetDimensions()
-    return np.ascontiguousarray(vtk_to_numpy(out.GetPointData().GetScalars()).reshape(h, w, 3)[::-1])
-
-
-def warm_up() -> None:
-    """Draw a small off-screen picture (the worker process does when it starts): the first one of a process
-    loads modules for about a second, which would fall on the first result's picture."""
-    pl = pv.Plotter(off_screen=True, window_size=[160, 120])
-    try:
-        m = pv.Plane(i_resolution=2, j_resolution=2)
-        m.point_data["t"] = np.arange(m.n_points, dtype=float)
-        pl.add_mesh(m, scalars="t", scalar_bar_args=dict(title="t", vertical=True))
-        pl.add_text("warm", font_size=10)
-        window: Any = pl.ren_win
-        window.Render()
-    finally:
-        pl.close()

@@ -9,13 +9,14 @@ interpreter (``python -m gcmh_studio.still_process``: a fork of a Qt/X process w
 multiprocessing's "spawn" runs the parent's main script again in the child, which for a script that opens
 a window without a ``__main__`` guard opens a second window). No VTK runs in any thread of the app but
 the GUI's: the request is pickled there (:class:`gcmh_studio.offscreen.StillJob`), and two threads of the app
-only move bytes (one writes the newest request, one reads the answers).
+only move bytes (one writes the newest request, one reads the answers). The worker's drawing
+(:func:`draw_still`) is here too, importing VTK in the worker only.
 
 The newest request wins: one not yet written when a newer one comes is dropped, and so is one the worker
 finds overtaken when it reads it. A worker that dies or hangs fails its requests (the window then draws the
 picture itself), is ended, and the next request starts a new one; after ``MAX_FAILURES`` failures in a row
-the window draws its still pictures itself for the rest of the session. No Qt, no VTK here (the worker
-imports VTK in its own process).
+the window draws its still pictures itself for the rest of the session. No Qt here; VTK only in the
+worker's functions.
 """
 
 from __future__ import annotations
@@ -278,8 +279,6 @@ def serve(requests, answers) -> None:
     import signal
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)   # (Ctrl-C is the app's: it ends, and this process with it)
-    from .offscreen import warm_up
-
     try:
         warm_up()
     except Exception:  # noqa: BLE001 - the first picture will say
@@ -294,8 +293,6 @@ def serve(requests, answers) -> None:
 
 def _serve_one(requests, answers) -> None:
     """Read what the app has written (waiting for it), draw the newest, answer each."""
-    from .offscreen import draw_still
-
     pending = [requests.recv_bytes()]
     while requests.poll():          # everything already written: only the newest is drawn
         pending.append(requests.recv_bytes())
@@ -309,6 +306,81 @@ def _serve_one(requests, answers) -> None:
         answers.send((number, "error", f"{type(e).__name__}: {e}"))
         return
     answers.send((number, "image", image))
+
+
+SETTLE_RENDERS = 1          # cheap renders before the picture (see draw_still)
+
+
+def draw_still(scene, size, camera: dict, anti_aliasing: str | None):
+    """The worker's side of a :class:`gcmh_studio.offscreen.StillJob`: the (h, w, 3) uint8 still picture of
+    ``scene`` (a :meth:`gcmh_studio.scene.Scene.detached` copy) drawn as the window draws it."""
+    import pyvista as pv
+
+    from .sections import SectionScene
+
+    pl = pv.Plotter(off_screen=True, window_size=[int(size[0]), int(size[1])])
+    try:
+        window: Any = pl.ren_win           # (an open plotter has its render window)
+        window.SetMultiSamples(0)          # as the window: FXAA, no multi-sampling
+        sc = SectionScene(pl, anti_aliasing=None)
+        if anti_aliasing == "fxaa":    # (as pyvista would, without its 20 ms check for EGL: the window's)
+            pl.renderer.SetUseFXAA(True)
+            sc.anti_aliasing = "fxaa"
+        else:
+            sc.set_anti_aliasing(anti_aliasing)
+        sc.adopt(scene, scene.style)
+        for key, value in camera.items():
+            setattr(pl.camera, key, value)
+        pl.renderer.ResetCameraClippingRange()
+        # first a cheap render, the complex shrunk to a point (its colours mapped, no pixels): the colour bar
+        # lays its labels out from what the frame before drew (in a first frame they sit over the bar)
+        actor = sc.actor
+        if actor is not None:
+            actor.SetScale(1e-6, 1e-6, 1e-6)
+            for _ in range(SETTLE_RENDERS):
+                window.Render()
+            actor.SetScale(1.0, 1.0, 1.0)
+        window.Render()
+        return window_pixels(window)
+    finally:
+        pl.close()
+
+
+def window_pixels(ren_win):
+    """The (h, w, 3) uint8 picture a render window holds now (no new render)."""
+    import numpy as np
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
+
+    f = vtkWindowToImageFilter()
+    f.SetInput(ren_win)
+    f.SetInputBufferTypeToRGB()
+    f.ReadFrontBufferOff()
+    f.ShouldRerenderOff()
+    f.Update()
+    out = f.GetOutput()
+    w, h, _ = out.GetDimensions()
+    return np.ascontiguousarray(vtk_to_numpy(out.GetPointData().GetScalars()).reshape(h, w, 3)[::-1])
+
+
+def warm_up() -> None:
+    """Draw a small off-screen picture (the worker does when it starts): the first one of a process loads
+    modules for about a second, which would fall on the first result's picture."""
+    import numpy as np
+    import pyvista as pv
+
+    from . import sections  # noqa: F401 - (what the first picture needs, loaded now)
+
+    pl = pv.Plotter(off_screen=True, window_size=[160, 120])
+    try:
+        m = pv.Plane(i_resolution=2, j_resolution=2)
+        m.point_data["t"] = np.arange(m.n_points, dtype=float)
+        pl.add_mesh(m, scalars="t", scalar_bar_args=dict(title="t", vertical=True))
+        pl.add_text("warm", font_size=10)
+        window: Any = pl.ren_win
+        window.Render()
+    finally:
+        pl.close()
 
 
 if __name__ == "__main__":   # python -m gcmh_studio.still_process REQUESTS_FD ANSWERS_FD

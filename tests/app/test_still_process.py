@@ -74,7 +74,7 @@ def _ready(qtbot, sp):
 def test_the_worker_draws_the_picture_this_process_would_draw(qtbot, worker, payload):
     import pickle
 
-    from gcmh_studio.offscreen import draw_still
+    from gcmh_studio.still_process import draw_still
 
     sp = worker()
     request = sp.ask(payload())
