@@ -213,6 +213,7 @@ def graph_certified_chunk(values, cube_row, corner_row, k, subsets):
     rad = np.empty((k, k), np.float64)
     aug = np.empty((k, 2 * k), np.float64)
     here = np.empty((1 << n, k), np.float64)
+    have = np.zeros(n, np.bool_)
     n_subsets = subsets.shape[0]
     last = 0
     for i in range(m):
@@ -225,21 +226,26 @@ def graph_certified_chunk(values, cube_row, corner_row, k, subsets):
                 here[c, j] = x
         if not finite:
             continue
-        for a in range(n):
-            bit = 1 << a
-            for j in range(k):
-                low = np.inf
-                high = -np.inf
-                for c in range(1 << n):
-                    if c & bit:
-                        continue
-                    d = here[c | bit, j] - here[c, j]
-                    low = min(low, d)  # (branch-free: the differences' signs are random on noise)
-                    high = max(high, d)
-                lo[j, a] = low
-                hi[j, a] = high
+        have[:] = False  # (a column's hull when a subset asks for it: a certified cube needs only k of n)
         for step in range(n_subsets):
             q = (last + step) % n_subsets  # (neighbouring cubes: the axes that served the last one first)
+            for s in range(k):
+                a = subsets[q, s]
+                if have[a]:
+                    continue
+                have[a] = True
+                bit = 1 << a
+                for j in range(k):
+                    low = np.inf
+                    high = -np.inf
+                    for c in range(1 << n):
+                        if c & bit:
+                            continue
+                        d = here[c | bit, j] - here[c, j]
+                        low = min(low, d)  # (branch-free: the differences' signs are random on noise)
+                        high = max(high, d)
+                    lo[j, a] = low
+                    hi[j, a] = high
             for r in range(k):
                 for s in range(k):
                     a = subsets[q, s]
