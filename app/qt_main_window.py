@@ -19,8 +19,6 @@ background from the start (:func:`gcmh_studio.jobs.start_warm_up`). Only the GUI
 
 from __future__ import annotations
 
-import os
-
 import numpy as np
 from qtpy.QtCore import Qt, QTimer, Signal
 from qtpy.QtWidgets import QMainWindow, QSplitter, QTabWidget, QVBoxLayout, QWidget
@@ -305,11 +303,9 @@ class QtMainWindow(QMainWindow):
     def export_mesh(self, path) -> None:
         dim = None if self.result is None else self.result.dim
         path = studio_io.export_mesh(self.scene.projected_mesh(), path, dim)
-        cycles = overlays.homology_lines_mesh(self.scene)  # the generators on show, with a "cycle" attribute
+        cycles = overlays.export_cycles(self.scene, path)  # the generators on show, each cell with its cycle
         if cycles is not None:
-            stem, ext = os.path.splitext(path)
-            path += " and its cycles to " + studio_io.export_mesh(
-                cycles, f"{stem}-cycles{'.vtp' if ext == '.stl' else ext}", 1)
+            path += " and its cycles to " + cycles
         self.set_status(f"Projected mesh saved to {path}")
 
     def save_screenshot(self, path, size=None, transparent: bool = False) -> np.ndarray:

@@ -172,6 +172,7 @@ def test_generators_export_as_lines(qtbot, small_window, tmp_path):
     # the window's Export mesh writes the generators beside the result's mesh
     w.export_mesh(str(tmp_path / "torus.ply"))
     assert (tmp_path / "torus.ply").exists() and (tmp_path / "torus-cycles.ply").exists()
+    assert "property int cycle" in (tmp_path / "torus-cycles.ply").read_text().splitlines()   # (not points alone)
     # PLY and OBJ keep each edge's cycle (a PLY edge element with a cycle property; OBJ groups)
     from gcmh_studio.overlays import export_cycles
 
