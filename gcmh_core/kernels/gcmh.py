@@ -264,7 +264,7 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
     per_cube_v = tables.ksimplex_corners.shape[0]
     per_cube_e = (tables.face_start[tables.k + 2] - tables.face_start[tables.k + 1]) * (tables.walk_boundary_nodes // 2)
     rows = 8 * (hi - lo) + 16
-    chunk = new_chunk(hi - lo, max(rows, 2 * per_cube_v), max(rows, 2 * per_cube_e), tables.n)
+    chunk = new_chunk(hi - lo, max(rows, per_cube_v), max(rows, per_cube_e), tables.n)
     out = new_cells_out(rows, max(4 * per_cube_v, per_cube_e), per_cube_v)
     used = (np.int64(0), np.int64(0), np.int64(0))
     used_v = used_e = np.int64(0)
