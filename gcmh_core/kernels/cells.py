@@ -4,7 +4,7 @@ import numba as nb
 import numpy as np
 
 from .._config import INLINE_JIT, JIT
-from .records import grown_cells_out
+from .records import CELL_COLS, INC_COLS, _grown_rows
 from .solve import _simplex_crosses_call, _zero_side
 
 
@@ -101,41 +101,46 @@ def _joined_pieces(values, o, corner_row, corner_signs, all_signs, kuhn, ksimple
     return joined
 
 
+@nb.njit(**INLINE_JIT)
+def tables_faces(tables):
+    """The faces' arrays of `tables.CubeTables`, as `cells_phase` takes them."""
+    return tables.face_start, tables.face_free, tables.face_fixed, tables.face_rank, tables.n_subsets, tables.n_codes
+
+
 @nb.njit(**JIT)
-def cells_phase(start, stop, lo, values, cube_row, corner_row, cube_vertex, corner_vertex, tables, chunk, out, used):
+def cells_phase(start, stop, lo, values, cube_row, corner_row, cube_vertex, corner_vertex, faces, binom, kuhn,
+                ksimplex_kuhn, cube_v0, cube_e0, crossed_facets, vertex_key, vertex_face, vertex_perm, vertex_ksimplex,
+                edge_a, edge_b, edge_face, edge_out, c_out, i_out, non_ball, levels, union, used):
     """The cells step of GCMH (paper 3.1.2) on the cubes start..stop-1 of a chunk (lo its first),
-    for both kernels, once their vertices and edges are in `chunk` (`records.new_chunk`).
+    for both kernels, once their vertices and edges are in the chunk's arrays (`records.new_chunk`).
 
     Per cube, for r = 1..n-k, the r-cells are the connected pieces of the vertex-edge graph G_H
     inside each (r+k)-face; for r = 1 they are the edges themselves.  Writes each cube's
     crossed facets (from its vertices' faces), the edge records (rows of the edges), and the
-    cell and incidence records and the rows (cube - lo, face, pieces joined) of `out`
-    (`records.new_cells_out`) after used = (cells, incidences, non_ball rows).  Where a face
+    cell and incidence records (c_out, i_out) and the rows (cube - lo, face, pieces joined) of
+    non_ball after used = (rows of c_out, of i_out, of non_ball); levels and union (parent,
+    cell_of_root) are scratch.  faces: `tables.CubeTables`' (face_start, face_free, face_fixed,
+    face_rank, n_subsets, n_codes); binom, kuhn, ksimplex_kuhn: its fields.  Where a face
     holds several pieces and the tables list the cube's Kuhn triangulation, `_joined_pieces`
-    says whether M_A joins them there.  Rows of `out` are committed per cube: where one does
+    says whether M_A joins them there.  Rows are committed per cube: where a cube's do
     not fit, it stops before that cube.
     Returns (the cube it stopped at (stop when done), cells, incidences, non_ball rows,
     degenerate events).
 
     One compiled function over the chunk: its arrays are counted once per call.  (Inlined
-    into each kernel's loop over cubes, they were counted in and out for every cube.)
+    into each kernel's loop over cubes, they were counted in and out for every cube.)  The
+    arrays come one by one, and not the whole `tables`: each function that passes a large named
+    tuple of arrays on took numba seconds more to compile.
     """
-    (cube_v0, cube_e0, crossed_facets, vertex_key, _, vertex_face, vertex_perm, vertex_ksimplex, edge_a, edge_b,
-     edge_face, e_out) = chunk
-    c_out, i_out, non_ball, levels, parent, cell_of_root = out
+    face_start, face_free, face_fixed, face_rank, n_subsets, n_codes = faces
     used_c, used_i, n_non_ball = used
-    n = tables.n
-    k = tables.k
-    face_start = tables.face_start
-    face_free = tables.face_free
-    face_fixed = tables.face_fixed
-    face_rank = tables.face_rank
-    n_subsets = tables.n_subsets
-    binom = tables.binom
-    n_codes = tables.n_codes
-    kfact = tables.simplices_per_kface
-    kuhn = tables.kuhn
-    ksimplex_kuhn = tables.ksimplex_kuhn
+    parent = union[0]
+    cell_of_root = union[1]
+    n = binom.shape[0] - 1
+    k = values.shape[1]
+    kfact = np.int64(1)
+    for i in range(2, k + 1):
+        kfact *= i
     check_balls = ksimplex_kuhn.shape[0] > 0
     kuhn_parent = np.empty(kuhn.corners.shape[0], np.int64)
     corner_signs = np.empty(1 << n, np.int64)
@@ -160,7 +165,7 @@ def cells_phase(start, stop, lo, values, cube_row, corner_row, cube_vertex, corn
         crossed_facets[ci - lo] = facets
         if nv == 0:
             continue
-        if nv > parent.shape[0] or ne > levels.shape[1]:
+        if nv > union.shape[1] or ne > levels.shape[1]:
             return ci, used_c, used_i, n_non_ball, degenerate
         g_vertex = cube_vertex[ci]
         events = 0
@@ -181,9 +186,9 @@ def cells_phase(start, stop, lo, values, cube_row, corner_row, cube_vertex, corn
                 _face_key(g_vertex + corner_vertex[face_fixed[f]], n_subsets[k1], face_rank[f]) * n_codes[k1]
                 + min(ca, cb)
             )
-            e_out[e0 + e, 0] = levels[low, e, 2]
-            e_out[e0 + e, 1] = vertex_key[va]
-            e_out[e0 + e, 2] = vertex_key[vb]
+            edge_out[e0 + e, 0] = levels[low, e, 2]
+            edge_out[e0 + e, 1] = vertex_key[va]
+            edge_out[e0 + e, 2] = vertex_key[vb]
         n_lower = ne
         n_cells = 0
         n_incidences = 0
@@ -303,17 +308,33 @@ def _signs(values, o, corner_row, k, corner_signs):
         corner_signs[c] = p
 
 
-@nb.njit(**JIT)
-def cells_of_chunk(start, stop, lo, values, cube_row, corner_row, cube_vertex, corner_vertex, tables, chunk, out, used):
-    """`cells_phase` on the cubes start..stop-1, `out` grown until every cube fits.
-    Returns (out, used, degenerate events)."""
+@nb.njit(**INLINE_JIT)
+def cells_of_chunk(lo, hi, values, cube_row, corner_row, cube_vertex, corner_vertex, faces, binom, kuhn, ksimplex_kuhn,
+                   cube_v0, cube_e0, crossed_facets, vertex_key, vertex_face, vertex_perm, vertex_ksimplex, edge_a,
+                   edge_b, edge_face, edge_out, rows, level_rows, vertex_rows):
+    """`cells_phase` on the cubes lo..hi-1 of a chunk, its rows grown until every cube fits: first
+    `rows` cell and incidence rows, `level_rows` pieces of a level, `vertex_rows` vertices a cube.
+    Returns (cell records, incidence records, their rows, rows (cube - lo, face, pieces joined),
+    degenerate events)."""
+    c_out = np.empty((rows, CELL_COLS), np.int64)
+    i_out = np.empty((rows, INC_COLS), np.int64)
+    non_ball = np.empty((4, 3), np.int64)
+    used_c = used_i = n_non_ball = np.int64(0)
     degenerate = 0
+    start = lo
     while True:
         start, used_c, used_i, n_non_ball, events = cells_phase(
-            start, stop, lo, values, cube_row, corner_row, cube_vertex, corner_vertex, tables, chunk, out, used
+            start, hi, lo, values, cube_row, corner_row, cube_vertex, corner_vertex, faces, binom, kuhn, ksimplex_kuhn,
+            cube_v0, cube_e0, crossed_facets, vertex_key, vertex_face, vertex_perm, vertex_ksimplex, edge_a, edge_b,
+            edge_face, edge_out, c_out, i_out, non_ball, np.empty((2, level_rows, 3), np.int64),
+            np.empty((2, vertex_rows), np.int64), (used_c, used_i, n_non_ball),
         )
-        used = (used_c, used_i, n_non_ball)
         degenerate += events
-        if start == stop:
-            return out, used, degenerate
-        out = grown_cells_out(out, used)
+        if start == hi:
+            return c_out, i_out, used_c, used_i, non_ball[:n_non_ball].copy(), degenerate
+        # a cube did not fit (it is done again): everything twice as large
+        c_out = _grown_rows(c_out, used_c)
+        i_out = _grown_rows(i_out, used_i)
+        non_ball = _grown_rows(non_ball, n_non_ball)
+        level_rows = 2 * level_rows + 1
+        vertex_rows = 2 * vertex_rows + 1

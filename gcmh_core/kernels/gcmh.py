@@ -4,22 +4,21 @@ import numba as nb
 import numpy as np
 
 from .._config import JIT
-from .cells import _face_key, cells_of_chunk
+from .cells import _face_key, cells_of_chunk, tables_faces
 from .lazy import cubes_chunk_lazy
-from .records import chunk_records, grown_chunk, new_cells_out, new_chunk
+from .records import _records_upto, grown_chunk, new_chunk
 from .solve import _simplex_crosses_call, _zero_side, simplex_crosses
 from .walk import _link, _walk_edges
 
 
 @nb.njit(**JIT)
 def _vertices_edges(start, hi, lo, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex,
-                    tables, chunk, used_v, used_e):
+                    tables, cube_v0, cube_e0, vertex_key, vertex_point, vertex_face, vertex_perm, vertex_ksimplex,
+                    edge_a, edge_b, edge_face, used_v, used_e):
     """Steps 1 and 2 of GCMH (paper 3.1.1) with the tables' Kuhn simplices, on the cubes start..hi-1 of
-    a chunk (lo its first; arguments as `cubes_chunk`'s): each cube's vertices and edges into `chunk`
-    (`records.new_chunk`) after rows used_v, used_e, until a cube might not fit.
+    a chunk (lo its first; arguments as `cubes_chunk`'s): each cube's vertices and edges into the
+    chunk's arrays (`records.new_chunk`) after rows used_v, used_e, until a cube might not fit.
     Returns (the cube it stopped at, used_v, used_e, degenerate events)."""
-    (cube_v0, cube_e0, _, vertex_key, vertex_point, vertex_face, vertex_perm, vertex_ksimplex, edge_a, edge_b,
-     edge_face, _) = chunk
     n = tables.n
     k = tables.k
     face_start = tables.face_start
@@ -248,8 +247,8 @@ def _vertices_edges(start, hi, lo, values, cube_row, cube_origin, cube_vertex, g
 @nb.njit(**JIT)
 def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex, tables):
     """GCMH on the candidate cubes lo..hi-1, in the calling thread, in phases over the chunk:
-    vertices and edges (`_vertices_edges`), then cells (`cells.cells_phase`), again from the
-    first cube that did not fit once the chunk's arrays have grown.
+    vertices and edges (`_vertices_edges`, again from the first cube that did not fit once the
+    chunk's arrays have grown), then cells (`cells.cells_of_chunk`).
 
     values (NV, k) float64: F at grid vertices; corner c of cube i is row cube_row[i] + corner_row[c].
     cube_origin (m, n): the global multi-index of each cube's origin; cube_vertex (m,): its global
@@ -264,25 +263,31 @@ def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, 
     per_cube_v = tables.ksimplex_corners.shape[0]
     per_cube_e = (tables.face_start[tables.k + 2] - tables.face_start[tables.k + 1]) * (tables.walk_boundary_nodes // 2)
     rows = 8 * (hi - lo) + 16
-    chunk = new_chunk(hi - lo, max(rows, per_cube_v), max(rows, per_cube_e), tables.n)
-    out = new_cells_out(rows, max(4 * per_cube_v, per_cube_e), per_cube_v)
-    used = (np.int64(0), np.int64(0), np.int64(0))
+    (cube_v0, cube_e0, crossed_facets, vertex_key, vertex_point, vertex_face, vertex_perm, vertex_ksimplex, edge_a,
+     edge_b, edge_face, edge_out) = new_chunk(hi - lo, max(rows, per_cube_v), max(rows, per_cube_e), tables.n)
     used_v = used_e = np.int64(0)
     degenerate = 0
     start = lo
     while True:
-        stop, used_v, used_e, events = _vertices_edges(start, hi, lo, values, cube_row, cube_origin, cube_vertex,
-                                                       grid_lines, corner_row, corner_vertex, tables, chunk, used_v,
-                                                       used_e)
-        out, used, cells_events = cells_of_chunk(start, stop, lo, values, cube_row, corner_row, cube_vertex,
-                                                 corner_vertex, tables, chunk, out, used)
-        degenerate += events + cells_events
-        if stop == hi:
+        start, used_v, used_e, events = _vertices_edges(
+            start, hi, lo, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex, tables,
+            cube_v0, cube_e0, vertex_key, vertex_point, vertex_face, vertex_perm, vertex_ksimplex, edge_a, edge_b,
+            edge_face, used_v, used_e,
+        )
+        degenerate += events
+        if start == hi:
             break
-        chunk = grown_chunk(chunk, used_v, used_e)
-        start = stop
-    records, crossed_facets, non_ball = chunk_records(chunk, out, used_v, used_e, used)
-    return records, crossed_facets, degenerate, non_ball
+        (vertex_key, vertex_point, vertex_face, vertex_perm, vertex_ksimplex, edge_a, edge_b, edge_face,
+         edge_out) = grown_chunk(vertex_key, vertex_point, vertex_face, vertex_perm, vertex_ksimplex, edge_a, edge_b,
+                                 edge_face, edge_out, used_v, used_e)
+    c_out, i_out, used_c, used_i, non_ball, events = cells_of_chunk(
+        lo, hi, values, cube_row, corner_row, cube_vertex, corner_vertex, tables_faces(tables), tables.binom,
+        tables.kuhn, tables.ksimplex_kuhn, cube_v0, cube_e0, crossed_facets,
+        vertex_key, vertex_face, vertex_perm, vertex_ksimplex, edge_a, edge_b, edge_face, edge_out, rows,
+        max(4 * per_cube_v, per_cube_e), per_cube_v,
+    )
+    records = _records_upto(vertex_key, vertex_point, edge_out, c_out, i_out, used_v, used_e, used_c, used_i)
+    return records, crossed_facets, degenerate + events, non_ball
 
 
 _cubes_chunk_tables = cubes_chunk

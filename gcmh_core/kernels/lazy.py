@@ -4,8 +4,8 @@ import numba as nb
 import numpy as np
 
 from .._config import JIT
-from .cells import _face_in_face, _face_key, cells_of_chunk
-from .records import EDGE_COLS, _grown_keys, _grown_rows, chunk_records, new_cells_out, new_chunk
+from .cells import _face_in_face, _face_key, cells_of_chunk, tables_faces
+from .records import EDGE_COLS, _grown_keys, _grown_rows, _records_upto, new_chunk
 from .solve import _simplex_crosses_call, _zero_side, crossable_face
 from .walk import _link, _walk_edges
 
@@ -308,12 +308,16 @@ def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_li
     template): the same records, bit for bit, by the same phases: vertices and edges
     (`_vertices_edges_lazy`), then the cells (`cells.cells_phase`).
     (No check of joined pieces: `cubes_chunk` has none for n > 7 either.)"""
-    chunk, used_v, used_e, degenerate = _vertices_edges_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex,
-                                                             grid_lines, corner_row, corner_vertex, tables)
-    out, used, events = cells_of_chunk(lo, hi, lo, values, cube_row, corner_row, cube_vertex, corner_vertex, tables,
-                                       chunk, new_cells_out(8 * (hi - lo) + 16, 64, 16),
-                                       (np.int64(0), np.int64(0), np.int64(0)))
-    records, crossed_facets, non_ball = chunk_records(chunk, out, used_v, used_e, used)
+    (cube_v0, cube_e0, crossed_facets, vertex_key, vertex_point, vertex_face, vertex_perm, no_ksimplex, edge_a, edge_b,
+     edge_face, edge_out, used_v, used_e, degenerate) = _vertices_edges_lazy(
+        lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex, tables)
+    c_out, i_out, used_c, used_i, non_ball, events = cells_of_chunk(
+        lo, hi, values, cube_row, corner_row, cube_vertex, corner_vertex, tables_faces(tables), tables.binom,
+        tables.kuhn, tables.ksimplex_kuhn, cube_v0, cube_e0, crossed_facets,
+        vertex_key, vertex_face, vertex_perm, no_ksimplex, edge_a, edge_b, edge_face, edge_out, 8 * (hi - lo) + 16,
+        64, 16,
+    )
+    records = _records_upto(vertex_key, vertex_point, edge_out, c_out, i_out, used_v, used_e, used_c, used_i)
     return records, crossed_facets, degenerate + events, non_ball
 
 
@@ -324,7 +328,7 @@ def _vertices_edges_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, gri
     the chunk `records.new_chunk` describes, its rows grown here as needed (only the arrays that
     grow are rebound in the loop: each costs a reference count per pass).  A k-face's Kuhn
     simplices and, where a walk runs, a (k+1)-face's come from `_kuhn_chains`; a vertex carries
-    its permutation's rank itself.  Returns (chunk, vertex rows, edge rows, degenerate events)."""
+    its permutation's rank itself.  Returns (the chunk's arrays, vertex rows, edge rows, degenerate events)."""
     rows = 8 * (hi - lo) + 16
     (cube_v0, cube_e0, crossed_facets, vertex_key, vertex_point, vertex_face, vertex_perm, no_ksimplex, edge_a,
      edge_b, edge_face, _) = new_chunk(hi - lo, rows, rows, tables.n)
@@ -596,9 +600,8 @@ def _vertices_edges_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, gri
         used_e = ne
     cube_v0[hi - lo] = used_v
     cube_e0[hi - lo] = used_e
-    chunk = (cube_v0, cube_e0, crossed_facets, vertex_key, vertex_point, vertex_face, vertex_perm, no_ksimplex, edge_a,
-             edge_b, edge_face, np.empty((edge_a.shape[0], EDGE_COLS), np.int64))
-    return chunk, used_v, used_e, degenerate
+    return (cube_v0, cube_e0, crossed_facets, vertex_key, vertex_point, vertex_face, vertex_perm, no_ksimplex, edge_a,
+            edge_b, edge_face, np.empty((edge_a.shape[0], EDGE_COLS), np.int64), used_v, used_e, degenerate)
 
 
 @nb.njit(**JIT)

@@ -4,7 +4,7 @@ copied out."""
 import numba as nb
 import numpy as np
 
-from .._config import JIT
+from .._config import INLINE_JIT, JIT
 
 # f, of its vertices.  A vertex's local code in f depends only on where its k-face
 # and Kuhn simplex sit inside f, so both cubes sharing f compute the same key.
@@ -64,7 +64,7 @@ CHUNK_FIELDS = ("cube_v0", "cube_e0", "crossed_facets", "vertex_key", "vertex_po
                 "vertex_ksimplex", "edge_a", "edge_b", "edge_face", "edge_out")
 
 
-@nb.njit(**JIT)
+@nb.njit(**INLINE_JIT)
 def new_chunk(cubes, vertex_rows, edge_rows, n):
     """Empty chunk arrays (CHUNK_FIELDS) for `cubes` cubes."""
     return (
@@ -76,48 +76,13 @@ def new_chunk(cubes, vertex_rows, edge_rows, n):
     )
 
 
-@nb.njit(**JIT)
-def grown_chunk(chunk, used_v, used_e):
-    """The chunk with room for twice the vertex and edge rows, the first used_v and used_e kept."""
-    (cube_v0, cube_e0, crossed_facets, vertex_key, vertex_point, vertex_face, vertex_perm, vertex_ksimplex, edge_a,
-     edge_b, edge_face, edge_out) = chunk
+@nb.njit(**INLINE_JIT)
+def grown_chunk(vertex_key, vertex_point, vertex_face, vertex_perm, vertex_ksimplex, edge_a, edge_b, edge_face,
+                edge_out, used_v, used_e):
+    """The chunk's vertex and edge arrays with room for twice the rows, the first used_v and used_e kept."""
     return (
-        cube_v0, cube_e0, crossed_facets,
         _grown_keys(vertex_key, used_v), _grown_rows(vertex_point, used_v), _grown_keys(vertex_face, used_v),
         _grown_keys(vertex_perm, used_v), _grown_keys(vertex_ksimplex, used_v),
         _grown_keys(edge_a, used_e), _grown_keys(edge_b, used_e), _grown_keys(edge_face, used_e),
         _grown_rows(edge_out, used_e),
     )
-
-
-@nb.njit(**JIT)
-def new_cells_out(rows, levels, vertices):
-    """What `cells.cells_phase` writes: cell and incidence records, rows (cube - lo, face, pieces
-    joined), and its scratch: the pieces of two levels (face, a vertex, key), a union-find over
-    a cube's vertices (parent, cell_of_root)."""
-    return (
-        np.empty((rows, CELL_COLS), np.int64), np.empty((rows, INC_COLS), np.int64), np.empty((4, 3), np.int64),
-        np.empty((2, levels, 3), np.int64), np.empty(vertices, np.int64), np.empty(vertices, np.int64),
-    )
-
-
-@nb.njit(**JIT)
-def grown_cells_out(out, used):
-    """`out` with room for twice the rows, the used (cells, incidences, non_ball) kept; the
-    scratch twice as large (a cube that did not fit is done again)."""
-    c_out, i_out, non_ball, levels, parent, _ = out
-    used_c, used_i, n_non_ball = used
-    return (
-        _grown_rows(c_out, used_c), _grown_rows(i_out, used_i), _grown_rows(non_ball, n_non_ball),
-        np.empty((2, 2 * levels.shape[1] + 1, 3), np.int64), np.empty(2 * parent.shape[0] + 1, np.int64),
-        np.empty(2 * parent.shape[0] + 1, np.int64),
-    )
-
-
-@nb.njit(**JIT)
-def chunk_records(chunk, out, used_v, used_e, used):
-    """The records of a chunk (vertex keys, points, edges, cells, incidences), its crossed facets
-    and rows (cube - lo, face, pieces joined), copied out."""
-    used_c, used_i, n_non_ball = used
-    records = _records_upto(chunk[3], chunk[4], chunk[11], out[0], out[1], used_v, used_e, used_c, used_i)
-    return records, chunk[2], out[2][:n_non_ball].copy()
