@@ -17,7 +17,7 @@ Modules, model apart from view (napari style); the first group imports no Qt:
 - ``slicing``: clipping a complex to a slab |<u, x> - c| <= w;
 - ``animation``: frame sequences (rotate, tour, slice sweep), the live clock, GIF / MP4 writing;
 - ``scene``: ``Scene``, a projected complex on any pyvista plotter (the window's or an off-screen one), with
-  ``camera``, ``labels``, ``offscreen`` and ``background``;
+  ``camera``, ``labels``, ``offscreen`` and ``still_process`` (the window's still picture, drawn in a worker process);
 - ``studio_io``: sessions (JSON) and exports of the complex and the projected mesh;
 - ``headless``: rendering without a window (``--screenshot``, ``--animate``, thumbnails, animation export);
 - ``make_gallery``: ``python -m gcmh_studio.make_gallery`` draws ``resources/gallery/*.png``;

@@ -108,15 +108,12 @@ def offscreen_scene(size, anti_aliasing: str | None = ANIMATION_AA):
     """A :class:`gcmh_studio.scene.Scene` on an off-screen plotter of ``size`` (w, h) pixels, closed afterwards."""
     import pyvista as pv
 
-    from .offscreen import gl_lifecycle
     from .sections import SectionScene
 
-    gl_lifecycle()   # (the window's animation export: no GL context made or ended while a still picture draws)
     pl = pv.Plotter(off_screen=True, window_size=[int(size[0]), int(size[1])])
     try:
         yield SectionScene(pl, anti_aliasing=anti_aliasing)  # a slice frame shows the section, its value and chi
     finally:
-        gl_lifecycle()
         pl.close()
 
 

@@ -8,7 +8,6 @@ import copy
 import numpy as np
 import pyvista as pv
 
-from .background import wait_background
 from .camera import copy_camera, default_camera, keep_framing, refit_camera
 from .scene import Scene
 from .sections import SectionScene
@@ -78,13 +77,6 @@ def render_image(scene: Scene, path=None, size=(1600, 1200), transparent: bool =
     finally:
         pl.close()
     return img
-
-
-def gl_lifecycle() -> None:
-    """Returns at once (:mod:`gcmh_studio.background`): it waited for a still picture drawn in a thread before a
-    GL context was made or ended; that picture is drawn in a worker process now. Stays until its callers in
-    files of other owners (``qt_main_window``, ``headless``) drop it."""
-    wait_background()
 
 
 # ------------------------------------------------------------------ pictures that are never black

@@ -10,8 +10,6 @@ from __future__ import annotations
 import numpy as np
 from qtpy.QtCore import QEvent, QObject, Qt
 
-from .background import wait_background
-
 DRAG_DEGREES = 0.4       # per pixel of a Shift-drag
 
 
@@ -43,9 +41,8 @@ class QtDragTurn(QObject):
         if t == QEvent.Resize:     # another shape: frame again (after the resize settles)
             v._resized.start()
             return False
-        if t == QEvent.Hide:       # (a closing window: its picture's thread ends before the display may go)
+        if t == QEvent.Hide:       # (a closing window: no picture of the worker's shows on it)
             v.still.drop()
-            wait_background()
             return False
         if t == QEvent.MouseButtonPress and ev.modifiers() & Qt.ShiftModifier and self.can_turn():
             nxt = bool(ev.modifiers() & Qt.ControlModifier) or ev.button() == Qt.RightButton

@@ -341,9 +341,6 @@ class QtMainWindow(QMainWindow):
         self.bar.set_ticking(False)
         self.animation_panel.set_playing(False)
         self.runs.shutdown()
-        from .offscreen import gl_lifecycle
-
-        gl_lifecycle()   # (no GL context ended while a still picture draws in the background: issue 26, item 8)
         try:
             self.plotter.close()
         except Exception:  # noqa: BLE001

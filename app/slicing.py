@@ -228,9 +228,10 @@ def clip_polygons_at(vertices, offsets, vids, direction, levels, w: float) -> Sl
     if len(parts) == 1:
         return parts[0]
     shift = np.cumsum([0] + [len(p.vertices) for p in parts[:-1]])
-    starts = np.cumsum([0] + [int(p.offsets[-1]) for p in parts[:-1]])
+    starts = np.cumsum([0] + [int(np.asarray(p.offsets)[-1]) for p in parts[:-1]])
     return Slice(np.concatenate([p.vertices for p in parts]), np.concatenate([p.source for p in parts]),
-                 np.concatenate([[0]] + [p.offsets[1:] + s0 for p, s0 in zip(parts, starts)]).astype(np.int64),
+                 np.concatenate([np.zeros(1, np.int64)] + [np.asarray(p.offsets)[1:] + s0
+                                                            for p, s0 in zip(parts, starts)]).astype(np.int64),
                  np.concatenate([p.vids + v0 for p, v0 in zip(parts, shift)]).astype(np.int64),
                  np.concatenate([p.cell_source for p in parts]).astype(np.int64))
 

@@ -136,7 +136,9 @@ class _Link:
                     self._cond.wait()
                 if self.dead:
                     break
-                request, self._outbox = self._outbox, None
+                request = self._outbox
+                self._outbox = None
+                assert request is not None
                 request.sent_at = time.monotonic()
                 self._in_flight[request.number] = request
                 self._writing = True

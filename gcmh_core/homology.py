@@ -782,7 +782,7 @@ def _loops_read(read, order, phi, trees, u, v, weight):
         e = np.flatnonzero(off_tree & ((res[u] + value - res[v]) % order != 0))
         found += [(k, int(x)) for x in e.tolist()]
         size.append(dist[u[e]] + weight[e] + dist[v[e]])
-    o = np.argsort(np.concatenate(size), kind="stable") if size else []
+    o = np.argsort(np.concatenate(size), kind="stable") if size else np.zeros(0, np.int64)
     return [found[i] for i in o]
 
 

@@ -8,7 +8,7 @@
 1. Live after a result: a GUI QTimer ticks every 10 ms from Run until 3 s after the result arrives;
    the share of the ticks it could have made that it kept, and its longest gap, during the run and
    after the result (complex cosine div 80, three-torus at its default div). Renders counted too, and
-   when a see-through result's still picture, drawn in a thread (gcmh_studio.offscreen.StillJob), is on screen; the
+   when a see-through result's still picture, drawn by a worker process (gcmh_studio.still_process), is on screen; the
    three-torus once more with that picture drawn on the GUI thread, as before, for comparison.
 2. One slider step end to end: from moving a rotation slider to the end of the render that shows it
    (a VTK EndEvent on the render window), median of 10 steps; "at rest" is the still look's render a
@@ -51,6 +51,12 @@ def _window(app):
     w.resize(1200, 800)
     w.show()
     _spin(app, 0.3)
+    try:   # the still picture's worker starts as the window shows: the results wait for it, as a class would
+        from gcmh_studio.still_process import still_process
+
+        _spin(app, 120.0, until=still_process().ready)
+    except ImportError:   # (a tree before the worker)
+        pass
     w.confirm_big_run = lambda *a, **k: True
     return w
 
@@ -101,7 +107,7 @@ def live_after_result(app, name: str, div=None, off_thread: bool = True) -> dict
         w.load_example(name, div=div or ex.div)
         _spin(app, 600, until=lambda: "status" in done)
         t_arr = arrive.get("t", time.perf_counter())
-        shown = {}       # when the still picture drawn in a thread is on screen
+        shown = {}       # when the still picture drawn by the worker is on screen
         _spin(app, AFTER_S, until=lambda: w.viewer.still_shown() and shown.setdefault("t", time.perf_counter())
               and False)
         t_end = time.perf_counter()
@@ -240,8 +246,8 @@ def main(argv=None) -> int:
     print(f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, {os.cpu_count()} cores, "
           f"load {os.getloadavg()[0]:.1f}")
     print("\n## live after a result (GUI timer every 10 ms; kept share, longest gap)")
-    print("(a see-through result's still picture is drawn in a thread: 'picture s' is when it is on screen; the")
-    print(" 'GUI thread' row draws it there, as before, for a peer in the same run)")
+    print("(a see-through result's still picture is drawn by a worker process: 'picture s' is when it is on")
+    print(" screen; the 'GUI thread' row draws it there, as before, for a peer in the same run)")
     print(f"{'example':28} {'div':>4} {'vertices':>9} {'run s':>6} {'during: kept':>13} {'gap ms':>7} "
           f"{'after: kept':>12} {'gap ms':>7} {'renders':>8} {'picture s':>10}")
     for name, div, off in (("complex-cosine", 80, True), ("three-torus", None, True), ("three-torus", None, False)):
