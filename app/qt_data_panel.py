@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 import threading
 
-from qtpy.QtCore import Qt, QThread, Signal
+from qtpy.QtCore import QSignalBlocker, Qt, QThread, Signal
 from qtpy.QtWidgets import QDoubleSpinBox, QGridLayout, QLabel, QSlider, QVBoxLayout, QWidget
 
 SLIDER_STEPS = 1000
@@ -132,9 +132,8 @@ class QtDataPanel(QWidget):
 
     def _slid(self, j: int, value: int, coarse: bool) -> None:
         self.source.levels[j] = self._from_slider(j, value)
-        self.boxes[j].blockSignals(True)
-        self.boxes[j].setValue(self.source.levels[j])
-        self.boxes[j].blockSignals(False)
+        with QSignalBlocker(self.boxes[j]):
+            self.boxes[j].setValue(self.source.levels[j])
         self.request(coarse=coarse)
 
     def _stepped(self, j: int) -> None:
@@ -151,9 +150,8 @@ class QtDataPanel(QWidget):
         level = self.source.ranges[j].clamp(level)
         self.source.levels[j] = level
         for w, v in ((self.sliders[j], self._to_slider(j, level)), (self.boxes[j], level)):
-            w.blockSignals(True)
-            w.setValue(v)
-            w.blockSignals(False)
+            with QSignalBlocker(w):
+                w.setValue(v)
         self.request(coarse=coarse)
 
     # ------------------------------------------------------------------ runs

@@ -17,7 +17,7 @@ scene: it emits what should be drawn, and the window hands it to
 
 from __future__ import annotations
 
-from qtpy.QtCore import Qt, QTimer, Signal
+from qtpy.QtCore import QSignalBlocker, Qt, QTimer, Signal
 from qtpy.QtWidgets import QCheckBox, QGridLayout, QGroupBox, QLabel, QPushButton, QVBoxLayout
 
 from .cycles import curvature_values, cycle_color, generator_lines, generator_surface, unwrap_segments, w1_lines
@@ -146,9 +146,8 @@ class QtHomologyBox(QGroupBox):
         self.gauss_bonnet.setText("")
         had_curvature = self.curvature_check.isChecked()
         for check in (self.w1_check, self.curvature_check):
-            check.blockSignals(True)
-            check.setChecked(False)
-            check.blockSignals(False)
+            with QSignalBlocker(check):
+                check.setChecked(False)
         self.overlays.emit({})
         self.surfaces.emit({})
         if had_curvature:
@@ -187,9 +186,8 @@ class QtHomologyBox(QGroupBox):
             for w in (self.groups[q], self.betti[q], self.betti2[q]):
                 w.setVisible(on)
             b = self.betti[q]
-            b.blockSignals(True)
-            b.setChecked(False)
-            b.blockSignals(False)
+            with QSignalBlocker(b):
+                b.setChecked(False)
             if on:
                 self.groups[q].setText(f"H{q} = {h.group(q)}")
                 b.setText(f"b{q} = {h.betti[q]}" + (f"  (+{len(h.torsion[q])} torsion)" if h.torsion[q] else ""))

@@ -23,3 +23,10 @@ def test_no_class_in_the_app_is_over_400_lines():
 def test_the_main_window_only_lays_out_and_wires():
     (n,) = [n for f, c, n in _classes() if c == "QtMainWindow"]
     assert n <= 300, n
+
+
+def test_signals_are_blocked_with_a_blocker_not_in_pairs():
+    # (a blockSignals(True) whose (False) an exception skips leaves the widget deaf for the rest of the session)
+    paired = [f"{p.name}:{i}" for p in sorted(APP.glob("*.py"))
+              for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1) if ".blockSignals(" in line]
+    assert paired == []
