@@ -206,9 +206,10 @@ def _jsonable(obj):
 # ----------------------------------------------------------------------------
 
 # meta keys that depend on the machine and the moment, or say how a run went rather than what it
-# made (a Dask run's scheduler, workers, tasks, blocks: distributed.RUN_META): left out of
-# meta_json (see save), so --scheduler local writes the single-process file byte for byte
-VOLATILE_META = ("seconds", "timings", "scheduler", "workers", "tasks", "blocks", "block")
+# made (a Dask run's scheduler, workers, tasks, blocks: distributed.RUN_META; the cubes a one-process
+# sweep skipped by F's bounds, which the blocks do not): left out of meta_json (see save), so
+# --scheduler local writes the single-process file byte for byte
+VOLATILE_META = ("seconds", "timings", "scheduler", "workers", "tasks", "blocks", "block", "pruned_cubes")
 _ZIP_DATE = (1980, 1, 1, 0, 0, 0)  # members carry this date, not the time of writing
 _MAX_RATIO = 100  # uncompressed / compressed of a big member: real numbers and ids compress less
 _SMALL_MEMBER = 1 << 20  # bytes: a member this small is never called a bomb

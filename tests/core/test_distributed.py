@@ -268,6 +268,17 @@ def test_local_scheduler_writes_the_single_process_file_byte_for_byte(cluster):
     assert _npz_bytes(extract(values, bounds=(-1.5, 1.5), scheduler=address, block=5)) == _npz_bytes(single)
 
 
+def test_a_pruned_sweep_and_its_blocks_write_the_same_file(cluster, monkeypatch):
+    # (a one-process sweep of a large grid skips cubes by F's bounds and says how many; the blocks don't)
+    monkeypatch.setattr("gcmh_core.sweep.PRUNE", True)
+    monkeypatch.setattr("gcmh_core.sweep._GIVE_UP_SHARE", 1.0)   # (a small grid: pruned however little it saves)
+    single = _run("complex-cosine", 12)
+    assert single.meta["pruned_cubes"] > 0
+    local = _run("complex-cosine", 12, scheduler=cluster[0].scheduler_address, block=6)
+    assert "pruned_cubes" not in local.meta
+    assert _npz_bytes(local) == _npz_bytes(single)
+
+
 def test_sampled_continuation_through_the_cluster(cluster, monkeypatch):
     monkeypatch.setattr(gd, "LOCAL_WAVE", 16)  # the whole array is scattered to every worker once
     monkeypatch.setattr(gd, "MIN_CHUNK", 8)
