@@ -699,10 +699,11 @@ class _Coning:
     def __init__(self, vertices, grid):
         self.vertices, self.grid = vertices, grid
         self.points: list = []
-        self.rows = {r: {} for r in grid}  # r -> {id: faces}, rewritten or added
+        self.rows: dict[int, dict] = {r: {} for r in grid}  # r -> {id: faces}, rewritten or added
         self.added = {r: 0 for r in grid}
-        self.removed = {r: set() for r in grid}
-        self.extra = {r: {} for r in range(0, max(grid) + 1)}  # r -> {r-cell: (r+1)-cells added that have it}
+        self.removed: dict[int, set] = {r: set() for r in grid}
+        # r -> {r-cell: (r+1)-cells added that have it}
+        self.extra: dict[int, dict] = {r: {} for r in range(0, max(grid) + 1)}
         self.index: dict = {}
         self.count = 0
 
