@@ -114,17 +114,24 @@ def _check_tree(tree: str) -> None:
             raise SystemExit(f"{name} imported from {path}, not from {tree}")
 
 
-def _call(case: Case, tiny: bool = False):
-    """The case's call at this commit: a function running it once, returning the complex."""
+def _call(case: Case, tiny: bool = False, unchecked: bool = False):
+    """The case's call at this commit: a function running it once, returning the complex.
+    ``unchecked``: cells not checked, at a commit whose extract can check them (check_cells=False): the
+    default of the commits before the check was on by default, for a like-for-like comparison."""
+    import inspect
+
     from gcmh_core import extract
 
     kw = {}
+    if unchecked and "check_cells" in inspect.signature(extract).parameters:
+        kw["check_cells"] = False
     if case.example == "torus-10-8":
         sys.path.insert(0, HERE)
         from bench_high_k import system
 
         F, bounds, div = system(10, 8)
-        variables, start, kw = None, None, dict(n=10)
+        variables, start = None, None
+        kw["n"] = 10
         div = [2] * 10 if tiny else div
     else:
         from gcmh_core.examples import load_example
@@ -249,7 +256,7 @@ def measure(spec: dict) -> dict:
     from bench_prune import digest
 
     case = CASES[spec["case"]]
-    run = _call(case)
+    run = _call(case, unchecked=bool(spec.get("unchecked")))
     values = []
     # --cpu: one thread, the whole call's CPU seconds (a loaded machine's preemption is not counted)
     clock = time.process_time if spec.get("cpu") else time.perf_counter
@@ -404,6 +411,9 @@ def main(argv=None) -> int:
     ap.add_argument("--cpu", action="store_true",
                     help="one thread, CPU seconds of the whole call (kernel cases: CPU us per candidate cube of the "
                     "whole run): steadier than wall time on a loaded machine")
+    ap.add_argument("--unchecked", action="store_true",
+                    help="both sides with check_cells=False where extract has it (the cell check is on by default "
+                    "since issue 25; the commits before ran without it)")
     ap.add_argument("--timeout", type=float, default=600.0, help="seconds a process may take")
     args = ap.parse_args(argv)
     cases = args.cases.split(",") if args.cases else list(QUICK if args.quick else CASES)
@@ -429,7 +439,7 @@ def main(argv=None) -> int:
                 if any(skipped[name].values()) or i >= (cap or rounds):
                     continue
                 for side, (tree, cache) in trees.items():
-                    spec = dict(case=name, side=side, round=i, cpu=args.cpu)
+                    spec = dict(case=name, side=side, round=i, cpu=args.cpu, unchecked=args.unchecked)
                     res = _child("--measure", spec, tree, cache, args.timeout)
                     results.append(dict(spec, **res))
                     print(f"# round {i + 1}/{rounds} {name} {side}: {res.get('value', res.get('error'))}",
