@@ -128,7 +128,7 @@ def test_a_hung_worker_is_ended_and_the_next_request_is_drawn(qtbot, worker, pay
     qtbot.waitUntil(lambda: sp.check() or a.done(), timeout=WAIT_MS)   # (the GUI's poll)
     assert a.image is None and "hung" in a.error
     assert proc.wait(timeout=60) == -signal.SIGKILL
-    monkeypatch.setattr(still_process, "HANG_S", 20.0)
+    monkeypatch.setattr(still_process, "HANG_S", 600.0)   # (a slow picture is not a hang)
     b = sp.ask(payload())
     qtbot.waitUntil(b.done, timeout=WAIT_MS)
     assert b.image is not None and sp.starts == 2
