@@ -631,11 +631,7 @@ def _shorten_chain(cells, coefs, b, bd_off, bd, bdv, cb_off, cb, weight):
             f = cb[j]
             if not waiting[f]:
                 waiting[f] = True
-                if count == queue.size:
-                    queue = _grow_ring(queue, head, count)
-                    head = 0
-                queue[(head + count) % queue.size] = f
-                count += 1
+                queue, head, count = _ring_push(queue, head, count, f)
     while count > 0:
         f = queue[head]
         head = (head + 1) % queue.size
@@ -659,11 +655,7 @@ def _shorten_chain(cells, coefs, b, bd_off, bd, bdv, cb_off, cb, weight):
                         g = cb[k]
                         if not waiting[g]:
                             waiting[g] = True
-                            if count == queue.size:
-                                queue = _grow_ring(queue, head, count)
-                                head = 0
-                            queue[(head + count) % queue.size] = g
-                            count += 1
+                            queue, head, count = _ring_push(queue, head, count, g)
                 break
     kept = 0
     for i in range(n_mem):
@@ -681,6 +673,17 @@ def _shorten_chain(cells, coefs, b, bd_off, bd, bdv, cb_off, cb, weight):
         vals[i] = z[out[i]]
         out[i] += b
     return out, vals
+
+
+@njit(**INLINE_JIT)
+def _ring_push(queue, head, count, x):
+    """x put at the end of a ring buffer of `count` entries from `head` (grown when full):
+    (queue, head, count) after it."""
+    if count == queue.size:
+        queue = _grow_ring(queue, head, count)
+        head = 0
+    queue[(head + count) % queue.size] = x
+    return queue, head, count + 1
 
 
 @njit(**JIT)
