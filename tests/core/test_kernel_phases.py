@@ -6,6 +6,7 @@ give the same records, bit for bit, in cube order."""
 
 import numpy as np
 import pytest
+from kernel_grids import grid_layout
 
 from gcmh_core.kernels import gcmh
 from gcmh_core.kernels import tables as _tables
@@ -14,13 +15,7 @@ from gcmh_core.kernels import tables as _tables
 def _grid(n, div, seed):
     """Random corner values on a grid of div^n cubes: the arrays `cubes_chunk` takes."""
     rng = np.random.default_rng(seed)
-    dims = np.full(n, div + 1, np.int64)
-    strides = np.ones(n, np.int64)
-    for a in range(n - 2, -1, -1):
-        strides[a] = strides[a + 1] * dims[a + 1]
-    origins = np.array(list(np.ndindex(*(dims - 1))), np.int64).reshape(-1, n)
-    cube_row = origins @ strides
-    corner_row = np.array([sum(int(strides[a]) for a in range(n) if c >> a & 1) for c in range(1 << n)], np.int64)
+    origins, cube_row, corner_row = grid_layout(np.full(n, div + 1))
     lines = np.tile(np.arange(div + 1, dtype=np.float64), (n, 1)) + rng.uniform(-0.1, 0.1, (n, div + 1))
     return origins, cube_row, corner_row, lines, rng
 

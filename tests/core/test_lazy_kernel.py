@@ -7,6 +7,7 @@ with several vertices) and on values with exact zeros (the sign prune's rule, `_
 
 import numpy as np
 import pytest
+from kernel_grids import grid_layout
 
 from gcmh_core import grid
 from gcmh_core.kernels import gcmh
@@ -23,12 +24,7 @@ def _run(kernel, values, axes, tables):
     """kernel on every cube of the grid whose vertex values are `values` (dims..., k)."""
     n, k = len(axes), values.shape[-1]
     dims = np.array(values.shape[:-1], np.int64)
-    strides = np.ones(n, np.int64)
-    for a in range(n - 2, -1, -1):
-        strides[a] = strides[a + 1] * dims[a + 1]
-    origins = np.array(list(np.ndindex(*(dims - 1))), np.int64).reshape(-1, n)
-    cube_row = origins @ strides
-    corner_row = np.array([sum(int(strides[a]) for a in range(n) if c >> a & 1) for c in range(1 << n)], np.int64)
+    origins, cube_row, corner_row = grid_layout(dims)
     lines = np.zeros((n, int(dims.max())))
     for a in range(n):
         lines[a, : dims[a]] = axes[a]
