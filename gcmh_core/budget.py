@@ -70,6 +70,13 @@ __all__ = [
 
 # Vertices of the probe grid (per run: milliseconds of F, a few passes over booleans).
 _PROBE_VERTICES = 600_000  # (9^6: div 8 probed exactly in R^6)
+# A run that fits many times over is decided on a coarser probe first: the full probe was 7 of the
+# complex cosine's 69 ms CPU at div 40 (and the most of a run's time since 00ff70c).  What that probe
+# expects is taken _QUICK_MARGIN times before it is trusted (a feature at the coarse probe's scale is
+# seen in fewer of its cubes); a run that might not fit that way, or where it sees nothing, is probed
+# in full as before.
+_QUICK_PROBE_VERTICES = 40_000
+_QUICK_MARGIN = 8.0
 _PROBE_OVERHEAD = 4_000_000  # bytes beside the probe's arrays (the evaluator's, numpy's)
 # Seconds per byte of the cube tables' arrays (numpy writes them; on a fresh VM page the first
 # touch dominates: 1 ns/B warm, 5 ns/B measured for R^10, k = 8), and per entry of the label
@@ -356,12 +363,12 @@ def _crossed_faces(values: np.ndarray, cand: np.ndarray, n: int, k: int) -> np.n
     return np.bincount(free, weights=crossed.sum(axis=0), minlength=n + 1)[: n + 1] / len(picked)
 
 
-def _probe(n, k, div, bounds, system, sampled) -> tuple[float, np.ndarray, bool, bool]:
-    """F on a coarse grid: (candidate cubes of the run expected, crossed faces of each
-    dimension per candidate cube, whether the probe grid is the run's grid, whether the n = 3
-    marching pass will hand the run over to the general kernel: `_hands_over`)."""
+def _probe(n, k, div, bounds, system, sampled, vertices=_PROBE_VERTICES) -> tuple[float, np.ndarray, bool, bool]:
+    """F on a coarse grid of about `vertices` vertices: (candidate cubes of the run expected, crossed
+    faces of each dimension per candidate cube, whether the probe grid is the run's grid, whether the
+    n = 3 marching pass will hand the run over to the general kernel: `_hands_over`)."""
     div = np.asarray(div, np.int64)
-    for budget in (_PROBE_VERTICES, 4 * _PROBE_VERTICES):  # finer once if it saw nothing
+    for budget in (vertices, 4 * vertices):  # finer once if it saw nothing
         values, pdiv, exact = _probe_grid(n, div, bounds, system, sampled, budget)
         cand = _candidates(values)
         count = int(cand.sum())
@@ -502,14 +509,24 @@ def estimate_run(
     if probe is None:  # every cube crossed, like a plane: an upper bound
         worst = _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, float(cubes), plane, False,
                       checked, glued, hands_over=sampled is not None)
-        if worst.peak_bytes <= worst.available_bytes // 8 and worst.seconds <= worst.seconds_limit / 10:
+        if _fits_easily(worst):
             return worst
     probe_bytes = 0
     hands_over = False
     if system is not None or sampled is not None:
-        expected, faces, _, hands_over = _probe(n, k, div_t, bounds, system, sampled)
+        budgets = (_QUICK_PROBE_VERTICES, _PROBE_VERTICES) if probe is None else (_PROBE_VERTICES,)
+        for budget in budgets:
+            expected, faces, exact, hands_over = _probe(n, k, div_t, bounds, system, sampled, budget)
+            if exact:  # (the probe was the run's grid: a finer one sees the same)
+                break
+            if budget == _PROBE_VERTICES or not expected:
+                continue
+            rough = _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled,
+                          min(float(cubes), _QUICK_MARGIN * expected), faces, pruned, checked, glued, hands_over)
+            if _fits_easily(rough):
+                break
         if sampled is None:
-            probe_bytes = _probe_bytes(k, _probe_vertices(div_t))
+            probe_bytes = _probe_bytes(k, _probe_vertices(div_t, budget))
     else:
         expected, faces = min(float(cubes), float(cubes) ** ((n - k) / n)), plane
     est = _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled, expected, faces, pruned, checked,
@@ -519,9 +536,15 @@ def estimate_run(
     return est
 
 
-def _probe_vertices(div) -> int:
+def _fits_easily(estimate: Estimate) -> bool:
+    """Whether a run fits many times over (an eighth of the memory, a tenth of the time): its probe can
+    be skipped (the every-cube bound) or coarse (`_QUICK_PROBE_VERTICES`)."""
+    return estimate.peak_bytes <= estimate.available_bytes // 8 and estimate.seconds <= estimate.seconds_limit / 10
+
+
+def _probe_vertices(div, budget: int = _PROBE_VERTICES) -> int:
     """Vertices of the probe's (first) grid."""
-    side = _probe_side(np.asarray(div, np.int64), _PROBE_VERTICES)
+    side = _probe_side(np.asarray(div, np.int64), budget)
     return math.prod(min(int(d), side) + 1 for d in div)
 
 

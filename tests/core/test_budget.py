@@ -159,6 +159,39 @@ def test_small_runs_skip_the_probe(monkeypatch):
     assert est.candidate_cubes == 16**3 and est.fits  # the upper bound: every cube crossed
 
 
+@pytest.mark.parametrize("F, n, div", [
+    (["x1^2 + x2^2 + x3^2 - 1"], 3, 120),
+    (["(x1^2 + x2^2 + x3^2 + 0.5)^2 - 2*(x1^2 + x2^2) - 0.1", "x4 - 0.2*x1"], 4, 60),
+    (["x1 - x2^2 - 0.3*x3", "x3^2 + x4^2 + x5^2 - 0.02"], 5, 24),  # a thin tube: small at the coarse scale
+])
+def test_the_coarse_probe_decides_as_the_full_one(monkeypatch, F, n, div):
+    """A run is decided on a coarse probe only where it fits _QUICK_MARGIN times over: from a limit that
+    fits it easily down to one it doesn't fit, the decision is the full probe's, and the coarse one is
+    used (fewer vertices probed) only where the run fits easily."""
+    system = parse_system(F, n=n)
+    bounds = [(-1.5, 1.5)] * n
+    full = budget.estimate_run(n, len(F), div, bounds=bounds, system=system, probe=True)
+    probed = []
+    real_probe = budget._probe
+
+    def counted(*args):
+        probed.append(args[-1])
+        return real_probe(*args)
+
+    monkeypatch.setattr(budget, "_probe", counted)
+    coarse = []
+    for factor in (1024.0, 256.0, 64.0, 16.0, 9.0, 4.0, 2.5, 2.0, 1.5, 1.0, 0.5):
+        monkeypatch.setenv("GCMH_MEMORY_LIMIT", str(int(factor * full.peak_bytes)))
+        decided = budget.estimate_run(n, len(F), div, bounds=bounds, system=system, probe=True).fits
+        probed.clear()
+        est = budget.estimate_run(n, len(F), div, bounds=bounds, system=system)
+        assert est.fits == decided
+        if budget._PROBE_VERTICES not in probed:  # decided on the coarse probe: only where it fits easily
+            assert est.fits and est.peak_bytes * 8 <= budget.available_memory()
+            coarse.append(factor)
+    assert coarse and min(coarse) >= 8  # (the coarse probe was used, and only with room to spare)
+
+
 def test_limits_from_the_environment(monkeypatch):
     monkeypatch.setenv("GCMH_MEMORY_LIMIT", "2.5G")
     assert budget.available_memory() == 2_500_000_000
