@@ -60,3 +60,20 @@ def test_cli_names_the_critical_value(capsys):
     assert "notice:" in capsys.readouterr().out
     assert main(["extract", "--example", "hyperboloid", "--param", "a=0.3", "--div", "13"]) == 0
     assert "notice:" not in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("div", [5, 7, 9, 11, 13, 17, 23])
+@pytest.mark.parametrize("name, texts, bounds, where", [
+    # F vanishes to higher order at the point: Newton converges linearly there (`critical._STEPS`)
+    ("a torus pinched to a point", ["(x^2 + y^2 + z^2)^2 - (x^2 + y^2) + 0*a"], [(-1.2, 1.2)] * 3, (0, 0, 0)),
+    ("two spheres touching", ["(x^2 + y^2 + z^2 - 1)*((x - 2)^2 + y^2 + z^2 - 1) + 0*a"],
+     [(-1.5, 3.5), (-1.5, 1.5), (-1.5, 1.5)], (1, 0, 0)),
+])
+def test_degenerate_critical_points_are_found_at_every_div(name, texts, bounds, where, div):
+    """Where no grid vertex lands near the point (all these divs but one), the solve still reaches it,
+    and the run counts at least one vertex near it, so every notice that reads singular_vertices shows."""
+    cx = extract(texts, bounds, div, variables=["x", "y", "z"], params={"a": 0.0})
+    (point,) = cx.meta["critical_points"]
+    spacing = max(hi - lo for lo, hi in bounds) / div
+    assert np.allclose(point["x"], where, atol=0.01 * spacing) and point["rank"] == 0
+    assert cx.meta["singular_vertices"] > 0
