@@ -33,6 +33,7 @@ key can meet (`identify` maps K for mirrored frames).
 from __future__ import annotations
 
 from functools import lru_cache
+from math import factorial
 
 import numpy as np
 
@@ -40,6 +41,7 @@ from .kernels.cell_check import cube_euler_chunk, records_cube_euler, same_faces
 from .kernels.cells import _face_key as _face_key_jit
 from .kernels.cms import simplices_chunk
 from .kernels.gcmh import cubes_chunk
+from .kernels.kuhn_cube import cube_simplex_tables
 from .kernels.tables import cube_tables
 
 __all__ = ["REFINED_BELOW", "collapse_lens_cells", "cone_lens_balls", "cut_key", "cut_key_parts", "cut_key_room",
@@ -143,7 +145,7 @@ class _Surface:
         k = tab.k
         simplex_key = _simplex_keys(kuhn, g_vertex, corner_off)
         row_of = {int(x): s for s, x in enumerate(simplex_key) if s >= kuhn.start[k]}
-        gcmh_key = _gcmh_vertex_keys(tab, g_vertex, corner_off)
+        gcmh_key = _gcmh_vertex_keys(tab, kuhn, g_vertex, corner_off)
         self.gcmh = {}  # CMS vertex key -> GCMH vertex key
         for v in c_vk:
             s = row_of[int(v)]
@@ -374,16 +376,33 @@ def _simplex_keys(kuhn, g_vertex, corner_off):
     return (g_vertex + corner_off[kuhn.c0]) * kuhn.key_base + kuhn.code
 
 
-def _gcmh_vertex_keys(tab, g_vertex, corner_off) -> dict:
-    """Kuhn row of each k-simplex on a k-face of the cube -> GCMH's key of the vertex there."""
+def _gcmh_vertex_keys(tab, kuhn, g_vertex, corner_off) -> dict:
+    """Kuhn row of each k-simplex on a k-face of the cube -> GCMH's key of the vertex there: the
+    k-face's key * k! + the lexicographic rank of the order its chain switches the face's axes on
+    (`tables.CubeTables`' ksimplex_perm; the whole table's rows or a cube's own, `kuhn_cube`)."""
     k = tab.k
-    kface0 = tab.face_start[k]
-    out = {}
-    for g, s in enumerate(tab.ksimplex_kuhn):
-        f = kface0 + tab.ksimplex_face[g]
-        anchor = g_vertex + int(corner_off[tab.face_fixed[f]])
-        out[int(s)] = _face_key(anchor, int(tab.n_subsets[k]), int(tab.face_rank[f])) \
-            * tab.simplices_per_kface + int(tab.ksimplex_perm[g])
+    rows = np.arange(kuhn.start[k], kuhn.start[k + 1])
+    chains = kuhn.corners[rows, : k + 1]
+    free = chains[:, k] & ~chains[:, 0]
+    on_face = _popcount(free, tab.n) == k  # (the others lie inside higher faces)
+    rows, chains, free = rows[on_face], chains[on_face], free[on_face]
+    f = _face_maps(tab.n, k)[1][free, chains[:, 0]]
+    axis = _popcount((chains[:, 1:] ^ chains[:, :-1]) - 1, tab.n)  # the axis switched on at each link
+    local = _popcount(free[:, None] & ((np.int64(1) << axis) - 1), tab.n)  # its place among the face's axes
+    rank = np.zeros(len(rows), np.int64)
+    for i in range(k):
+        rank += (local[:, i + 1 :] < local[:, i, None]).sum(axis=1) * factorial(k - 1 - i)
+    anchor = g_vertex + corner_off[tab.face_fixed[f]]
+    keys = _face_key(anchor, int(tab.n_subsets[k]), tab.face_rank[f]) * tab.simplices_per_kface + rank
+    return dict(zip(rows.tolist(), keys.tolist()))
+
+
+def _popcount(x, n):
+    """Set bits of each int64 (below 2^n)."""
+    x = np.asarray(x, np.int64)
+    out = np.zeros(x.shape, np.int64)
+    for a in range(n):
+        out += (x >> a) & 1
     return out
 
 
@@ -401,14 +420,15 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
 
     The arguments are `cubes_chunk`'s for this one cube (arrays of length 1); neighbours_checked:
     whether every cube's Euler characteristic is checked (`runner.Grid.check_cells`).  Returns
-    records (vk, vp, e, c, inc) to add, or None when the cube can't be refined (no Kuhn tables,
-    n >= 8; a degenerate crossing; keys out of range; M_A on a face where GCMH has no cell and the
-    neighbours are not checked).
+    records (vk, vp, e, c, inc) to add, or None when the cube can't be refined (its own Kuhn table
+    too large, n >= 8: `kuhn_cube.MOST_ROWS`; a degenerate crossing; keys out of range; M_A on a
+    face where GCMH has no cell and the neighbours are not checked).
     """
     n, k = tab.n, tab.k
-    kuhn = tab.kuhn
-    if kuhn.corners.shape[0] == 0:
+    own = _CubeKuhn.of(tab, values, cube_row[0], value_off)
+    if own is None:
         return None
+    kuhn = own.kuhn
     args = (values, cube_row, origin, cube_key, axes_arr, value_off, corner_off)
     (_, _, g_edges, g_cells, g_inc), _, _, _ = cubes_chunk(0, 1, *args, tab)
     (c_vk, c_vp, c_edges, c_cells, c_inc), _, degenerate, _ = simplices_chunk(0, 1, *args, kuhn)
@@ -416,11 +436,11 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
         return None
     g_vertex = int(cube_key[0])
     skeys = _simplex_keys(kuhn, g_vertex, corner_off)
-    if int(skeys.max()) >= -REFINED_BELOW:
+    if len(skeys) and int(skeys.max()) >= -REFINED_BELOW:
         return None
     row_of = {int(x): s for s, x in enumerate(skeys)}
-    gcmh_of_row = _gcmh_vertex_keys(tab, g_vertex, corner_off)
-    carrier = _face_maps(n, k)[2]  # the face of the cube whose relative interior holds each simplex
+    gcmh_of_row = _gcmh_vertex_keys(tab, kuhn, g_vertex, corner_off)
+    carrier = own.carrier  # the face of the cube whose relative interior holds each simplex
     face_dim = _face_dims(n, k)
     face_key_of = {}
     for f in range(tab.face_start[k + 1], tab.face_start[n + 1]):
@@ -461,7 +481,7 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
                 top_in_face.setdefault(f, []).append(x)
     assigned = []
     # faces with a piece of M_A hidden inside (a loop with no GCMH vertex): no GCMH cell's piece
-    hidden = cms_cube_euler(tab, values, cube_row, value_off, 0, 1)[1][0]
+    hidden = own.euler(values, cube_row, value_off)[1][0]
     hidden_faces = [_face_free_fixed(tab, h) for h in np.flatnonzero(hidden)]
     for f, cells in sorted(by_face.items()):
         new = top_in_face.get(f, [])
@@ -843,18 +863,147 @@ def cube_euler(tab, records, origin, strides, dims):
                                        tab.n_subsets, free_of_rank, face_row, k)
 
 
+def cubes_with_bad_boundaries(tab, records, origin, strides, dims) -> np.ndarray:
+    """(m,) bool: the cubes (origin (m, n) grid indices) that hold the face of a GCMH cell of the
+    records whose boundary is not a sphere as `tests/core/naive.structure_problems` tells one: a
+    2-cell's edges not one cycle, an r-cell's (r >= 3) faces not a closed connected pseudomanifold
+    with a sphere's Euler characteristic.  The default check for n >= 8 (`runner.Grid`), where CMS's
+    count in a cube takes a second: GCMH's own records, no Kuhn simplex.  It misses a cell that is not
+    a ball but has a sphere's boundary (a disc with a handle) and pieces hidden inside a face."""
+    n, k = tab.n, tab.k
+    vk, _, e, c, inc = records
+    m = len(origin)
+    bad_cube = np.zeros(m, bool)
+    if m == 0 or len(c) == 0:
+        return bad_cube
+    free_of_rank = _face_maps(n, k)[0]
+    # only the cells whose face's anchor lies in a checked cube
+    near = np.unique(((origin @ strides)[:, None] + _corner_offsets(n, strides)[None]).ravel())
+    ends = {int(x): (int(a), int(b)) for x, a, b in e.tolist()}
+    faces_of: dict = {}
+    for r, x, y in np.unique(inc, axis=0).tolist():
+        faces_of.setdefault((r, x), []).append(y)
+    bad = []
+    for r, x in np.unique(c, axis=0).tolist():
+        face_key = x // int(tab.n_codes[r + k])
+        if r < 2 or not _isin(near, face_key // int(tab.n_subsets[r + k])):
+            continue
+        if not _sphere_boundary(r, faces_of.get((r, x), []), faces_of, ends):
+            bad.append((r, face_key))
+    for r, face_key in bad:
+        dim = r + k
+        anchor, rank = divmod(face_key, int(tab.n_subsets[dim]))
+        free = int(free_of_rank[dim, rank])
+        at = (anchor // strides) % dims
+        step = at[None, :] - origin  # the face lies in the cube: 0 or 1 on each axis, 0 on its free axes
+        free_axis = ((free >> np.arange(n)) & 1).astype(bool)
+        bad_cube |= ((step == 0) | ((step == 1) & ~free_axis[None, :])).all(axis=1)
+    return bad_cube
+
+
+def _corner_offsets(n, strides):
+    corners = np.arange(1 << n)
+    return (((corners[:, None] >> np.arange(n)) & 1) * strides[None, :]).sum(axis=1)
+
+
+def _isin(sorted_keys, key):
+    i = np.searchsorted(sorted_keys, key)
+    return i < len(sorted_keys) and sorted_keys[i] == key
+
+
+def _sphere_boundary(r, faces, faces_of, ends) -> bool:
+    """Whether the (r-1)-cells `faces` (keys) make a sphere as `cubes_with_bad_boundaries` tells one
+    (a lens, two faces on one sphere, is one: the assembly collapses or cones it)."""
+    if not faces:
+        return False
+    parent = {y: y for y in faces}
+    count: dict = {}
+    for y in faces:
+        for z in (ends[y] if r == 2 else faces_of.get((r - 1, y), [])):
+            count[z] = count.get(z, 0) + 1
+            parent.setdefault(("f", z), ("f", z))
+            _union(parent, y, ("f", z))
+    if any(v != 2 for v in count.values()) or len({_root(parent, y) for y in faces}) != 1:
+        return False
+    if r == 2:
+        return True
+    closure = {r - 1: set(faces)}
+    for d in range(r - 1, 1, -1):
+        closure[d - 1] = {z for y in closure[d] for z in faces_of.get((d, y), [])}
+    closure[0] = {v for y in closure.get(1, ()) for v in ends.get(y, ())}
+    chi = sum((-1) ** d * len(ids) for d, ids in closure.items())
+    return chi == 1 + (-1) ** (r - 1)
+
+
 def cms_cube_euler(tab, values, cube_row, corner_row, lo, hi):
     """CMS's count in each open face of each cube lo..hi-1 and the pieces of M_A hidden inside
-    each open face (`kernels.cell_check.cube_euler_chunk`): (euler, hidden), each (hi - lo, faces)."""
-    _, _, carrier = _face_maps(tab.n, tab.k)
-    return cube_euler_chunk(lo, hi, values, cube_row, corner_row, tab.kuhn, carrier, len(tab.face_free),
-                            _face_dims(tab.n, tab.k), *_cofaces(tab.n, tab.k))
+    each open face (`kernels.cell_check.cube_euler_chunk`): (euler, hidden), each (hi - lo, faces).
+    For n >= 8 each cube's own Kuhn table (`kuhn_cube`); a cube whose table would be too large
+    gets the count UNCOUNTED in every face (so no GCMH count equals it: it is flagged, and its
+    refinement declines)."""
+    if tab.kuhn.corners.shape[0]:
+        return _CubeKuhn.whole(tab).euler(values, cube_row[lo:hi], corner_row)
+    euler = np.zeros((hi - lo, len(tab.face_free)), np.int64)
+    hidden = np.zeros_like(euler)
+    for i in range(lo, hi):
+        own = _CubeKuhn.of(tab, values, cube_row[i], corner_row)
+        if own is None:
+            euler[i - lo] = UNCOUNTED
+        else:
+            euler[i - lo], hidden[i - lo] = (x[0] for x in own.euler(values, cube_row[i : i + 1], corner_row))
+    return euler, hidden
+
+
+UNCOUNTED = -(2**40)  # `cms_cube_euler`'s count where a cube's table is too large to build
+
+
+class _CubeKuhn:
+    """A cube's Kuhn simplices for CMS: the whole table (n <= 7, one for every cube) or the cube's
+    own (n >= 8, `kernels.kuhn_cube`: the chains M_A may cross, keyed alike), with the face of the
+    cube each simplex's relative interior lies in (carrier) and each simplex's cofaces."""
+
+    def __init__(self, tab, kuhn, carrier, cofaces):
+        self.tab, self.kuhn, self.carrier, self.cofaces = tab, kuhn, carrier, cofaces
+
+    @classmethod
+    def of(cls, tab, values, row, corner_row):
+        """For the cube whose corner c is row row + corner_row[c] of values; None where its own
+        table would be too large."""
+        n, k = tab.n, tab.k
+        if tab.kuhn.corners.shape[0]:
+            return cls.whole(tab)
+        kuhn = cube_simplex_tables(n, k, values, int(row), np.ascontiguousarray(corner_row, np.int64))
+        if kuhn is None:
+            return None
+        return cls(tab, kuhn, *cls.of_table(tab, kuhn))
+
+    @staticmethod
+    def of_table(tab, kuhn):
+        """(carrier, cofaces) of a cube's own table."""
+        return _carriers(kuhn, _face_maps(tab.n, tab.k)[1]), _cofaces_of(kuhn)
+
+    @classmethod
+    def whole(cls, tab):
+        """The whole table's (n <= 7)."""
+        return cls(tab, tab.kuhn, _face_maps(tab.n, tab.k)[2], _cofaces(tab.n, tab.k))
+
+    def euler(self, values, cube_row, corner_row):
+        """`cube_euler_chunk` on the cubes of cube_row (for the cube's own table: that cube alone)."""
+        tab = self.tab
+        return cube_euler_chunk(0, len(cube_row), values, np.ascontiguousarray(cube_row, np.int64),
+                                np.ascontiguousarray(corner_row, np.int64), self.kuhn, self.carrier,
+                                len(tab.face_free), _face_dims(tab.n, tab.k), *self.cofaces)
 
 
 @lru_cache(maxsize=16)
 def _cofaces(n, k):
+    """The whole Kuhn table's `_cofaces_of`."""
+    return _cofaces_of(cube_tables(n, k).kuhn)
+
+
+def _cofaces_of(kuhn):
     """The Kuhn simplices that have each simplex as a facet, as CSR (start per simplex row, list)."""
-    kuhn = cube_tables(n, k).kuhn
+    k, n = kuhn.k, kuhn.n
     rows = np.arange(kuhn.start[k + 1], kuhn.start[n + 1])
     facets = kuhn.facets[rows]
     owner = np.broadcast_to(rows[:, None], facets.shape)
@@ -876,7 +1025,7 @@ def _face_dims(n, k):
 def _face_maps(n, k):
     """[dim, rank] -> free axes (bits) of the faces of that dimension and rank; [free, fixed] -> the
     `CubeTables` row of that face (-1: none); Kuhn simplex row -> the row of the face whose relative
-    interior holds it (its chain's first and last corners give it)."""
+    interior holds it (`_carriers`; n >= 8: empty, each cube has its own table)."""
     tab = cube_tables(n, k)
     free_of_rank = np.zeros((n + 1, int(tab.n_subsets.max())), np.int64)
     for dim in range(k, n + 1):
@@ -884,11 +1033,17 @@ def _face_maps(n, k):
         free_of_rank[dim, tab.face_rank[faces]] = tab.face_free[faces]
     face_row = -np.ones((1 << n, 1 << n), np.int64)
     face_row[tab.face_free, tab.face_fixed] = np.arange(len(tab.face_free))
-    kuhn = tab.kuhn
+    return free_of_rank, face_row, _carriers(tab.kuhn, face_row)
+
+
+def _carriers(kuhn, face_row):
+    """Kuhn simplex row -> the `CubeTables` row of the face whose relative interior holds it (its
+    chain's first and last corners give it; rows below dimension k: 0)."""
+    k, n = kuhn.k, kuhn.n
     rows = np.arange(kuhn.start[n + 1])
     dims = np.searchsorted(kuhn.start, rows, side="right") - 1
     carrier = np.zeros(len(rows), np.int64)
     mine = rows >= kuhn.start[k]
     last = kuhn.corners[rows[mine], dims[mine]]
     carrier[mine] = face_row[last & ~kuhn.c0[mine], kuhn.c0[mine]]
-    return free_of_rank, face_row, carrier
+    return carrier

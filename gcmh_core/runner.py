@@ -108,8 +108,12 @@ class Grid:
         # cells are checked against CMS's Euler characteristic face by face where they can be wrong:
         # by default every cube the certificate can't vouch for (`graph_certified`), asked for: all
         self.check_request = check_cells  # (what the caller asked: a distributed run's tasks get it)
-        self.check_cells = checks_cells(n, k, self.simplicial, check_cells)
+        self.check_cells = cells_checked(n, k, self.simplicial, check_cells)
         self.check_all = bool(check_cells)
+        # the Euler check (CMS's count, face by face) where cells are checked; for n >= 8 only when asked
+        # for (every cube builds its own Kuhn table, `kernels.kuhn_cube`: a second a cube at k = 3), by
+        # default there the boundaries of GCMH's cells (`_balls.cubes_with_bad_boundaries`)
+        self.euler_checked = self.check_cells and (n <= 7 or self.check_all)
         self.axes_arr = np.zeros((n, int(self.dims.max())))
         for a in range(n):
             self.axes_arr[a, : self.dims[a]] = axes[a]
@@ -186,6 +190,9 @@ class Grid:
             cubes = lo + np.flatnonzero(~graph_certified(values, cube_lin[lo:hi], value_off, self.k))
         if len(cubes) == 0:
             return cubes, 0
+        if not self.euler_checked:  # (n >= 8 by default: CMS's count takes a second a cube there)
+            return cubes[_balls.cubes_with_bad_boundaries(self.tab, records, origin[cubes], self.strides,
+                                                          self.dims)], len(cubes)
         cms, hidden = _balls.cms_cube_euler(self.tab, values, cube_lin[cubes], value_off, 0, len(cubes))
         gcmh = _balls.cube_euler(self.tab, records, origin[cubes], self.strides, self.dims)
         return cubes[(cms != gcmh).any(axis=1) | hidden.any(axis=1)], len(cubes)
@@ -337,17 +344,29 @@ def graph_certified(values, cube_row, corner_row, k) -> np.ndarray:
                                  np.ascontiguousarray(corner_row, np.int64), k, _axis_subsets(n, k))
 
 
+def cells_checked(n: int, k: int, simplicial: bool, check_request: bool | None) -> bool:
+    """Whether a run checks its cells (`_cost.checks_cells`, R^4..R^7 with the whole Kuhn table), and
+    from n = 8 on too: there each checked cube builds its own table of the Kuhn simplices M_A may
+    cross (`kernels.kuhn_cube`)."""
+    if checks_cells(n, k, simplicial, check_request):
+        return True
+    return not simplicial and n >= 8 and n - k >= 2 and check_request is not False
+
+
 def unchecked_reason(n: int, k: int, simplicial: bool, check_request: bool | None) -> str | None:
-    """Why GCMH's cells were not checked against CMS's where they can be wrong (a piece of M in a
-    cube that is not a ball gives a wrong chi or count of pieces), or None: they were, or can't be
-    wrong (curves; the simplicial baselines, whose cells are convex)."""
-    if simplicial or n - k < 2 or n <= 3 or checks_cells(n, k, simplicial, check_request):
+    """Why GCMH's cells were not (or only partly) checked against CMS's where they can be wrong (a piece
+    of M in a cube that is not a ball gives a wrong chi or count of pieces), or None: they were, or
+    can't be wrong (curves; the simplicial baselines, whose cells are convex)."""
+    if simplicial or n - k < 2 or n <= 3:
         return None
     if check_request is False:
         return "the cell check was turned off (check_cells=False)"
-    return (f"no cell check exists in R^{n} with k = {k} (the check compares with CMS's Kuhn simplices, "
-            "tabled up to n = 7): where M bends inside a cube a cell may not be a ball, and chi and the "
-            "pieces may be wrong; compare with --method cms or a finer --div")
+    if n >= 8 and not check_request:
+        return (f"in R^{n} only the boundaries of the cells are checked by default (each must be a sphere, and "
+                "a cube where one is not is refined by CMS): a cell that is not a ball but is bounded by a sphere "
+                "(a disc with a handle) or a piece of M inside a cube's face is not found; --check-cells "
+                "compares every cube with CMS's count (about a second a cube at k = 3)")
+    return None
 
 
 def non_ball_left(stats: dict) -> int:
@@ -377,7 +396,7 @@ def split_non_ball_cells(grid: Grid, records: tuple, cubes: np.ndarray, common: 
             e = np.concatenate([e, new_edges])
             inc = np.concatenate([inc[keep], new_inc])
         else:  # solids, or a surface's piece that can't be cut: the cube's cells become CMS's
-            refined = _balls.refine_cube(*cube, neighbours_checked=grid.check_cells)
+            refined = _balls.refine_cube(*cube, neighbours_checked=grid.euler_checked)
             if refined is None:
                 continue
             vk, vp, e, c, inc = (np.concatenate([a, b]) for a, b in zip((vk, vp, e, c, inc), refined))

@@ -107,7 +107,7 @@ def cube_euler_chunk(lo, hi, values, cube_row, corner_row, tables, carrier, n_fa
                     outside = False
                     for j in range(d + 1):
                         g = facets[s, j]
-                        if not crossed[g]:
+                        if g < 0 or not crossed[g]:  # (-1: left out of a cube's own table: not crossed)
                             continue
                         if carrier[g] != carrier[s]:
                             outside = True

@@ -102,7 +102,9 @@ def simplices_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lin
                 crossed[s] = 0
                 nf = 0
                 for j in range(d + 1):
-                    nf += crossed[simplex_facets[s, j]]
+                    f = simplex_facets[s, j]
+                    if f >= 0:  # (-1: a facet a cube's own table leaves out, `kuhn_cube`: not crossed)
+                        nf += crossed[f]
                 if nf == 0:
                     continue
                 # a segment has 2 ends; an r-polytope (r >= 2) at least r + 1 facets
@@ -118,7 +120,7 @@ def simplices_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lin
                     q = 1
                     for j in range(d + 1):
                         f = simplex_facets[s, j]
-                        if crossed[f]:
+                        if f >= 0 and crossed[f]:
                             e_out[used_e, q] = _simplex_key(
                                 g_vertex, corner_vertex, simplex_c0, simplex_code, key_base, f
                             )
@@ -132,7 +134,7 @@ def simplices_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lin
                 used_c += 1
                 for j in range(d + 1):
                     f = simplex_facets[s, j]
-                    if crossed[f]:
+                    if f >= 0 and crossed[f]:
                         if used_i >= i_out.shape[0]:
                             i_out = _grown_rows(i_out, used_i)
                         i_out[used_i, 0] = r

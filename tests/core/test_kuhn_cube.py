@@ -1,0 +1,77 @@
+"""A cube's own Kuhn table (`kernels.kuhn_cube`, n >= 8) against its brute-force twin and the whole
+table (`kernels.tables.simplex_tables`, n <= 7): the same crossed simplices, keys and records."""
+
+import numpy as np
+import pytest
+from naive_balls import naive_chain_id, naive_cube_chains
+
+from gcmh_core._balls import _CubeKuhn
+from gcmh_core.kernels.cms import simplices_chunk
+from gcmh_core.kernels.kuhn_cube import cube_simplex_tables
+from gcmh_core.kernels.tables import cube_tables, simplex_tables
+
+
+def cube_values(n, k, seed):
+    """One cube's corner values: noise (many crossings), noise shifted (few or none), an affine map
+    with a value 0 at some corners (flat simplices: `_zero_side`)."""
+    rng = np.random.default_rng(seed)
+    kind = seed % 3
+    if kind == 2:
+        corners = ((np.arange(1 << n)[:, None] >> np.arange(n)) & 1).astype(float)
+        values = corners @ rng.integers(-2, 3, (n, k)).astype(float) + rng.integers(-2, 3, k)
+    else:
+        values = rng.normal(size=(1 << n, k)) + (0.7 if kind else 0.0)
+    return np.ascontiguousarray(values), np.arange(1 << n, dtype=np.int64)
+
+
+def table_ids(st):
+    n = st.n
+    return {d: sorted((st.c0[s] * (n + 1) ** n + st.code[s]).tolist() for s in range(st.start[d], st.start[d + 1]))
+            for d in range(st.k, n + 1)}
+
+
+@pytest.mark.parametrize("n,k", [(4, 2), (5, 2), (5, 3), (6, 4)])
+@pytest.mark.parametrize("seed", range(6))
+def test_the_cube_table_holds_the_chains_above_the_crossed_ones(n, k, seed):
+    values, corner_row = cube_values(n, k, seed)
+    st = cube_simplex_tables(n, k, values, 0, corner_row)
+    assert table_ids(st) == naive_cube_chains(n, k, values, 0, corner_row)
+    # each row's chain, key parts and facets as the whole table has them
+    full = simplex_tables(n, k)
+    row_of = {naive_chain_id(n, [c for c in full.corners[s] if c >= 0]): s for s in range(full.start[n + 1])}
+    for s in range(st.start[n + 1]):
+        chain = [c for c in st.corners[s] if c >= 0]
+        f = row_of[naive_chain_id(n, chain)]
+        assert (st.corners[s] == full.corners[f]).all() and st.c0[s] == full.c0[f] and st.code[s] == full.code[f]
+        assert st.cube_facets[s] == full.cube_facets[f]
+        for j in range(len(chain)):
+            if len(chain) - 1 > k:
+                g = st.facets[s, j]
+                drop = naive_chain_id(n, chain[:j] + chain[j + 1 :])
+                assert (g >= 0) == (drop in table_ids(st)[len(chain) - 2])
+                assert g < 0 or naive_chain_id(n, [c for c in st.corners[g] if c >= 0]) == drop
+
+
+def records(run):
+    (vk, vp, e, c, inc), facets, degenerate, _ = run
+    order = np.argsort(vk)
+    return (vk[order].tolist(), np.round(vp[order], 12).tolist(), sorted(map(tuple, e.tolist())),
+            sorted(map(tuple, c.tolist())), sorted(map(tuple, inc.tolist())), facets.tolist(), degenerate)
+
+
+@pytest.mark.parametrize("n,k", [(5, 3), (6, 3), (6, 4), (7, 5)])
+@pytest.mark.parametrize("seed", range(3))
+def test_cms_and_the_cell_count_on_the_cube_table_equal_the_whole_tables(n, k, seed):
+    """`simplices_chunk`'s records and `cube_euler_chunk`'s counts from a cube's own table equal those
+    from the whole table."""
+    values, corner_row = cube_values(n, k, seed)
+    st = cube_simplex_tables(n, k, values, 0, corner_row)
+    args = (values, np.zeros(1, np.int64), np.zeros((1, n), np.int64), np.array([7], np.int64),
+            np.tile([0.0, 1.0], (n, 1)), corner_row, corner_row)
+    assert records(simplices_chunk(0, 1, *args, st)) == records(simplices_chunk(0, 1, *args, simplex_tables(n, k)))
+    tab = cube_tables(n, k)
+    whole = _CubeKuhn.whole(tab)
+    own = _CubeKuhn(tab, st, *_CubeKuhn.of_table(tab, st))
+    for a, b in zip(own.euler(values, np.zeros(1, np.int64), corner_row),
+                    whole.euler(values, np.zeros(1, np.int64), corner_row)):
+        assert (a == b).all()
