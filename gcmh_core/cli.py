@@ -190,7 +190,7 @@ def _build_parser() -> _Parser:
     out.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.add_argument(
         "--check-cells", action="store_true",
-        help="check every cube's cells against CMS's Euler characteristic (n = 4..7): by default only the "
+        help="check every cube's cells against CMS's Euler characteristic (n = 3..7): by default only the "
         "cubes where a cell can be wrong are (those a certificate can't show to be a graph over a face)",
     )
     p.add_argument(

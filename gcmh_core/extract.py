@@ -109,8 +109,8 @@ def extract(
         flipped axis needs an even div.  With s periodic reversing t and t periodic, the
         paper's Klein bottle is closed (chi 0, non-orientable) instead of cut open.
     check_cells : check the cubes' cells against CMS's Euler characteristic face by face and
-        refine the cubes where a cell is not a ball (`_balls`), for surfaces and solids with
-        n = 4..7.  None (default): the cubes where a cell can be wrong, those whose values do not
+        refine the cubes where a cell is not a ball (`_balls`) or a small closed curve hides in
+        a cube, for n = 3..7 (not surfaces in R^3, the marching pass).  None (default): the cubes where a cell can be wrong, those whose values do not
         certify M_A a graph over a face (`runner.graph_certified`; formulas and sampled data
         alike): on smooth inputs few cubes, on noise most; True: every cube (2 to 3 times the
         run for surfaces, 7 to 11 at n = 6); False: none, only the pieces of G_H that M_A joins
