@@ -41,7 +41,7 @@ from .kernels.cell_check import cube_euler_chunk, records_cube_euler, same_faces
 from .kernels.cells import _face_key as _face_key_jit
 from .kernels.cms import simplices_chunk
 from .kernels.gcmh import cubes_chunk
-from .kernels.kuhn_cube import cube_simplex_tables
+from .kernels.kuhn_cube import cube_simplex_tables, piece_labels
 from .kernels.tables import cube_tables
 
 __all__ = ["REFINED_BELOW", "collapse_lens_cells", "cone_lens_balls", "cut_key", "cut_key_parts", "cut_key_room",
@@ -483,21 +483,19 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
     # faces with a piece of M_A hidden inside (a loop with no GCMH vertex): no GCMH cell's piece
     hidden = own.euler(values, cube_row, value_off)[1][0]
     hidden_faces = [_face_free_fixed(tab, h) for h in np.flatnonzero(hidden)]
+    pieces = None
     for f, cells in sorted(by_face.items()):
         new = top_in_face.get(f, [])
         free, fixed = _face_free_fixed(tab, f)
-        sub = None
+        label = None
         if len(cells) > 1 or any(_in_face(h_free, h_fixed, free, fixed) for h_free, h_fixed in hidden_faces):
             # each cell gets the CMS cells of its own piece of M_A in f
-            inside = [x for x in entities
-                      if _in_face(*_face_free_fixed(tab, carrier[row_of[x[1]]]), free, fixed)]
-            sub = {x: x for x in inside}
-            for x in inside:
-                for y in faces_of.get(x, []):
-                    if y in sub:
-                        _union(sub, x, y)
+            if pieces is None:
+                pieces = _Pieces(entities, faces_of, carrier, row_of, tab)
+            label = pieces.in_face(free, fixed)
         for r, key in cells:
-            mine = new if sub is None else [x for x in new if _root(sub, x) == _root(sub, vertex_of[(r, key)])]
+            mine = new if label is None else [x for x in new if label[pieces.index[x]]
+                                              == label[pieces.index[vertex_of[(r, key)]]]]
             if not mine:
                 return None
             assigned.append((r, key, mine))
@@ -522,6 +520,24 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
     inc = [(r, refined_key(x), refined_key(y)) for r, x, y in c_inc.tolist()]
     inc += [(r, old, refined_key(s)) for r, old, s in replace]
     return vk, vp, e, c, np.array(inc, np.int64).reshape(-1, 3)
+
+
+class _Pieces:
+    """The CMS entities of a cube as a graph (an entity joined to its faces), to split those inside one
+    face of the cube into M_A's pieces there (`refine_cube`; at n = 8, k = 3 a cube has 10^5 of them)."""
+
+    def __init__(self, entities, faces_of, carrier, row_of, tab):
+        self.index = {x: i for i, x in enumerate(entities)}
+        pairs = [(self.index[x], self.index[y]) for x in entities for y in faces_of.get(x, ()) if y in self.index]
+        self.a, self.b = (np.array(z, np.int64) for z in (zip(*pairs) if pairs else ((), ())))
+        where = carrier[np.array([row_of[x[1]] for x in entities], np.int64)]
+        self.free, self.fixed = tab.face_free[where], tab.face_fixed[where]
+
+    def in_face(self, free, fixed):
+        """Each entity's piece label among those in the closed face (free, fixed) (others: their own)."""
+        inside = ((self.free & ~free) == 0) & ((self.fixed & ~free) == fixed)
+        keep = inside[self.a] & inside[self.b] if len(self.a) else np.zeros(0, bool)
+        return piece_labels(len(inside), self.a, self.b, keep)
 
 
 def _face_free_fixed(tab, f) -> tuple[int, int]:

@@ -254,3 +254,29 @@ def chains_above(kchains, n, k, most):
                     if at < lower.shape[0] and lower[at] == f:
                         facets[s, j] = start[d - 1] + at
     return start, corners, c0, code, facets, cube_facets
+
+
+@nb.njit(**JIT)
+def piece_labels(n_nodes, a, b, keep):
+    """Connected pieces of the graph on nodes 0..n_nodes-1 with the edges (a[i], b[i]) where keep[i]:
+    each node's label is the smallest node of its piece (union-find; `_balls.refine_cube` splits a
+    face's CMS cells into M_A's pieces with it)."""
+    parent = np.arange(n_nodes)
+    for i in range(a.shape[0]):
+        if not keep[i]:
+            continue
+        x = a[i]
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        y = b[i]
+        while parent[y] != y:
+            parent[y] = parent[parent[y]]
+            y = parent[y]
+        if x < y:
+            parent[y] = x
+        elif y < x:
+            parent[x] = y
+    for x in range(n_nodes):  # (roots are their pieces' smallest nodes: a parent is never larger)
+        parent[x] = parent[parent[x]]
+    return parent

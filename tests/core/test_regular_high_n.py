@@ -78,9 +78,8 @@ def random_system(n, k, seed):
 def check_regular(cx, n, div):
     bounds = [(-1.0, 1.0)] * n
     # a cell GCMH reports as still not a ball (meta["non_ball_left"], solids with the check off) is
-    # told to the user; its boundary is not checked here, its faces are (so for n >= 8, where no check
-    # finds such cells: meta["topology_unchecked"])
-    spheres = cx.meta["non_ball_left"] == 0 and "topology_unchecked" not in cx.meta
+    # told to the user; its boundary is not checked here, its faces are
+    spheres = cx.meta["non_ball_left"] == 0 and cx.meta["cells_checked"]
     assert not spheres or structure_problems(cx, bounds, div) == []
     # the extraction cones the whole-ball lenses itself: nothing is left to do
     assert regularity_problems(cx) == [] and whole_ball_lenses(cx) == 0
@@ -137,16 +136,35 @@ def test_random_systems_n6_to_n8_give_regular_cells(shape, seed, check_cells, gr
     check_regular(extract(texts, [(-1, 1)] * n, div, check_cells=check_cells, seed=grid_seed, force=True), n, div)
 
 
-@pytest.mark.parametrize("n,k,seeds", [(8, 5, [0, 1, 2, 3]), (8, 6, [0, 1, 2, 3]), (8, 4, [0, 1, 3, 5])])
+@pytest.mark.parametrize("n,k,seeds", [(8, 5, [0, 1, 2, 3]), (8, 6, [0, 1, 2, 3]), (8, 4, [0, 1, 3, 5]),
+                                        (8, 3, [2]), (9, 7, [2])])
 def test_random_systems_in_R8_give_regular_cells(n, k, seeds):
-    """n = 8 has no Kuhn tables to refine a cube: a piece of M_A may come out a 3-cell of three faces
-    ((8, 5), seed 2 did), a 4-cell of two or three, or two 3-cells with the same faces ((8, 4), seeds
-    0, 3, 5); the assembly cones them, at every dimension.  Surfaces and solids in R^8, regular."""
+    """A piece of M_A may come out a 3-cell of three faces ((8, 5), seed 2 did), a 4-cell of two or three,
+    or two 3-cells with the same faces ((8, 4), seeds 0, 3, 5); the assembly cones them, at every
+    dimension.  By default the boundaries of the cells are checked (`_balls.cubes_with_bad_boundaries`)
+    and a cube with one that is not a sphere is refined: regular cells bounded by spheres."""
     for seed in seeds:
         cx = extract(random_system(n, k, seed), [(-1, 1)] * n, 2, seed=seed, force=True)
-        assert regularity_problems(cx) == [], seed
-        if k == 4:  # (these draws' cells are balls: their boundaries are spheres)
-            assert structure_problems(cx, [(-1, 1)] * n, 2) == [], seed
+        assert cx.meta["cells_checked"] and cx.meta["non_ball_left"] == 0, seed
+        assert regularity_problems(cx) == [] and structure_problems(cx, [(-1, 1)] * n, 2) == [], seed
+
+
+def test_a_solid_torus_in_R8_is_refined():
+    """(8, 5), seed 2: GCMH made a 3-cell that is a solid torus (its boundary a torus: chi 0 where a
+    sphere has 2; chi -1 in all), which no check found for n >= 8.  The boundary check finds its cube,
+    which the cube's own Kuhn table refines (`kernels.kuhn_cube`): every boundary a sphere, and chi and
+    the pieces those of the Euler check on every cube (CMS's count, check_cells=True)."""
+    texts, box = random_system(8, 5, 2), [(-1, 1)] * 8
+    unchecked = extract(texts, box, 2, seed=2, force=True, check_cells=False)
+    assert structure_problems(unchecked, box, 2) != []
+    cx = extract(texts, box, 2, seed=2, force=True)
+    assert cx.meta["non_ball_cells"] > 0 and cx.meta["non_ball_left"] == 0
+    assert regularity_problems(cx) == [] and structure_problems(cx, box, 2) == []
+    assert "only the boundaries" in cx.meta["topology_unchecked"]
+    every = extract(texts, box, 2, seed=2, force=True, check_cells=True)
+    assert "topology_unchecked" not in every.meta and structure_problems(every, box, 2) == []
+    assert (cx.euler_characteristic(), cx.connected_components()) == (
+        every.euler_characteristic(), every.connected_components())
 
 
 def test_lenses_of_lenses_keep_every_boundary_a_sphere():
