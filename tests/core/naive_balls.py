@@ -48,3 +48,22 @@ def naive_cube_chains(n, k, values, o, corner_row):
         out[d] = sorted(naive_chain_id(n, chain.tolist()) for chain in _strict_chains(n, d)[0]
                         if any(c <= set(chain.tolist()) for c in crossed))
     return out
+
+
+def naive_piece_labels(n_nodes, a, b, keep):
+    """`kernels.kuhn_cube.piece_labels` by search: each node's label is the smallest node it reaches
+    over the kept edges."""
+    nbrs: dict = {x: set() for x in range(n_nodes)}
+    for x, y, k in zip(a.tolist(), b.tolist(), keep.tolist()):
+        if k:
+            nbrs[x].add(y)
+            nbrs[y].add(x)
+    out = np.empty(n_nodes, np.int64)
+    for x in range(n_nodes):
+        seen, todo = {x}, [x]
+        while todo:
+            for y in nbrs[todo.pop()] - seen:
+                seen.add(y)
+                todo.append(y)
+        out[x] = min(seen)
+    return out
