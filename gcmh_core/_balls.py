@@ -406,7 +406,8 @@ def _popcount(x, n):
     return out
 
 
-def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, corner_off, neighbours_checked=False):
+def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, corner_off, neighbours_checked=False,
+                bulges=None):
     """Records that replace every GCMH cell of one cube by the CMS cells it is made of.
 
     Where a piece of M_A in the cube is not a ball and can't be cut (solids, n - k >= 3: a
@@ -419,7 +420,9 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
     the cube's faces.
 
     The arguments are `cubes_chunk`'s for this one cube (arrays of length 1); neighbours_checked:
-    whether every cube's Euler characteristic is checked (`runner.Grid.check_cells`).  Returns
+    whether every cube's Euler characteristic is checked (`runner.Grid.check_cells`), or the caller
+    refines the cubes across the faces listed in `bulges` (a list: the faces (free, fixed) where M_A has
+    cells no GCMH cell of the cube holds are appended to it) as well.  Returns
     records (vk, vp, e, c, inc) to add, or None when the cube can't be refined (its own Kuhn table
     too large, n >= 8: `kuhn_cube.MOST_ROWS`; a degenerate crossing; keys out of range; M_A on a
     face where GCMH has no cell and the neighbours are not checked).
@@ -503,8 +506,11 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
     # that no GCMH cell holds: the neighbour across has them only if it is refined too, which its
     # own Euler check sees; without that check the cube stays as it was.
     covered = {x for _, _, mine in assigned for x in mine}
-    if not neighbours_checked and any(x not in covered for f, xs in top_in_face.items() if face_dim[f] < n
-                                      for x in xs):
+    bulging = [_face_free_fixed(tab, f) for f, xs in sorted(top_in_face.items())
+               if face_dim[f] < n and any(x not in covered for x in xs)]
+    if bulges is not None:
+        bulges.extend(bulging)
+    if bulging and not neighbours_checked:
         return None
     replace = [(-r, key, x[1]) for r, key, mine in assigned for x in mine]
     # the records: CMS's, keyed as refined cells; its vertices on the cube's k-faces are GCMH's

@@ -396,12 +396,58 @@ def split_non_ball_cells(grid: Grid, records: tuple, cubes: np.ndarray, common: 
             e = np.concatenate([e, new_edges])
             inc = np.concatenate([inc[keep], new_inc])
         else:  # solids, or a surface's piece that can't be cut: the cube's cells become CMS's
-            refined = _balls.refine_cube(*cube, neighbours_checked=grid.euler_checked)
+            if grid.euler_checked:
+                refined = _balls.refine_cube(*cube, neighbours_checked=True)
+                refined = None if refined is None else [refined]
+            else:  # (n >= 8 by default: no neighbour is checked, those M_A bulges into are refined too)
+                refined = _refine_with_neighbours(grid, i, common)
             if refined is None:
                 continue
-            vk, vp, e, c, inc = (np.concatenate([a, b]) for a, b in zip((vk, vp, e, c, inc), refined))
+            for more in refined:
+                vk, vp, e, c, inc = (np.concatenate([a, b]) for a, b in zip((vk, vp, e, c, inc), more))
         grid.stats["non_ball_split"] = grid.stats.get("non_ball_split", 0) + pieces
     return vk, vp, e, c, inc
+
+
+# Cubes refined together at most where no neighbour is checked (`_refine_with_neighbours`)
+_REFINED_TOGETHER = 16
+
+
+def _refine_with_neighbours(grid: Grid, i: int, common: tuple) -> list | None:
+    """The records of cube i of a kernel run refined (`_balls.refine_cube`), with every cube of the run
+    across a face where M_A has cells none of the cube's GCMH cells holds (a piece bulging through it:
+    its neighbours have no cell there either), and theirs in turn; None where one of them is not in the
+    run, can't be refined, or more than _REFINED_TOGETHER would be."""
+    values, cube_lin, origin, cube_key, axes_arr, value_off, corner_off, tab = common
+    at = {tuple(o): j for j, o in enumerate(origin.tolist())}
+    order, out = [i], []
+    while len(out) < len(order):
+        j = order[len(out)]
+        one = slice(j, j + 1)
+        bulges: list = []
+        refined = _balls.refine_cube(tab, values, cube_lin[one], origin[one], cube_key[one], axes_arr, value_off,
+                                     corner_off, neighbours_checked=True, bulges=bulges)
+        if refined is None:
+            return None
+        out.append(refined)
+        for free, fixed in bulges:
+            # the other cubes holding the face: origin moved by -1 or +1 on some of its fixed axes
+            fixed_axes = [a for a in range(grid.n) if not (free >> a) & 1]
+            for moved in itertools.product((0, 1), repeat=len(fixed_axes)):
+                if not any(moved):
+                    continue
+                o = origin[j].copy()
+                for a, m in zip(fixed_axes, moved):
+                    o[a] += (1 if (fixed >> a) & 1 else -1) * m
+                if (o < 0).any() or (o >= grid.dims - 1).any():
+                    continue  # (the face is on the box's boundary there)
+                if tuple(o.tolist()) not in at:
+                    return None
+                if at[tuple(o.tolist())] not in order:
+                    order.append(at[tuple(o.tolist())])
+                    if len(order) > _REFINED_TOGETHER:
+                        return None
+    return out
 
 
 def block_values(axes, system, sampled, lo, hi) -> np.ndarray:
