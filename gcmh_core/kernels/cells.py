@@ -4,7 +4,7 @@ import numba as nb
 import numpy as np
 
 from .._config import INLINE_JIT, JIT
-from .records import CELL_COLS, INC_COLS, _grown, _records_upto
+from .records import CELL_COLS, INC_COLS, _grown_rows
 from .solve import _simplex_crosses_call, _zero_side
 
 
@@ -99,6 +99,12 @@ def _joined_pieces(values, o, corner_row, corner_signs, all_signs, kuhn, ksimple
                 joined += 1
                 break
     return joined
+
+
+@nb.njit(**INLINE_JIT)
+def tables_faces(tables):
+    """The faces' arrays of `tables.CubeTables`, as `cells_phase` takes them."""
+    return tables.face_start, tables.face_free, tables.face_fixed, tables.face_rank, tables.n_subsets, tables.n_codes
 
 
 @nb.njit(**JIT)
@@ -302,40 +308,33 @@ def _signs(values, o, corner_row, k, corner_signs):
         corner_signs[c] = p
 
 
-def cells_of_chunk(lo, hi, values, cube_row, corner_row, cube_vertex, corner_vertex, tables, chunk, used_v, used_e,
-                   rows, level_rows, vertex_rows):
-    """The cells of cubes lo..hi-1 (`cells_phase`), once both kernels' first phases have put their
-    vertices and edges in `chunk` (`records.new_chunk`'s arrays, used_v and used_e rows of them),
-    and the chunk's records.  The rows grow until every cube fits: first `rows` cell and incidence
-    rows, `level_rows` pieces of a level, `vertex_rows` vertices a cube.  Python, as the kernels'
-    drivers are (`gcmh._cubes_chunk_tables`): a compiled driver compiles its phases again.
-    Returns ((vertex keys, vertex points, edges, cells, incidences) records, each cube's crossed
-    facets, degenerate events, rows (cube - lo, face, pieces joined))."""
-    (cube_v0, cube_e0, crossed_facets, vertex_key, vertex_point, vertex_face, vertex_perm, vertex_ksimplex, edge_a,
-     edge_b, edge_face, edge_out) = chunk
-    faces = (tables.face_start, tables.face_free, tables.face_fixed, tables.face_rank, tables.n_subsets,
-             tables.n_codes)
+@nb.njit(**INLINE_JIT)
+def cells_of_chunk(lo, hi, values, cube_row, corner_row, cube_vertex, corner_vertex, faces, binom, kuhn, ksimplex_kuhn,
+                   cube_v0, cube_e0, crossed_facets, vertex_key, vertex_face, vertex_perm, vertex_ksimplex, edge_a,
+                   edge_b, edge_face, edge_out, rows, level_rows, vertex_rows):
+    """`cells_phase` on the cubes lo..hi-1 of a chunk, its rows grown until every cube fits: first
+    `rows` cell and incidence rows, `level_rows` pieces of a level, `vertex_rows` vertices a cube.
+    Returns (cell records, incidence records, their rows, rows (cube - lo, face, pieces joined),
+    degenerate events)."""
     c_out = np.empty((rows, CELL_COLS), np.int64)
     i_out = np.empty((rows, INC_COLS), np.int64)
     non_ball = np.empty((4, 3), np.int64)
-    used = (0, 0, 0)  # rows of c_out, i_out, non_ball
+    used_c = used_i = n_non_ball = np.int64(0)
     degenerate = 0
     start = lo
     while True:
-        start, *used, events = cells_phase(
-            start, hi, lo, values, cube_row, corner_row, cube_vertex, corner_vertex, faces, tables.binom, tables.kuhn,
-            tables.ksimplex_kuhn, cube_v0, cube_e0, crossed_facets, vertex_key, vertex_face, vertex_perm,
-            vertex_ksimplex, edge_a, edge_b, edge_face, edge_out, c_out, i_out, non_ball,
-            np.empty((2, level_rows, 3), np.int64), np.empty((2, vertex_rows), np.int64), tuple(used),
+        start, used_c, used_i, n_non_ball, events = cells_phase(
+            start, hi, lo, values, cube_row, corner_row, cube_vertex, corner_vertex, faces, binom, kuhn, ksimplex_kuhn,
+            cube_v0, cube_e0, crossed_facets, vertex_key, vertex_face, vertex_perm, vertex_ksimplex, edge_a, edge_b,
+            edge_face, edge_out, c_out, i_out, non_ball, np.empty((2, level_rows, 3), np.int64),
+            np.empty((2, vertex_rows), np.int64), (used_c, used_i, n_non_ball),
         )
         degenerate += events
         if start == hi:
-            break
+            return c_out, i_out, used_c, used_i, non_ball[:n_non_ball].copy(), degenerate
         # a cube did not fit (it is done again): everything twice as large
-        c_out = _grown(c_out, used[0])
-        i_out = _grown(i_out, used[1])
-        non_ball = _grown(non_ball, used[2])
+        c_out = _grown_rows(c_out, used_c)
+        i_out = _grown_rows(i_out, used_i)
+        non_ball = _grown_rows(non_ball, n_non_ball)
         level_rows = 2 * level_rows + 1
         vertex_rows = 2 * vertex_rows + 1
-    records = _records_upto.py_func(vertex_key, vertex_point, edge_out, c_out, i_out, used_v, used_e, used[0], used[1])
-    return records, crossed_facets, degenerate, non_ball[:used[2]].copy()

@@ -4,9 +4,9 @@ import numba as nb
 import numpy as np
 
 from .._config import JIT
-from .cells import _face_key, cells_of_chunk
+from .cells import _face_key, cells_of_chunk, tables_faces
 from .lazy import cubes_chunk_lazy
-from .records import grown_chunk, new_chunk
+from .records import _records_upto, grown_chunk, new_chunk
 from .solve import _simplex_crosses_call, _zero_side, simplex_crosses
 from .walk import _link, _walk_edges
 
@@ -244,15 +244,11 @@ def _vertices_edges(start, hi, lo, values, cube_row, cube_origin, cube_vertex, g
     return stop, used_v, used_e, degenerate
 
 
-# The driver is Python, not a numba function: a compiled driver links its phases' code into its own
-# and numba optimises and compiles all of it again (a cold first run 5-6 s of CPU longer, 21,000
-# lines of LLVM IR).  Its Python costs some µs a chunk (the arguments' types, as the compiled
-# driver's call paid them too).
-def _cubes_chunk_tables(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex,
-                        tables):
-    """GCMH on the candidate cubes lo..hi-1 with the tables' Kuhn simplices, in the calling thread, in
-    phases over the chunk: vertices and edges (`_vertices_edges`, again from the first cube that did
-    not fit once the chunk's arrays have grown), then cells (`cells.cells_of_chunk`).
+@nb.njit(**JIT)
+def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex, tables):
+    """GCMH on the candidate cubes lo..hi-1, in the calling thread, in phases over the chunk:
+    vertices and edges (`_vertices_edges`, again from the first cube that did not fit once the
+    chunk's arrays have grown), then cells (`cells.cells_of_chunk`).
 
     values (NV, k) float64: F at grid vertices; corner c of cube i is row cube_row[i] + corner_row[c].
     cube_origin (m, n): the global multi-index of each cube's origin; cube_vertex (m,): its global
@@ -265,16 +261,15 @@ def _cubes_chunk_tables(lo, hi, values, cube_row, cube_origin, cube_vertex, grid
     """
     # a cube has at most one vertex per k-simplex and one edge per two boundary nodes of a (k+1)-face's walk
     per_cube_v = tables.ksimplex_corners.shape[0]
-    per_cube_e = int(tables.face_start[tables.k + 2] - tables.face_start[tables.k + 1]) * (
-        tables.walk_boundary_nodes // 2)
+    per_cube_e = (tables.face_start[tables.k + 2] - tables.face_start[tables.k + 1]) * (tables.walk_boundary_nodes // 2)
     rows = 8 * (hi - lo) + 16
-    # rows for 8 a cube on average, and one cube's worst case beyond: a phase stops where the next
-    # cube's worst case might not fit (with max(rows, worst case), at most every second cube of a
+    # rows for 8 a cube on average, and one cube's worst case beyond: the phase stops where the next
+    # cube's worst case might not fit (with max(rows, worst case), every second cube of a
     # continuation's small wave in R^5 did: 650 restarts in 1,820 waves of the Klein bottle)
-    chunk = new_chunk.py_func(hi - lo, rows + per_cube_v, rows + per_cube_e, tables.n)
-    (cube_v0, cube_e0, _, vertex_key, vertex_point, vertex_face, vertex_perm, vertex_ksimplex, edge_a, edge_b,
-     edge_face, edge_out) = chunk
-    used_v = used_e = degenerate = 0
+    (cube_v0, cube_e0, crossed_facets, vertex_key, vertex_point, vertex_face, vertex_perm, vertex_ksimplex, edge_a,
+     edge_b, edge_face, edge_out) = new_chunk(hi - lo, rows + per_cube_v, rows + per_cube_e, tables.n)
+    used_v = used_e = np.int64(0)
+    degenerate = 0
     start = lo
     while True:
         start, used_v, used_e, events = _vertices_edges(
@@ -286,19 +281,25 @@ def _cubes_chunk_tables(lo, hi, values, cube_row, cube_origin, cube_vertex, grid
         if start == hi:
             break
         (vertex_key, vertex_point, vertex_face, vertex_perm, vertex_ksimplex, edge_a, edge_b, edge_face,
-         edge_out) = grown_chunk(vertex_key, vertex_point, vertex_face, vertex_perm, vertex_ksimplex, edge_a,
-                                 edge_b, edge_face, edge_out, used_v, used_e)
-    chunk = (cube_v0, cube_e0, chunk[2], vertex_key, vertex_point, vertex_face, vertex_perm, vertex_ksimplex, edge_a,
-             edge_b, edge_face, edge_out)
-    records, crossed_facets, events, non_ball = cells_of_chunk(
-        lo, hi, values, cube_row, corner_row, cube_vertex, corner_vertex, tables, chunk, used_v, used_e, rows,
+         edge_out) = grown_chunk(vertex_key, vertex_point, vertex_face, vertex_perm, vertex_ksimplex, edge_a, edge_b,
+                                 edge_face, edge_out, used_v, used_e)
+    c_out, i_out, used_c, used_i, non_ball, events = cells_of_chunk(
+        lo, hi, values, cube_row, corner_row, cube_vertex, corner_vertex, tables_faces(tables), tables.binom,
+        tables.kuhn, tables.ksimplex_kuhn, cube_v0, cube_e0, crossed_facets,
+        vertex_key, vertex_face, vertex_perm, vertex_ksimplex, edge_a, edge_b, edge_face, edge_out, rows,
         max(4 * per_cube_v, per_cube_e), per_cube_v,
     )
+    records = _records_upto(vertex_key, vertex_point, edge_out, c_out, i_out, used_v, used_e, used_c, used_i)
     return records, crossed_facets, degenerate + events, non_ball
 
 
-# The runner calls `cubes_chunk`; this picks the kernel by the tables it gets.
-def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex, tables):
+_cubes_chunk_tables = cubes_chunk
+
+
+# The runner calls `cubes_chunk`; the numba kernel above keeps that name (compile notices and
+# tests/core/test_first_run.py know it by it), and this picks the kernel by the tables it gets.
+def cubes_chunk(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex,  # type: ignore[no-redef]
+                tables):
     """GCMH on candidate cubes lo..hi-1: the tables' kernel (`_cubes_chunk_tables`), or
     `cubes_chunk_lazy` where the tables hold no Kuhn simplices (`_tables.lazy_tables`)."""
     kernel = cubes_chunk_lazy if tables.ksimplex_corners.shape[0] == 0 else _cubes_chunk_tables

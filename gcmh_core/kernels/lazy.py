@@ -4,8 +4,8 @@ import numba as nb
 import numpy as np
 
 from .._config import JIT
-from .cells import _face_in_face, _face_key, cells_of_chunk
-from .records import EDGE_COLS, _grown_keys, _grown_rows, new_chunk
+from .cells import _face_in_face, _face_key, cells_of_chunk, tables_faces
+from .records import EDGE_COLS, _grown_keys, _grown_rows, _records_upto, new_chunk
 from .solve import _simplex_crosses_call, _zero_side, crossable_face
 from .walk import _link, _walk_edges
 
@@ -301,19 +301,23 @@ def _node_index(slot_key, slot_node, node):
     return slot_node[i] if slot_key[i] == node else -1
 
 
+@nb.njit(**JIT)
 def cubes_chunk_lazy(lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex,
                      tables):
     """`cubes_chunk` for tables that hold faces only (`_tables.lazy_tables`) (no k-simplices, no walk
     template): the same records, bit for bit, by the same phases: vertices and edges
-    (`_vertices_edges_lazy`), then the cells (`cells.cells_of_chunk`).  Python, as
-    `gcmh._cubes_chunk_tables` is.
+    (`_vertices_edges_lazy`), then the cells (`cells.cells_phase`).
     (No check of joined pieces: `cubes_chunk` has none for n > 7 either.)"""
-    *chunk, used_v, used_e, degenerate = _vertices_edges_lazy(
+    (cube_v0, cube_e0, crossed_facets, vertex_key, vertex_point, vertex_face, vertex_perm, no_ksimplex, edge_a, edge_b,
+     edge_face, edge_out, used_v, used_e, degenerate) = _vertices_edges_lazy(
         lo, hi, values, cube_row, cube_origin, cube_vertex, grid_lines, corner_row, corner_vertex, tables)
-    records, crossed_facets, events, non_ball = cells_of_chunk(
-        lo, hi, values, cube_row, corner_row, cube_vertex, corner_vertex, tables, chunk, used_v, used_e,
-        8 * (hi - lo) + 16, 64, 16,
+    c_out, i_out, used_c, used_i, non_ball, events = cells_of_chunk(
+        lo, hi, values, cube_row, corner_row, cube_vertex, corner_vertex, tables_faces(tables), tables.binom,
+        tables.kuhn, tables.ksimplex_kuhn, cube_v0, cube_e0, crossed_facets,
+        vertex_key, vertex_face, vertex_perm, no_ksimplex, edge_a, edge_b, edge_face, edge_out, 8 * (hi - lo) + 16,
+        64, 16,
     )
+    records = _records_upto(vertex_key, vertex_point, edge_out, c_out, i_out, used_v, used_e, used_c, used_i)
     return records, crossed_facets, degenerate + events, non_ball
 
 

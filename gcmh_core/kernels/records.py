@@ -76,18 +76,13 @@ def new_chunk(cubes, vertex_rows, edge_rows, n):
     )
 
 
-def _grown(a, used):
-    """a's first `used` rows in an array with twice the rows (numpy: the drivers are Python)."""
-    b = np.empty((2 * a.shape[0] + 1,) + a.shape[1:], a.dtype)
-    b[:used] = a[:used]
-    return b
-
-
+@nb.njit(**INLINE_JIT)
 def grown_chunk(vertex_key, vertex_point, vertex_face, vertex_perm, vertex_ksimplex, edge_a, edge_b, edge_face,
                 edge_out, used_v, used_e):
     """The chunk's vertex and edge arrays with room for twice the rows, the first used_v and used_e kept."""
     return (
-        _grown(vertex_key, used_v), _grown(vertex_point, used_v), _grown(vertex_face, used_v),
-        _grown(vertex_perm, used_v), _grown(vertex_ksimplex, used_v),
-        _grown(edge_a, used_e), _grown(edge_b, used_e), _grown(edge_face, used_e), _grown(edge_out, used_e),
+        _grown_keys(vertex_key, used_v), _grown_rows(vertex_point, used_v), _grown_keys(vertex_face, used_v),
+        _grown_keys(vertex_perm, used_v), _grown_keys(vertex_ksimplex, used_v),
+        _grown_keys(edge_a, used_e), _grown_keys(edge_b, used_e), _grown_keys(edge_face, used_e),
+        _grown_rows(edge_out, used_e),
     )
