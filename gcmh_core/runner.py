@@ -396,11 +396,12 @@ def split_non_ball_cells(grid: Grid, records: tuple, cubes: np.ndarray, common: 
             e = np.concatenate([e, new_edges])
             inc = np.concatenate([inc[keep], new_inc])
         else:  # solids, or a surface's piece that can't be cut: the cube's cells become CMS's
-            if grid.euler_checked:
-                refined = _balls.refine_cube(*cube, neighbours_checked=True)
-                refined = None if refined is None else [refined]
-            else:  # (n >= 8 by default: no neighbour is checked, those M_A bulges into are refined too)
+            if grid.check_cells and not grid.euler_checked:
+                # (n >= 8 by default: no neighbour is checked, those M_A bulges into are refined too)
                 refined = _refine_with_neighbours(grid, i, common)
+            else:
+                refined = _balls.refine_cube(*cube, neighbours_checked=grid.euler_checked)
+                refined = None if refined is None else [refined]
             if refined is None:
                 continue
             for more in refined:
