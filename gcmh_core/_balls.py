@@ -898,7 +898,7 @@ def cubes_with_bad_boundaries(tab, records, origin, strides, dims) -> np.ndarray
     bad_cube = np.zeros(m, bool)
     if m == 0 or len(c) == 0:
         return bad_cube
-    free_of_rank = _face_maps(n, k)[0]
+    free_of_rank = _free_of_rank(n, k)
     # only the cells whose face's anchor lies in a checked cube
     near = np.unique(((origin @ strides)[:, None] + _corner_offsets(n, strides)[None]).ravel())
     ends = {int(x): (int(a), int(b)) for x, a, b in e.tolist()}
@@ -1049,13 +1049,22 @@ def _face_maps(n, k):
     `CubeTables` row of that face (-1: none); Kuhn simplex row -> the row of the face whose relative
     interior holds it (`_carriers`; n >= 8: empty, each cube has its own table)."""
     tab = cube_tables(n, k)
+    free_of_rank = _free_of_rank(n, k)
+    face_row = -np.ones((1 << n, 1 << n), np.int64)
+    face_row[tab.face_free, tab.face_fixed] = np.arange(len(tab.face_free))
+    return free_of_rank, face_row, _carriers(tab.kuhn, face_row)
+
+
+@lru_cache(maxsize=16)
+def _free_of_rank(n, k):
+    """[dim, rank] -> free axes (bits) of the faces of that dimension and rank (`_face_maps`' first map,
+    without its 4^n face rows: n = 12 runs check cells' boundaries too)."""
+    tab = cube_tables(n, k)
     free_of_rank = np.zeros((n + 1, int(tab.n_subsets.max())), np.int64)
     for dim in range(k, n + 1):
         faces = slice(tab.face_start[dim], tab.face_start[dim + 1])
         free_of_rank[dim, tab.face_rank[faces]] = tab.face_free[faces]
-    face_row = -np.ones((1 << n, 1 << n), np.int64)
-    face_row[tab.face_free, tab.face_fixed] = np.arange(len(tab.face_free))
-    return free_of_rank, face_row, _carriers(tab.kuhn, face_row)
+    return free_of_rank
 
 
 def _carriers(kuhn, face_row):

@@ -91,3 +91,26 @@ def test_piece_labels_are_the_smallest_node_reached(seed):
     a, b = rng.integers(0, n_nodes, m), rng.integers(0, n_nodes, m)
     keep = rng.random(m) < 0.7
     assert (piece_labels(n_nodes, a, b, keep) == naive_piece_labels(n_nodes, a, b, keep)).all()
+
+
+@pytest.mark.parametrize("n,k,seed", [(5, 3, 0), (8, 5, 1), (8, 6, 0)])
+def test_gcmh_vertices_are_the_crossed_kuhn_simplices_on_k_faces(n, k, seed):
+    """`_balls._gcmh_vertex_keys` on a cube's own table (n = 8, also where the cube tables are lazy,
+    k = 6) or the whole one (n = 5) keys each crossed k-simplex on a k-face as GCMH's kernel keys its
+    vertex there: refined cells keep GCMH's vertices."""
+    from gcmh_core._balls import _gcmh_vertex_keys, _simplex_keys
+    from gcmh_core.kernels.gcmh import cubes_chunk
+
+    values, corner_row = cube_values(n, k, seed)
+    tab = cube_tables(n, k)
+    strides = np.int64(1) << np.arange(n - 1, -1, -1)
+    corner_off = ((corner_row[:, None] >> np.arange(n)) & 1) @ strides
+    args = (values, np.zeros(1, np.int64), np.zeros((1, n), np.int64), np.array([0], np.int64),
+            np.tile([0.0, 1.0], (n, 1)), corner_row, corner_off)
+    (g_vk, *_), _, _, _ = cubes_chunk(0, 1, *args, tab)
+    own = _CubeKuhn.of(tab, values, 0, corner_row)
+    (c_vk, *_), _, _, _ = simplices_chunk(0, 1, *args, own.kuhn)
+    keys = _gcmh_vertex_keys(tab, own.kuhn, 0, corner_off)
+    row_of = {int(x): s for s, x in enumerate(_simplex_keys(own.kuhn, 0, corner_off))}
+    on_kfaces = [keys[row_of[int(v)]] for v in c_vk if row_of[int(v)] in keys]
+    assert len(g_vk) > 0 and sorted(on_kfaces) == sorted(g_vk.tolist())
