@@ -591,8 +591,9 @@ def _warnings(meta: dict) -> str:
     left = int(meta.get("non_ball_left", meta.get("non_ball_cells", 0)) or 0)
     if left:
         out += f" \u00b7 warning: {left} cells are not balls (try method cms or another div)"
-    if meta.get("topology_unchecked"):  # (n >= 8: no cell check exists; or the check was turned off)
-        out += f" \u00b7 warning: topology unchecked ({meta['topology_unchecked']})"
+    # (n >= 8: only the cells' boundaries are checked by default; or the check was turned off)
+    if meta.get("topology_unchecked"):
+        out += f" \u00b7 warning: topology not fully checked ({meta['topology_unchecked']})"
     degenerate = int(meta.get("degenerate", 0) or 0)
     if degenerate:
         out += f" \u00b7 warning: {degenerate} degenerate events (try another seed)"

@@ -841,7 +841,7 @@ def _human(s: dict, job: dict) -> str:
         lines.append(f"  note: at {s['non_ball_split']} places a piece of M inside a cube was not a ball; GCMH's cells "
                      f"there were {how}, so the topology is right")
     if s["topology_unchecked"]:
-        lines.append(f"  warning: the topology is unchecked: {s['topology_unchecked']}")
+        lines.append(f"  warning: the topology is not fully checked: {s['topology_unchecked']}")
     if s["singular_vertices"]:
         lines.append(f"  notice: F's Jacobian nearly loses rank at {s['singular_vertices']} vertices: "
                      "M is singular there, the parameters are at or near a critical value")

@@ -110,13 +110,16 @@ def extract(
         paper's Klein bottle is closed (chi 0, non-orientable) instead of cut open.
     check_cells : check the cubes' cells against CMS's Euler characteristic face by face and
         refine the cubes where a cell is not a ball (`_balls`) or a small closed curve hides in
-        a cube, for n = 3..7 (not surfaces in R^3, the marching pass).  None (default): the cubes where a cell can be wrong, those whose values do not
-        certify M_A a graph over a face (`runner.graph_certified`; formulas and sampled data
-        alike): on smooth inputs few cubes, on noise most; True: every cube (2 to 3 times the
-        run for surfaces, 7 to 11 at n = 6); False: none, only the pieces of G_H that M_A joins
-        are found.  meta["cells_checked"] says whether the check ran, meta["checked_cubes"] on
-        how many cubes, and meta["topology_unchecked"] why a run's topology is not checked (n >= 8,
-        where no check exists, or check_cells=False).
+        a cube, for n = 3..7 (not surfaces in R^3, the marching pass).  None (default): the
+        cubes where a cell can be wrong, those whose values do not certify M_A a graph over a
+        face (`runner.graph_certified`; formulas and sampled data alike): on smooth inputs few
+        cubes, on noise most; True: every cube (2 to 3 times the run for surfaces, 7 to 11 at
+        n = 6); False: none, only the pieces of G_H that M_A joins are found.  For n >= 8 the
+        default checks that each such cube's cells are bounded by spheres (and refines a cube
+        where one is not); True compares every cube with CMS's count there too.
+        meta["cells_checked"] says whether a check ran, meta["checked_cubes"] on how many cubes,
+        and meta["topology_unchecked"] what a run's check leaves unchecked and why (n >= 8 by
+        default, or check_cells=False).
     force : run even when `budget.estimate_run` says the run needs more memory than is
         available or more than the time limit; by default that raises `budget.TooLargeError`
         (an InputError naming the estimate) before any work.

@@ -356,8 +356,9 @@ def cells_checked(n: int, k: int, simplicial: bool, check_request: bool | None) 
 def unchecked_reason(n: int, k: int, simplicial: bool, check_request: bool | None) -> str | None:
     """Why GCMH's cells were not (or only partly) checked against CMS's where they can be wrong (a piece
     of M in a cube that is not a ball gives a wrong chi or count of pieces), or None: they were, or
-    can't be wrong (curves; the simplicial baselines, whose cells are convex)."""
-    if simplicial or n - k < 2 or n <= 3:
+    can't be wrong (surfaces in R^3, whose marching pass hands a cube it can't cut to the general kernel;
+    curves in the plane; the simplicial baselines, whose cells are convex)."""
+    if simplicial or n - k < 1 or n <= 2 or (n, k) == (3, 1):
         return None
     if check_request is False:
         return "the cell check was turned off (check_cells=False)"

@@ -184,4 +184,4 @@ def test_the_status_says_when_the_topology_is_unchecked():
 
     assert _warnings({}) == ""
     said = _warnings({"topology_unchecked": "no cell check exists in R^10 with k = 8"})
-    assert "topology unchecked (no cell check exists in R^10 with k = 8)" in said
+    assert "topology not fully checked (no cell check exists in R^10 with k = 8)" in said

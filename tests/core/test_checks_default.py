@@ -124,11 +124,11 @@ def test_default_run_on_noise_has_cms_topology(n, k, div):
 
 
 def test_unchecked_topology_says_why():
-    """n >= 8 has no check: meta says plainly that the topology is unchecked, and why; so does a
-    run with the check turned off.  Runs that are checked, or can't be wrong, say nothing."""
+    """n >= 8 checks only the cells' boundaries by default: meta says plainly what is unchecked, and
+    why; so does a run with the check turned off.  Runs that are checked, or can't be wrong, say nothing."""
     eight = extract("+".join(f"x{a}^2" for a in range(1, 9)) + " - 1", [(-1.2, 1.2)] * 8, 2)
-    assert "no cell check exists in R^8" in eight.meta["topology_unchecked"]
-    assert not eight.meta["cells_checked"]
+    assert "only the boundaries of the cells are checked" in eight.meta["topology_unchecked"]
+    assert eight.meta["cells_checked"]
     off = extract(["x1^2 + x2^2 - 0.5", "x3^2 + x4^2 - 0.5"], [(-1, 1)] * 4, 6, check_cells=False)
     assert "turned off" in off.meta["topology_unchecked"]
     for cx in (extract("x1^2 + x2^2 + x3^2 - 1", [(-1.5, 1.5)] * 3, 6),  # R^3: the marching pass

@@ -231,7 +231,7 @@ def test_cli_check_cells(capsys):
     argv = ["extract", "--f", "x1^2+x2^2+x3^2+x4^2-1", "--f", "x5-0.1*x1-0.2*x2", "--f", "x6-0.3*x3+0.1*x4",
             "--n", "6", "--bounds=-1.3:1.3", "--div", "4"]
     assert main(argv) == 0
-    assert "topology is unchecked" not in capsys.readouterr().out
+    assert "topology is not fully checked" not in capsys.readouterr().out
     assert main(argv + ["--check-cells", "--json"]) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["cells_checked"] is True and summary["euler_characteristic"] == 0
