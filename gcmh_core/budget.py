@@ -38,7 +38,6 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import asdict, dataclass, replace
-from functools import lru_cache
 from math import comb, factorial
 
 import numpy as np
@@ -343,32 +342,14 @@ def _candidates(values: np.ndarray, batch: bool = False) -> np.ndarray:
     return signs == code((1 << 2 * k) - 1)
 
 
-@lru_cache(maxsize=8)
-def _face_corners(n: int) -> tuple[np.ndarray, np.ndarray]:
-    """(the n-cube's 3^n faces x 2^n corners: 1 where the corner (C order) is on the face, each face's
-    dimension).  A face is n ternary digits, 2 for a free axis."""
-    digits = (np.arange(3**n)[:, None] // 3 ** np.arange(n - 1, -1, -1)[None]) % 3  # (3^n, n)
-    bits = (np.arange(1 << n)[:, None] >> np.arange(n - 1, -1, -1)[None]) & 1  # (2^n, n)
-    on = ((digits[:, None, :] == 2) | (digits[:, None, :] == bits[None])).all(axis=2)
-    return on.astype(np.float32), (digits == 2).sum(axis=1)
-
-
-def _crossed_faces(values: np.ndarray, cand: np.ndarray, n: int, k: int, product: bool | None = None) -> np.ndarray:
-    """(n + 1,) mean crossed faces of each dimension over (up to 64 of) the candidate cubes.  product: by the
-    faces' incidence matrix (default for n <= 7: 2x faster), else along each axis in turn."""
+def _crossed_faces(values: np.ndarray, cand: np.ndarray, n: int, k: int) -> np.ndarray:
+    """(n + 1,) mean crossed faces of each dimension over (up to 64 of) the candidate cubes."""
     picked = np.flatnonzero(cand.reshape(-1))
     picked = picked[np.linspace(0, len(picked) - 1, min(len(picked), 64)).astype(np.int64)]
     origin = np.stack(np.unravel_index(picked, cand.shape), axis=1)  # (m, n)
     corners = np.array([[c >> (n - 1 - a) & 1 for a in range(n)] for c in range(1 << n)])  # C order
     idx = origin[:, None, :] + corners[None]  # (m, 2^n, n)
     vals = values[tuple(idx[..., a] for a in range(n))]  # (m, 2^n, k)
-    if n <= 7 if product is None else product:  # each face's corners of either sign counted by one product
-        on, dims = _face_corners(n)
-        with np.errstate(invalid="ignore"):
-            signs = np.concatenate([vals >= 0, vals < 0], axis=2).astype(np.float32)  # (m, 2^n, 2k)
-        seen = (on @ signs.transpose(1, 0, 2).reshape(1 << n, -1)).reshape(len(on), len(picked), 2 * k) > 0
-        crossed = (seen[..., :k] & seen[..., k:]).all(axis=2).sum(axis=1)  # (3^n,)
-        return np.bincount(dims, weights=crossed, minlength=n + 1)[: n + 1] / len(picked)
     with np.errstate(invalid="ignore"):
         cp = (vals >= 0).reshape((len(picked),) + (2,) * n + (k,))
         cn = (vals < 0).reshape((len(picked),) + (2,) * n + (k,))

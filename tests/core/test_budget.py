@@ -357,16 +357,3 @@ def test_sampled_data_that_stop_the_marching_pass_are_counted_with_the_general_k
     # rough: more candidate cubes than the strided probe sees, and the general kernel's records
     assert est["rough"].candidate_cubes > 1.3 * est["smooth"].candidate_cubes
     assert est["rough"].record_bytes > 1.3 * est["smooth"].record_bytes / budget._MARCHING_RECORDS
-
-
-@pytest.mark.parametrize("n, k", [(2, 1), (3, 1), (4, 2), (5, 3), (6, 2)])
-def test_crossed_faces_by_the_incidence_product_as_along_the_axes(n, k):
-    """The probe's crossed faces per candidate cube, counted by one product with the faces'
-    incidence matrix, are the counts of the OR along each axis in turn (NaN: neither sign)."""
-    rng = np.random.default_rng(40 + n)
-    values = rng.normal(size=(5,) * n + (k,))
-    values[rng.random(values.shape) < 0.05] = np.nan
-    cand = budget._candidates(values)
-    assert cand.any()
-    assert np.array_equal(budget._crossed_faces(values, cand, n, k, product=True),
-                          budget._crossed_faces(values, cand, n, k, product=False))
