@@ -486,7 +486,7 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
     # faces with a piece of M_A hidden inside (a loop with no GCMH vertex): no GCMH cell's piece
     hidden = own.euler(values, cube_row, value_off)[1][0]
     hidden_faces = [_face_free_fixed(tab, h) for h in np.flatnonzero(hidden)]
-    pieces = None
+    pieces: _Pieces | None = None
     for f, cells in sorted(by_face.items()):
         new = top_in_face.get(f, [])
         free, fixed = _face_free_fixed(tab, f)
@@ -497,8 +497,11 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
                 pieces = _Pieces(entities, faces_of, carrier, row_of, tab)
             label = pieces.in_face(free, fixed)
         for r, key in cells:
-            mine = new if label is None else [x for x in new if label[pieces.index[x]]
-                                              == label[pieces.index[vertex_of[(r, key)]]]]
+            if label is None or pieces is None:
+                mine = new
+            else:
+                index = pieces.index
+                mine = [x for x in new if label[index[x]] == label[index[vertex_of[(r, key)]]]]
             if not mine:
                 return None
             assigned.append((r, key, mine))

@@ -422,7 +422,8 @@ def _refine_with_neighbours(grid: Grid, i: int, common: tuple) -> list | None:
     run, can't be refined, or more than _REFINED_TOGETHER would be."""
     values, cube_lin, origin, cube_key, axes_arr, value_off, corner_off, tab = common
     at = {tuple(o): j for j, o in enumerate(origin.tolist())}
-    order, out = [i], []
+    order: list[int] = [i]
+    out: list[tuple] = []
     while len(out) < len(order):
         j = order[len(out)]
         one = slice(j, j + 1)
