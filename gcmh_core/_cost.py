@@ -67,7 +67,7 @@ def checks_cells(n: int, k: int, simplicial: bool, check_cells: bool | None) -> 
     """Whether a run checks its cells against CMS's Euler characteristic (`runner.Grid.check_cells`):
     GCMH and GCCH for 3 <= n <= 7 (no Kuhn tables beyond n = 7) but surfaces in R^3 (the one-pass
     marching), unless ``check_cells`` is False.  Curves are checked too: a small closed loop of M inside
-    a cube meets none of its k-faces, so GCMH has no vertex on it (noise in R^3 and R^5 lost 1-4 % of its
+    a cube meets none of its k-faces, so GCMH has no vertex on it (noise in R^3 and R^5 lost 1-8 % of its
     pieces that way; the check's pass for pieces hidden in a face finds them).  By default (None) only
     the cubes the interval certificate can't vouch for are compared
     (`kernels.cell_check.graph_certified_chunk`); True compares every candidate cube."""

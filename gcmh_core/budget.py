@@ -70,9 +70,9 @@ __all__ = [
 
 # Vertices of the probe grid (per run: milliseconds of F, a few passes over booleans).
 _PROBE_VERTICES = 600_000  # (9^6: div 8 probed exactly in R^6)
-# A run that fits many times over is decided on a coarser probe first: the full probe was 7 of the
-# complex cosine's 69 ms CPU at div 40 (and the most of a run's time since 00ff70c).  What that probe
-# expects is taken _QUICK_MARGIN times before it is trusted (a feature at the coarse probe's scale is
+# A run that fits many times over is decided on a coarser probe first: the full probe was the most of
+# what a small run had gained since 00ff70c (docs/benchmarks-compare.md).  What that probe expects is
+# taken _QUICK_MARGIN times before it is trusted (a feature at the coarse probe's scale is
 # seen in fewer of its cubes); a run that might not fit that way, or where it sees nothing, is probed
 # in full as before.
 _QUICK_PROBE_VERTICES = 40_000
@@ -514,17 +514,15 @@ def estimate_run(
     probe_bytes = 0
     hands_over = False
     if system is not None or sampled is not None:
-        budgets = (_QUICK_PROBE_VERTICES, _PROBE_VERTICES) if probe is None else (_PROBE_VERTICES,)
-        for budget in budgets:
-            expected, faces, exact, hands_over = _probe(n, k, div_t, bounds, system, sampled, budget)
-            if exact:  # (the probe was the run's grid: a finer one sees the same)
-                break
-            if budget == _PROBE_VERTICES or not expected:
-                continue
-            rough = _cost(n, k, div_t, method, simplicial, continuation, scheduler, sampled,
-                          min(float(cubes), _QUICK_MARGIN * expected), faces, pruned, checked, glued, hands_over)
-            if _fits_easily(rough):
-                break
+        quick = _probe(n, k, div_t, bounds, system, sampled, _QUICK_PROBE_VERTICES) if probe is None else None
+        # (an exact probe was the run's grid: a finer one sees the same)
+        if quick is not None and (quick[2] or (quick[0] and _fits_easily(_cost(
+                n, k, div_t, method, simplicial, continuation, scheduler, sampled,
+                min(float(cubes), _QUICK_MARGIN * quick[0]), quick[1], pruned, checked, glued, quick[3])))):
+            budget, (expected, faces, _, hands_over) = _QUICK_PROBE_VERTICES, quick
+        else:
+            budget = _PROBE_VERTICES
+            expected, faces, _, hands_over = _probe(n, k, div_t, bounds, system, sampled, budget)
         if sampled is None:
             probe_bytes = _probe_bytes(k, _probe_vertices(div_t, budget))
     else:

@@ -93,9 +93,10 @@ def singular_report(system, X: np.ndarray, bounds, div) -> tuple[int, list[dict]
     points = critical_points(system, X, bounds, div, jacobian=J)
     spacing = (bounds[:, 1] - bounds[:, 0]) / div
     for point in points:
-        close = (np.abs(X - np.asarray(point["x"])) <= spacing).all(axis=1)
+        offset = np.abs(X - np.asarray(point["x"]))
+        close = (offset <= spacing).all(axis=1)
         if not close.any():  # (a point where M pinches may have no vertex within a cube: its nearest one)
-            close[np.argmin(np.abs((X - np.asarray(point["x"])) / spacing).max(axis=1))] = True
+            close[np.argmin((offset / spacing).max(axis=1))] = True
         near |= close
     return int(np.count_nonzero(near)), points
 
