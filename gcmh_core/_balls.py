@@ -508,11 +508,20 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
     # A piece of M_A that bulges through one of the cube's faces between its k-faces has cells there
     # that no GCMH cell holds: the neighbour across has them only if it is refined too, which its
     # own Euler check sees; without that check the cube stays as it was.
-    covered = {x for _, _, mine in assigned for x in mine}
+    covered: set = set()
+    joined = set()  # faces where two of GCMH's cells lie on one piece of M_A (two discs for an annulus)
+    for r, key, mine in assigned:
+        f = face_key_of[(r + k, key // int(tab.n_codes[r + k]))]
+        if not covered.isdisjoint(mine):
+            joined.add(f)
+        covered.update(mine)
     bulging = [_face_free_fixed(tab, f) for f, xs in sorted(top_in_face.items())
                if face_dim[f] < n and any(x not in covered for x in xs)]
     if bulges is not None:
-        bulges.extend(bulging)
+        # Each of a joined face's cells is replaced by the whole piece: a neighbour across that keeps
+        # GCMH's cells there gets two cells bounded by it, so it is refined too ((8, 4), seed 9).  (Where
+        # the kernel has the cube's Kuhn table, n <= 7, every cube on the face reports the joined pieces.)
+        bulges.extend(bulging + [_face_free_fixed(tab, f) for f in sorted(joined) if face_dim[f] < n])
     if bulging and not neighbours_checked:
         return None
     replace = [(-r, key, x[1]) for r, key, mine in assigned for x in mine]

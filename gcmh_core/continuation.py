@@ -198,6 +198,7 @@ def run_continuation(
     the waves (gcmh_core.distributed); by default `grid.process_cubes` runs them here.
     """
     grid = Grid(n, k, axes) if grid is None else grid
+    grid.set_source(system, sampled)
     if process is None:
         def process(g, origins):
             return g.process_cubes(origins, system, sampled)

@@ -120,6 +120,7 @@ def run_distributed(method, n, k, axes, bounds, system, sampled, starts, schedul
         ) from None
     ident = _identification(spec, bounds, sampled)
     grid = _new_grid(n, k, axes, method, ident, check_cells)  # validates the grid's size before any cluster starts
+    grid.set_source(system, sampled)  # (the tasks' deferred refinements run here, at the assembly)
     if progress is not None:  # starting a cluster takes a second or two: say so
         progress("starting a local dask cluster" if address == "local" else f"connecting to {address}", 0.0)
     with _Session(address, sampled) as session:

@@ -178,6 +178,8 @@ class IdentifiedGrid(Grid):
     axes: from `identified_axes`.
     """
 
+    defers_refinement = False  # (`Grid.defers_refinement`)
+
     def __init__(self, n, k, axes, method="gcmh", cancel=None, *, spec, bounds, progress=None, check_cells=None):
         super().__init__(n, k, axes, method, cancel, progress, check_cells)
         self.spec = tuple((int(p), tuple(int(b) for b in flips)) for p, flips in spec)

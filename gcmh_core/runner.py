@@ -84,6 +84,10 @@ class Grid:
     them); False, none.  Not in R^3 (nor for curves), the baselines or n >= 8 (`unchecked_reason`).
     """
 
+    # n >= 8 by default: a cube is refined with its neighbours at the assembly (`refine_deferred`), found
+    # by grid index (an identified grid keys a cube across a seam otherwise: there, within the run)
+    defers_refinement = True
+
     def __init__(self, n, k, axes, method="gcmh", cancel=None, progress=None, check_cells=None):
         self.n, self.k, self.axes, self.cancel = n, k, axes, cancel
         self.simplicial = method in SIMPLICIAL_METHODS
@@ -121,6 +125,10 @@ class Grid:
         self.stats = dict(candidate_cubes=0, cubes=int(np.prod(self.dims - 1)), nonfinite_vertices=0, degenerate=0,
                           non_ball_cells=0, non_ball_split=0, checked_cubes=0)
         self.parts: dict[str, list[np.ndarray]] = dict(vk=[], vp=[], e=[], c=[], i=[])
+        # n >= 8 by default: cubes to refine with their neighbours once every cube has run (each with the
+        # pieces it joins; `refine_deferred`), and where F's values come from then (`set_source`)
+        self.deferred: list[tuple[tuple, int]] = []
+        self.source: tuple | None = None
         # the kernel's tables, one named tuple (`kernels.tables.CubeTables` or `SimplexTables`)
         self.kernel_tables = self.stab if self.simplicial else self.tab
 
@@ -269,7 +277,43 @@ class Grid:
             masks[idx] = run(values, idx.astype(np.int64) << n, origins[idx], value_off)
         return masks
 
+    def set_source(self, system, sampled) -> None:
+        """Where F's values at any cube's corners come from (the formulas, or the sampled array), for
+        the refinement of cubes with their neighbours at the assembly (`refine_deferred`)."""
+        self.source = (system, sampled)
+
+    def one_cube(self, origin) -> tuple | None:
+        """`refine_cube`'s arguments for the cube at grid index origin (F at its corners as a sweep's
+        block of one cube takes them: the same values), or None outside the grid or with no source."""
+        o = np.asarray(origin, np.int64)
+        if self.source is None or (o < 0).any() or (o >= self.dims - 1).any():
+            return None
+        system, sampled = self.source
+        values = np.ascontiguousarray(block_values(self.axes, system, sampled, o, o + 1), np.float64)
+        values = values.reshape(-1, self.k)
+        value_off = _balls._corner_offsets(self.n, 1 << np.arange(self.n - 1, -1, -1, dtype=np.int64))  # (2, ..., 2, k)
+        return (self.tab, values, np.zeros(1, np.int64), o[None].copy(), np.array([o @ self.strides], np.int64),
+                self.axes_arr, value_off, self.corner_off)
+
+    def refine_deferred(self) -> None:
+        """Refine the deferred cubes, each with the cubes its pieces bulge into (`_refine_with_neighbours`),
+        now that F's values at any cube's corners can be had (`set_source`): the neighbours of a cube
+        are in other kernel runs, slabs or blocks.  In grid order, so the records do not depend on the
+        order the runs came in; a cube refined once is not refined again."""
+        done: dict[tuple, list] = {}
+        for origin, pieces in sorted(self.deferred):
+            refined = _refine_with_neighbours(self, origin, self.one_cube, done)
+            if refined is None:
+                continue
+            for more in refined:
+                for key, arr in zip(self.parts, more):
+                    self.parts[key].append(arr)
+            self.stats["non_ball_split"] = self.stats.get("non_ball_split", 0) + pieces
+        self.deferred = []
+
     def assemble(self) -> CellComplex:
+        if self.deferred and self.source is not None:
+            self.refine_deferred()
         t = time.perf_counter()
         n, k = self.n, self.k
         widths = dict(vk=None, vp=n, e=EDGE_COLS, c=CELL_COLS, i=INC_COLS)
@@ -294,6 +338,7 @@ class Grid:
         """The same grid and tables with no records, zero stats and timings (a worker's fresh start)."""
         grid = copy.copy(self)
         grid.parts = {key: [] for key in self.parts}
+        grid.deferred = []
         grid.stats = dict(self.stats)
         grid.timings = dict.fromkeys(self.timings, 0.0)
         return grid
@@ -302,7 +347,7 @@ class Grid:
         """The records as one array per kind (fewer, larger messages), stats and timings."""
         parts = {key: (np.concatenate(arrs) if len(arrs) > 1 else arrs[0]) if arrs else None
                  for key, arrs in self.parts.items()}
-        return dict(parts=parts, stats=dict(self.stats), timings=dict(self.timings))
+        return dict(parts=parts, stats=dict(self.stats), timings=dict(self.timings), deferred=list(self.deferred))
 
     def add_records(self, packed: dict) -> None:
         """Add another grid's `packed_records` (a block's or a wave's), in order."""
@@ -314,6 +359,7 @@ class Grid:
                 self.stats[key] = self.stats.get(key, 0) + value
         for key, value in packed["timings"].items():
             self.timings[key] = self.timings.get(key, 0.0) + value
+        self.deferred += packed.get("deferred", [])
 
 
 @functools.lru_cache(maxsize=16)
@@ -398,8 +444,19 @@ def split_non_ball_cells(grid: Grid, records: tuple, cubes: np.ndarray, common: 
             inc = np.concatenate([inc[keep], new_inc])
         else:  # solids, or a surface's piece that can't be cut: the cube's cells become CMS's
             if grid.check_cells and not grid.euler_checked:
-                # (n >= 8 by default: no neighbour is checked, those M_A bulges into are refined too)
-                refined = _refine_with_neighbours(grid, i, common)
+                # (n >= 8 by default: no neighbour is checked, those M_A bulges into are refined too; they
+                # may be in another run, so where F's values can be had again it is done at the assembly)
+                if grid.defers_refinement:
+                    grid.deferred.append((tuple(origin[i].tolist()), pieces))
+                    continue
+                at = {tuple(o): j for j, o in enumerate(origin.tolist())}
+
+                def in_run(o, at=at):
+                    j = at.get(tuple(o.tolist()))
+                    return None if j is None else (tab, values, cube_lin[j : j + 1], origin[j : j + 1],
+                                                   cube_key[j : j + 1], axes_arr, value_off, corner_off)
+
+                refined = _refine_with_neighbours(grid, tuple(origin[i].tolist()), in_run, {})
             else:
                 refined = _balls.refine_cube(*cube, neighbours_checked=grid.euler_checked)
                 refined = None if refined is None else [refined]
@@ -415,42 +472,49 @@ def split_non_ball_cells(grid: Grid, records: tuple, cubes: np.ndarray, common: 
 _REFINED_TOGETHER = 16
 
 
-def _refine_with_neighbours(grid: Grid, i: int, common: tuple) -> list | None:
-    """The records of cube i of a kernel run refined (`_balls.refine_cube`), with every cube of the run
-    across a face where M_A has cells none of the cube's GCMH cells holds (a piece bulging through it:
-    its neighbours have no cell there either), and theirs in turn; None where one of them is not in the
-    run, can't be refined, or more than _REFINED_TOGETHER would be."""
-    values, cube_lin, origin, cube_key, axes_arr, value_off, corner_off, tab = common
-    at = {tuple(o): j for j, o in enumerate(origin.tolist())}
-    order: list[int] = [i]
+def _refine_with_neighbours(grid: Grid, start: tuple, cube_of, done: dict) -> list | None:
+    """The records of the cube at grid index start refined (`_balls.refine_cube`), with every cube across
+    a face where M_A has cells none of the cube's GCMH cells holds (a piece bulging through it: its
+    neighbours have no cell there either) or where two of them lie on one piece of M_A, and theirs in
+    turn; None where one of them can't be had (cube_of(origin): `refine_cube`'s arguments, or None) or
+    refined, or more than _REFINED_TOGETHER would be.  done: origin -> its records or None, kept across
+    calls (a cube is refined once; records already returned are not returned again)."""
+    order: list[tuple] = [start]
     out: list[tuple] = []
-    while len(out) < len(order):
-        j = order[len(out)]
-        one = slice(j, j + 1)
-        bulges: list = []
-        refined = _balls.refine_cube(tab, values, cube_lin[one], origin[one], cube_key[one], axes_arr, value_off,
-                                     corner_off, neighbours_checked=True, bulges=bulges)
-        if refined is None:
+    for o in order:
+        if o not in done:
+            bulges: list = []
+            cube = cube_of(np.array(o, np.int64))
+            if cube is None:
+                refined = None
+            else:
+                tab, values, row, origin, key, axes_arr, value_off, corner_off = cube
+                refined = _balls.refine_cube(tab, values, row, origin, key, axes_arr, value_off, corner_off,
+                                             neighbours_checked=True, bulges=bulges)
+            done[o] = None if refined is None else (refined, bulges, False)
+        if done[o] is None:
             return None
-        out.append(refined)
+        refined, bulges, _ = done[o]
+        out.append(o)
         for free, fixed in bulges:
             # the other cubes holding the face: origin moved by -1 or +1 on some of its fixed axes
             fixed_axes = [a for a in range(grid.n) if not (free >> a) & 1]
             for moved in itertools.product((0, 1), repeat=len(fixed_axes)):
                 if not any(moved):
                     continue
-                o = origin[j].copy()
+                other = list(o)
                 for a, m in zip(fixed_axes, moved):
-                    o[a] += (1 if (fixed >> a) & 1 else -1) * m
-                if (o < 0).any() or (o >= grid.dims - 1).any():
+                    other[a] += (1 if (fixed >> a) & 1 else -1) * m
+                if min(other) < 0 or any(x >= d - 1 for x, d in zip(other, grid.dims.tolist())):
                     continue  # (the face is on the box's boundary there)
-                if tuple(o.tolist()) not in at:
-                    return None
-                if at[tuple(o.tolist())] not in order:
-                    order.append(at[tuple(o.tolist())])
+                if tuple(other) not in order:
+                    order.append(tuple(other))
                     if len(order) > _REFINED_TOGETHER:
                         return None
-    return out
+    records = [done[o][0] for o in out if not done[o][2]]
+    for o in out:  # (returned once)
+        done[o] = (done[o][0], done[o][1], True)
+    return records
 
 
 def block_values(axes, system, sampled, lo, hi) -> np.ndarray:

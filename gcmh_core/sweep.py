@@ -92,6 +92,7 @@ def run_sweep(n, k, axes, system, sampled, progress, cancel, grid=None) -> CellC
     else pruned by F's bounds when F is a formula and the grid is large (see PRUNE), else
     in slabs along axis 0.  Same complex every way."""
     grid = Grid(n, k, axes) if grid is None else grid
+    grid.set_source(system, sampled)
     if isinstance(grid, IdentifiedGrid):  # periodic axes: F's values on a seam are copies, not bounds
         return grid.sweep(system, progress, cancel)
     marching = MARCHING3

@@ -136,7 +136,7 @@ def test_random_systems_n6_to_n8_give_regular_cells(shape, seed, check_cells, gr
     check_regular(extract(texts, [(-1, 1)] * n, div, check_cells=check_cells, seed=grid_seed, force=True), n, div)
 
 
-@pytest.mark.parametrize("n,k,seeds", [(8, 5, [0, 1, 2, 3]), (8, 6, [0, 1, 2, 3]), (8, 4, [0, 1, 3, 5]),
+@pytest.mark.parametrize("n,k,seeds", [(8, 5, [0, 1, 2, 3]), (8, 6, [0, 1, 2, 3]), (8, 4, [0, 1, 3, 5, 9]),
                                         (8, 3, [2]), (9, 7, [2])])
 def test_random_systems_in_R8_give_regular_cells(n, k, seeds):
     """A piece of M_A may come out a 3-cell of three faces ((8, 5), seed 2 did), a 4-cell of two or three,
@@ -175,3 +175,31 @@ def test_lenses_of_lenses_keep_every_boundary_a_sphere():
     cx = extract(random_system(8, 3, 0), [(-1, 1)] * 8, 2, seed=0, force=True)
     assert regularity_problems(cx) == [] and structure_problems(cx, [(-1, 1)] * 8, 2) == []
     assert cx.euler_characteristic() == 2
+
+
+def test_a_joined_face_has_its_neighbours_refined():
+    """(8, 4), seed 9: a refined cube shares a 6-face where GCMH has two discs on one annulus of M_A;
+    each disc was replaced by the whole annulus, and the neighbour across, which kept GCMH's cells,
+    got two 3-cells bounded by it (no boundary check sees two discs).  Such a face's neighbours are
+    refined too now."""
+    texts, box = random_system(8, 4, 9), [(-1, 1)] * 8
+    cx = extract(texts, box, 2, seed=9, force=True)
+    assert cx.meta["non_ball_split"] >= 1 and cx.meta["non_ball_left"] == 0
+    assert regularity_problems(cx) == [] and structure_problems(cx, box, 2) == []
+
+
+def test_neighbours_in_other_kernel_runs_are_refined_alike(monkeypatch):
+    """At n >= 8 a cube is refined with its neighbours once every cube has run (`Grid.refine_deferred`):
+    the neighbours are often in another kernel run (in R^9 a run holds a few dozen cubes).  One cube a
+    run gives the same complex, byte for byte, as the usual runs."""
+    from gcmh_core import runner
+
+    texts, box = random_system(8, 4, 9), [(-1, 1)] * 8
+    usual = extract(texts, box, 2, seed=9, force=True)
+    monkeypatch.setattr(runner, "kernel_batch_cubes", lambda n, k, most: 1)
+    alone = extract(texts, box, 2, seed=9, force=True)
+    assert alone.meta["candidate_cubes"] == usual.meta["candidate_cubes"]
+    assert alone.meta["non_ball_split"] == usual.meta["non_ball_split"] >= 1 and alone.meta["non_ball_left"] == 0
+    assert np.array_equal(alone.vertices, usual.vertices) and np.array_equal(alone.edges, usual.edges)
+    for r in usual.cells:
+        assert all(np.array_equal(a, b) for a, b in zip(alone.cells[r], usual.cells[r]))
