@@ -305,3 +305,17 @@ def test_importing_gcmh_core_does_not_import_dask():
     env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[2]))
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=300)
     assert proc.returncode == 0, proc.stderr
+
+
+def test_a_refinement_across_blocks_gives_the_single_process_bytes(cluster):
+    """In R^8 a cube whose cells are not balls is refined with the cubes its pieces bulge into, at the
+    assembly (`runner.Grid.refine_deferred`): blocks of one cube a side put them in other tasks, whose
+    records carry the cubes to refine back to the client."""
+    from test_regular_high_n import random_system  # (tests/core is on the path: rootdir conftest)
+
+    texts, box = random_system(8, 4, 9), [(-1, 1)] * 8
+    single = extract(texts, box, 2, seed=9, force=True)
+    blocks = extract(texts, box, 2, seed=9, force=True, scheduler=cluster[0].scheduler_address, block=1)
+    assert single.meta["non_ball_split"] >= 1 and single.meta["non_ball_left"] == 0
+    assert blocks.meta["blocks"] == 256 and blocks.meta["non_ball_split"] == single.meta["non_ball_split"]
+    _assert_identical(single, blocks)
