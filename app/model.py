@@ -579,18 +579,20 @@ def summarize(cx) -> str:
         nb = "?"
     secs = cx.meta.get("seconds")
     t = f" \u00b7 {secs:.2f} s" if isinstance(secs, (int, float)) else ""
-    t += _warnings(cx.meta)
+    t += _warnings(cx.meta, cx.n)
     bword = "boundary vertices" if cx.dim == 1 else "boundary facets"
     return f"{', '.join(parts)} \u00b7 \u03c7 = {chi} \u00b7 {nb:,} {bword}{t}" if isinstance(nb, int) else \
         f"{', '.join(parts)} \u00b7 \u03c7 = {chi}{t}"
 
 
-def _warnings(meta: dict) -> str:
+def _warnings(meta: dict, n: int) -> str:
     """What the engine could not resolve, as the CLI's summary says it (0 on a trustworthy complex)."""
     out = ""
     left = int(meta.get("non_ball_left", meta.get("non_ball_cells", 0)) or 0)
     if left:
-        out += f" \u00b7 warning: {left} cells are not balls (try method cms or another div)"
+        # (the simplicial baselines stop at n = 7)
+        how = "a finer div" if n > 7 else "method cms or a finer div"
+        out += f" \u00b7 warning: {left} {'cell is not a ball' if left == 1 else 'cells are not balls'} (try {how})"
     # (n >= 8: only the cells' boundaries are checked by default; or the check was turned off)
     if meta.get("topology_unchecked"):
         out += f" \u00b7 warning: topology not fully checked ({meta['topology_unchecked']})"

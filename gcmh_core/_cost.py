@@ -64,16 +64,21 @@ def kuhn_simplices(n: int, k: int) -> int:
 
 
 def checks_cells(n: int, k: int, simplicial: bool, check_cells: bool | None) -> bool:
-    """Whether a run checks its cells against CMS's Euler characteristic (`runner.Grid.check_cells`):
-    GCMH and GCCH for 3 <= n <= 7 (no Kuhn tables beyond n = 7) but surfaces in R^3 (the one-pass
-    marching), unless ``check_cells`` is False.  Curves are checked too: a small closed loop of M inside
-    a cube meets none of its k-faces, so GCMH has no vertex on it (noise in R^3 and R^5 lost 1-8 % of its
-    pieces that way; the check's pass for pieces hidden in a face finds them).  By default (None) only
-    the cubes the interval certificate can't vouch for are compared
-    (`kernels.cell_check.graph_certified_chunk`); True compares every candidate cube."""
-    if simplicial or n - k < 1 or (n, k) == (3, 1) or not 3 <= n <= 7 or lazy_tables(n, k):
+    """Whether a run checks its cells (`runner.Grid.check_cells`), unless ``check_cells`` is False: GCMH
+    and GCCH from n = 3 on but surfaces in R^3 (the one-pass marching).  For n <= 7 against CMS's Euler
+    characteristic on the whole Kuhn table; curves too: a small closed loop of M inside a cube meets none
+    of its k-faces, so GCMH has no vertex on it (noise in R^3 and R^5 lost 1-8 % of its pieces that way;
+    the check's pass for pieces hidden in a face finds them).  By default (None) only the cubes the
+    interval certificate can't vouch for are compared (`kernels.cell_check.graph_certified_chunk`); True
+    compares every candidate cube.  From n = 8 on each compared cube builds its own table of the Kuhn
+    simplices M_A may cross (`kernels.kuhn_cube`: a tenth of a second to a second a cube), so by default
+    only the boundaries of GCMH's cells there are checked (`_balls.cubes_with_bad_boundaries`), which
+    curves' cells don't have: curves are checked from n = 8 on only when asked for."""
+    if simplicial or n - k < 1 or n < 3 or (n, k) == (3, 1) or check_cells is False:
         return False
-    return check_cells is not False
+    if n <= 7:
+        return not lazy_tables(n, k)
+    return n - k >= 2 or bool(check_cells)
 
 
 # The default check's share of the kernel's time: the certificate on every candidate cube, CMS on the few

@@ -832,8 +832,9 @@ def _human(s: dict, job: dict) -> str:
         lines.append(f"  warning: {s['degenerate']} degenerate events the engine could not resolve "
                      "(cells there may be malformed): try another --seed")
     if s["non_ball_cells"]:
+        how = "a finer --div" if s["n"] > 7 else "--method cms, or a finer --div"  # (CMS stops at n = 7)
         lines.append(f"  warning: at {s['non_ball_cells']} places a piece of M inside a cube is not a ball, so the "
-                     "topology is wrong there: use --method cms, or a finer --div")
+                     f"topology is wrong there: use {how}")
     if s["non_ball_split"]:
         # (where the cells are checked, a surface's cubes are refined too: `runner.split_non_ball_cells`)
         cut = s["n"] - s["k"] == 2 and not s["cells_checked"]

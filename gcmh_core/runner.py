@@ -112,7 +112,7 @@ class Grid:
         # cells are checked against CMS's Euler characteristic face by face where they can be wrong:
         # by default every cube the certificate can't vouch for (`graph_certified`), asked for: all
         self.check_request = check_cells  # (what the caller asked: a distributed run's tasks get it)
-        self.check_cells = cells_checked(n, k, self.simplicial, check_cells)
+        self.check_cells = checks_cells(n, k, self.simplicial, check_cells)
         self.check_all = bool(check_cells)
         # the Euler check (CMS's count, face by face) where cells are checked; for n >= 8 only when asked
         # for (every cube builds its own Kuhn table, `kernels.kuhn_cube`: a second a cube at k = 3), by
@@ -390,15 +390,6 @@ def graph_certified(values, cube_row, corner_row, k) -> np.ndarray:
                                  np.ascontiguousarray(corner_row, np.int64), k, _axis_subsets(n, k))
 
 
-def cells_checked(n: int, k: int, simplicial: bool, check_request: bool | None) -> bool:
-    """Whether a run checks its cells (`_cost.checks_cells`, R^4..R^7 with the whole Kuhn table), and
-    from n = 8 on too: there each checked cube builds its own table of the Kuhn simplices M_A may
-    cross (`kernels.kuhn_cube`)."""
-    if checks_cells(n, k, simplicial, check_request):
-        return True
-    return not simplicial and n >= 8 and n - k >= 2 and check_request is not False
-
-
 def unchecked_reason(n: int, k: int, simplicial: bool, check_request: bool | None) -> str | None:
     """Why GCMH's cells were not (or only partly) checked against CMS's where they can be wrong (a piece
     of M in a cube that is not a ball gives a wrong chi or count of pieces), or None: they were, or
@@ -408,11 +399,15 @@ def unchecked_reason(n: int, k: int, simplicial: bool, check_request: bool | Non
         return None
     if check_request is False:
         return "the cell check was turned off (check_cells=False)"
+    if n >= 8 and not check_request and n - k == 1:
+        return (f"in R^{n} a curve's small closed loops inside one cube (with no vertex on a face of it) are not "
+                "looked for by default; --check-cells compares every cube with CMS's count (a tenth of a second "
+                "to a second a cube)")
     if n >= 8 and not check_request:
         return (f"in R^{n} only the boundaries of the cells are checked by default (each must be a sphere, and "
                 "a cube where one is not is refined by CMS): a cell that is not a ball but is bounded by a sphere "
                 "(a disc with a handle) or a piece of M inside a cube's face is not found; --check-cells "
-                "compares every cube with CMS's count (about a second a cube at k = 3)")
+                "compares every cube with CMS's count (a tenth of a second to a second a cube)")
     return None
 
 

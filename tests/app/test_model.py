@@ -182,6 +182,14 @@ def test_a_parameter_step_that_loses_the_start_point_continues_from_auto():
 def test_the_status_says_when_the_topology_is_unchecked():
     from gcmh_studio.model import _warnings
 
-    assert _warnings({}) == ""
-    said = _warnings({"topology_unchecked": "no cell check exists in R^10 with k = 8"})
+    assert _warnings({}, 10) == ""
+    said = _warnings({"topology_unchecked": "no cell check exists in R^10 with k = 8"}, 10)
     assert "topology not fully checked (no cell check exists in R^10 with k = 8)" in said
+
+
+def test_cells_left_not_balls_are_told_with_what_can_help():
+    from gcmh_studio.model import _warnings
+
+    # (the simplicial baselines stop at n = 7: beyond it only a finer grid helps)
+    assert "2 cells are not balls (try a finer div)" in _warnings({"non_ball_left": 2}, 8)
+    assert "1 cell is not a ball (try method cms or a finer div)" in _warnings({"non_ball_left": 1}, 5)

@@ -140,7 +140,14 @@ def test_a_piece_that_cannot_be_split_is_still_reported(monkeypatch):
     monkeypatch.setattr(runner._balls, "refine_cube", lambda *args, **kw: None)
     cx = one_cube("gcmh")
     assert cx.meta["non_ball_left"] == 1
-    assert _summary(cx, {"div": [1, 1, 1], "method": "gcmh", "name": None}, [])["non_ball_cells"] == 1
+    s = _summary(cx, {"div": [1, 1, 1], "method": "gcmh", "name": None}, [])
+    assert s["non_ball_cells"] == 1
+    from gcmh_core.cli import _human
+
+    job = {"name": "tube", "periodic": None}
+    assert "use --method cms, or a finer --div" in _human(s, job)
+    # (the simplicial baselines stop at n = 7: in R^8 only a finer grid helps)
+    assert "use a finer --div" in _human({**s, "n": 8, "k": 6}, job)
 
 
 def test_cut_keys_follow_a_mirrored_frame():
