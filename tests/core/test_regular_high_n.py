@@ -203,3 +203,16 @@ def test_neighbours_in_other_kernel_runs_are_refined_alike(monkeypatch):
     assert np.array_equal(alone.vertices, usual.vertices) and np.array_equal(alone.edges, usual.edges)
     for r in usual.cells:
         assert all(np.array_equal(a, b) for a, b in zip(alone.cells[r], usual.cells[r]))
+
+
+def test_curves_in_R8_are_checked_when_asked_and_say_why_not_by_default():
+    """A curve's cells have no boundary to check, so from n = 8 on curves are checked only when asked
+    for (`_cost.checks_cells`); --check-cells on curves checked nothing there before."""
+    texts, box = random_system(8, 7, 2), [(-1, 1)] * 8
+    default = extract(texts, box, 2, seed=2, force=True)
+    assert not default.meta["cells_checked"] and default.meta["checked_cubes"] == 0
+    assert "closed loops inside one cube" in default.meta["topology_unchecked"]
+    every = extract(texts, box, 2, seed=2, force=True, check_cells=True)
+    assert every.meta["cells_checked"] and every.meta["checked_cubes"] == every.meta["candidate_cubes"] > 0
+    assert "topology_unchecked" not in every.meta
+    assert every.counts() == default.counts() and every.connected_components() == default.connected_components()
