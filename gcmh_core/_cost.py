@@ -71,7 +71,7 @@ def checks_cells(n: int, k: int, simplicial: bool, check_cells: bool | None) -> 
     the check's pass for pieces hidden in a face finds them).  By default (None) only the cubes the
     interval certificate can't vouch for are compared (`kernels.cell_check.graph_certified_chunk`); True
     compares every candidate cube.  From n = 8 on each compared cube builds its own table of the Kuhn
-    simplices M_A may cross (`kernels.kuhn_cube`: a tenth of a second to a second a cube), so by default
+    simplices M_A may cross (`kernels.kuhn_cube`: 0.01 to 0.5 s a cube), so by default
     only the boundaries of GCMH's cells there are checked (`_balls.cubes_with_bad_boundaries`), which
     curves' cells don't have: curves are checked from n = 8 on only when asked for."""
     if simplicial or n - k < 1 or n < 3 or (n, k) == (3, 1) or check_cells is False:

@@ -81,7 +81,8 @@ class Grid:
     cancel is polled there too.
     check_cells: check the cells against CMS's Euler characteristic (`_cubes_off_euler`): True, every
     cube's; None (default), the cubes where they can be wrong (`graph_certified` can't vouch for
-    them); False, none.  Not in R^3 (nor for curves), the baselines or n >= 8 (`unchecked_reason`).
+    them); False, none.  Not for surfaces in R^3 or the baselines; from n = 8 on by default only the
+    boundaries of the cells, curves not at all (`_cost.checks_cells`, `unchecked_reason`).
     """
 
     # n >= 8 by default: a cube is refined with its neighbours at the assembly (`refine_deferred`), found
@@ -115,7 +116,7 @@ class Grid:
         self.check_cells = checks_cells(n, k, self.simplicial, check_cells)
         self.check_all = bool(check_cells)
         # the Euler check (CMS's count, face by face) where cells are checked; for n >= 8 only when asked
-        # for (every cube builds its own Kuhn table, `kernels.kuhn_cube`: a second a cube at k = 3), by
+        # for (every cube builds its own Kuhn table, `kernels.kuhn_cube`: 0.01 to 0.5 s a cube), by
         # default there the boundaries of GCMH's cells (`_balls.cubes_with_bad_boundaries`)
         self.euler_checked = self.check_cells and (n <= 7 or self.check_all)
         self.axes_arr = np.zeros((n, int(self.dims.max())))
@@ -198,7 +199,7 @@ class Grid:
             cubes = lo + np.flatnonzero(~graph_certified(values, cube_lin[lo:hi], value_off, self.k))
         if len(cubes) == 0:
             return cubes, 0
-        if not self.euler_checked:  # (n >= 8 by default: CMS's count takes a second a cube there)
+        if not self.euler_checked:  # (n >= 8 by default: CMS's count takes 0.01 to 0.5 s a cube there)
             return cubes[_balls.cubes_with_bad_boundaries(self.tab, records, origin[cubes], self.strides,
                                                           self.dims)], len(cubes)
         cms, hidden = _balls.cms_cube_euler(self.tab, values, cube_lin[cubes], value_off, 0, len(cubes))
@@ -313,7 +314,9 @@ class Grid:
 
     def assemble(self) -> CellComplex:
         if self.deferred and self.source is not None:
+            t = time.perf_counter()
             self.refine_deferred()
+            self.timings["kernel"] += time.perf_counter() - t
         t = time.perf_counter()
         n, k = self.n, self.k
         widths = dict(vk=None, vp=n, e=EDGE_COLS, c=CELL_COLS, i=INC_COLS)
@@ -401,13 +404,13 @@ def unchecked_reason(n: int, k: int, simplicial: bool, check_request: bool | Non
         return "the cell check was turned off (check_cells=False)"
     if n >= 8 and not check_request and n - k == 1:
         return (f"in R^{n} a curve's small closed loops inside one cube (with no vertex on a face of it) are not "
-                "looked for by default; --check-cells compares every cube with CMS's count (a tenth of a second "
-                "to a second a cube)")
+                "looked for by default; --check-cells compares every cube with CMS's count (0.01 to 0.5 s "
+                "a cube)")
     if n >= 8 and not check_request:
         return (f"in R^{n} only the boundaries of the cells are checked by default (each must be a sphere, and "
                 "a cube where one is not is refined by CMS): a cell that is not a ball but is bounded by a sphere "
                 "(a disc with a handle) or a piece of M inside a cube's face is not found; --check-cells "
-                "compares every cube with CMS's count (a tenth of a second to a second a cube)")
+                "compares every cube with CMS's count (0.01 to 0.5 s a cube)")
     return None
 
 
@@ -478,6 +481,8 @@ def _refine_with_neighbours(grid: Grid, start: tuple, cube_of, done: dict) -> li
     out: list[tuple] = []
     for o in order:
         if o not in done:
+            if grid.cancel is not None and grid.cancel():  # (a cube's refinement takes up to seconds)
+                raise Cancelled("extraction cancelled")
             bulges: list = []
             cube = cube_of(np.array(o, np.int64))
             if cube is None:

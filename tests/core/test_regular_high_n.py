@@ -216,3 +216,19 @@ def test_curves_in_R8_are_checked_when_asked_and_say_why_not_by_default():
     assert every.meta["cells_checked"] and every.meta["checked_cubes"] == every.meta["candidate_cubes"] > 0
     assert "topology_unchecked" not in every.meta
     assert every.counts() == default.counts() and every.connected_components() == default.connected_components()
+
+
+def test_a_cancel_during_the_refinement_at_the_assembly_stops_the_run(monkeypatch):
+    """The deferred refinement takes up to seconds a cube: cancel is polled there too."""
+    from gcmh_core import Cancelled, runner
+
+    asked = {"cancel": False}
+    refine = runner.Grid.refine_deferred
+
+    def refine_then_cancel(self):  # (the user presses Cancel as the refinement starts)
+        asked["cancel"] = True
+        return refine(self)
+
+    monkeypatch.setattr(runner.Grid, "refine_deferred", refine_then_cancel)
+    with pytest.raises(Cancelled):
+        extract(random_system(8, 4, 9), [(-1, 1)] * 8, 2, seed=9, force=True, cancel=lambda: asked["cancel"])
