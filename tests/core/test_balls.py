@@ -148,6 +148,12 @@ def test_a_piece_that_cannot_be_split_is_still_reported(monkeypatch):
     assert "use --method cms, or a finer --div" in _human(s, job)
     # (the simplicial baselines stop at n = 7: in R^8 only a finer grid helps)
     assert "use a finer --div" in _human({**s, "n": 8, "k": 6}, job)
+    assert "at 1 place a piece of M" in _human(s, job)
+    # a mended cell where the check is partial (n >= 8) does not make the whole topology right
+    mended = {**s, "non_ball_cells": 0, "non_ball_split": 1}
+    assert "so the topology is right" in _human({**mended, "topology_unchecked": None}, job)
+    said = _human({**mended, "n": 8, "k": 4, "topology_unchecked": "in R^8 only the boundaries ..."}, job)
+    assert "so those cells are balls now" in said and "topology is right" not in said
 
 
 def test_cut_keys_follow_a_mirrored_frame():
