@@ -483,6 +483,8 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
             if face_dim[f] == x[0] + k:  # (a simplex of its face's dimension)
                 top_in_face.setdefault(f, []).append(x)
     assigned = []
+    covered: set = set()  # the CMS cells given to a GCMH cell so far
+    joined = set()  # faces where two of GCMH's cells lie on one piece of M_A (two discs for an annulus)
     # faces with a piece of M_A hidden inside (a loop with no GCMH vertex): no GCMH cell's piece
     hidden = own.euler(values, cube_row, value_off)[1][0]
     hidden_faces = [_face_free_fixed(tab, h) for h in np.flatnonzero(hidden)]
@@ -504,17 +506,13 @@ def refine_cube(tab, values, cube_row, origin, cube_key, axes_arr, value_off, co
                 mine = [x for x in new if label[index[x]] == label[index[vertex_of[(r, key)]]]]
             if not mine:
                 return None
+            if not covered.isdisjoint(mine):
+                joined.add(f)
+            covered.update(mine)
             assigned.append((r, key, mine))
     # A piece of M_A that bulges through one of the cube's faces between its k-faces has cells there
     # that no GCMH cell holds: the neighbour across has them only if it is refined too, which its
     # own Euler check sees; without that check the cube stays as it was.
-    covered: set = set()
-    joined = set()  # faces where two of GCMH's cells lie on one piece of M_A (two discs for an annulus)
-    for r, key, mine in assigned:
-        f = face_key_of[(r + k, key // int(tab.n_codes[r + k]))]
-        if not covered.isdisjoint(mine):
-            joined.add(f)
-        covered.update(mine)
     bulging = [_face_free_fixed(tab, f) for f, xs in sorted(top_in_face.items())
                if face_dim[f] < n and any(x not in covered for x in xs)]
     if bulges is not None:

@@ -804,6 +804,10 @@ def _component_text(c: dict) -> str:
     return f"{c['source']}{part} = {c['level']:g}"
 
 
+def _places(count: int) -> str:
+    return "1 place" if count == 1 else f"{count} places"
+
+
 def _human(s: dict, job: dict) -> str:
     dim = s["n"] - s["k"]
     if s.get("data"):
@@ -833,8 +837,7 @@ def _human(s: dict, job: dict) -> str:
                      "(cells there may be malformed): try another --seed")
     if s["non_ball_cells"]:
         how = "a finer --div" if s["n"] > 7 else "--method cms, or a finer --div"  # (CMS stops at n = 7)
-        places = "1 place" if s["non_ball_cells"] == 1 else f"{s['non_ball_cells']} places"
-        lines.append(f"  warning: at {places} a piece of M inside a cube is not a ball, so the "
+        lines.append(f"  warning: at {_places(s['non_ball_cells'])} a piece of M inside a cube is not a ball, so the "
                      f"topology is wrong there: use {how}")
     if s["non_ball_split"]:
         # (where the cells are checked, a surface's cubes are refined too: `runner.split_non_ball_cells`)
@@ -842,9 +845,8 @@ def _human(s: dict, job: dict) -> str:
         how = "cut into discs" if cut else "replaced by the simplicial (CMS) cells of their cubes"
         # (where the check is partial, n >= 8, the cells found are mended; others may not have been found)
         so = "so those cells are balls now" if s["topology_unchecked"] else "so the topology is right"
-        places = "1 place" if s["non_ball_split"] == 1 else f"{s['non_ball_split']} places"
-        lines.append(f"  note: at {places} a piece of M inside a cube was not a ball; GCMH's cells "
-                     f"there were {how}, {so}")
+        lines.append(f"  note: at {_places(s['non_ball_split'])} a piece of M inside a cube was not a ball; "
+                     f"GCMH's cells there were {how}, {so}")
     if s["topology_unchecked"]:
         lines.append(f"  warning: the topology is not fully checked: {s['topology_unchecked']}")
     if s["singular_vertices"]:

@@ -116,7 +116,8 @@ def extract(
         cubes, on noise most; True: every cube (2 to 3 times the run for surfaces, 7 to 11 at
         n = 6); False: none, only the pieces of G_H that M_A joins are found.  For n >= 8 the
         default checks that each such cube's cells are bounded by spheres (and refines a cube
-        where one is not); True compares every cube with CMS's count there too.
+        where one is not; curves have no such boundary and are checked only when asked for);
+        True compares every cube with CMS's count there too.
         meta["cells_checked"] says whether a check ran, meta["checked_cubes"] on how many cubes,
         and meta["topology_unchecked"] what a run's check leaves unchecked and why (n >= 8 by
         default, or check_cells=False).

@@ -99,9 +99,7 @@ class Grid:
         self.strides = np.ones(n, np.int64)
         for a in range(n - 2, -1, -1):
             self.strides[a] = self.strides[a + 1] * self.dims[a + 1]
-        self.corner_off = np.array(
-            [sum(int(self.strides[a]) for a in range(n) if c >> a & 1) for c in range(1 << n)], np.int64
-        )
+        self.corner_off = _balls._corner_offsets(n, self.strides)
         total = int(np.prod([int(d) for d in self.dims]))
         if self.simplicial:
             self.stab = simplex_tables(n, k)
@@ -230,9 +228,7 @@ class Grid:
         block_strides = np.ones(self.n, np.int64)
         for a in range(self.n - 2, -1, -1):
             block_strides[a] = block_strides[a + 1] * block_dims[a + 1]
-        value_off = np.array(
-            [sum(int(block_strides[a]) for a in range(self.n) if c >> a & 1) for c in range(1 << self.n)], np.int64
-        )
+        value_off = _balls._corner_offsets(self.n, block_strides)
         cube_lin = origin @ block_strides
         origin += lo
         self.run_kernel(values.reshape(-1, self.k), cube_lin, origin, value_off)
@@ -301,7 +297,7 @@ class Grid:
         now that F's values at any cube's corners can be had (`set_source`): the neighbours of a cube
         are in other kernel runs, slabs or blocks.  In grid order, so the records do not depend on the
         order the runs came in; a cube refined once is not refined again."""
-        done: dict[tuple, list] = {}
+        done: dict[tuple, tuple | None] = {}
         for origin, pieces in sorted(self.deferred):
             refined = _refine_with_neighbours(self, origin, self.one_cube, done)
             if refined is None:
